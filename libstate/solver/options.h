@@ -1,0 +1,14 @@
+// Options of the path solver (scene [solver] table).
+#pragma once
+
+namespace hapstate {
+
+struct SolverOptions {
+  int substeps = 4;              // incremental-load steps per move between check-points
+  double tolerance = 1e-8;       // Newton: relative residual (w.r.t. the reference force scale)
+  double absolute_tolerance = 1e-12;  // Newton: absolute residual floor [N]
+  int max_iterations = 30;       // Newton iterations per sub-step target
+  int max_cutbacks = 8;          // halvings of a sub-step after a failed Newton solve
+};
+
+}  // namespace hapstate
