@@ -1,0 +1,25 @@
+// A scene bound to its mesh: everything the mechanics needs to solve a probe path.
+// Lengths are in mesh units (scene units); `unit` converts them to metres for the FEM.
+#pragma once
+
+#include "fem/constraints.h"
+#include "material/material.h"
+#include "mesh/mesh.h"
+#include "solver/options.h"
+
+#include <Eigen/Core>
+
+namespace hapstate {
+
+struct Problem {
+  Mesh mesh;                      // as imported, mesh units
+  double unit = 1.0;              // metres per mesh unit (scene mesh.unit)
+  MaterialConstants material;     // resolved constants (from E, nu or given directly)
+  Constraints constraints;        // fixed DOFs (union of selectors) and grabbed probe nodes
+  Eigen::Vector3d probe_rest = Eigen::Vector3d::Zero();  // probe position at rest, mesh units:
+                                  // the grabbed node, or the centroid of the grabbed patch
+  double max_force = 0;           // N, device force limit
+  SolverOptions solver;
+};
+
+}  // namespace hapstate
