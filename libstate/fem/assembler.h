@@ -1,0 +1,64 @@
+// Global assembly of the total potential energy Pi(u) = sum_e V_e W(F_e), the internal force
+// f = dPi/du and the tangent stiffness K = d2Pi/du2 of a P1 tetrahedral mesh.
+// K is stored as the upper triangle (row <= col) of a compressed-column matrix whose pattern
+// and element scatter map are computed once in the constructor. Not thread-safe: one
+// Assembler per worker thread (it is cheap to copy).
+#pragma once
+
+#include "fem/tet_element.h"
+#include "material/material.h"
+#include "mesh/mesh.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <vector>
+
+namespace hapstate {
+
+// Upper-triangular compressed-column pattern of a symmetric matrix.
+struct SymmetricPattern {
+  int n = 0;
+  std::vector<int> col_ptr;  // size n + 1
+  std::vector<int> row_idx;  // size nnz, sorted within each column, row <= column
+  std::vector<int> diag;     // index of the diagonal entry of each column
+  int nnz() const { return static_cast<int>(row_idx.size()); }
+};
+
+// y = K x for K given by its upper triangle (pattern, values).
+void symmetric_multiply(const SymmetricPattern& pattern, const std::vector<double>& values,
+                        const Eigen::VectorXd& x, Eigen::VectorXd* y);
+
+class Assembler {
+ public:
+  // positions_m: reference node positions in metres; tets positively oriented.
+  // The material must outlive the assembler.
+  Assembler(const Eigen::Matrix3Xd& positions_m, const Tets& tets, const Material& material);
+
+  int num_dofs() const { return pattern_.n; }
+  const SymmetricPattern& pattern() const { return pattern_; }
+  const Material& material() const { return *material_; }
+
+  // Pi(u) [J]; +infinity if an element is inverted for a law that needs det F > 0.
+  double energy(const Eigen::VectorXd& u) const;
+  // Pi(u) and f = dPi/du [N] (f resized). f is left undefined when Pi is infinite.
+  double energy_and_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const;
+  // Pi(u), f and the values of K (upper triangle, pattern() order). With project_psd, each
+  // element stiffness is replaced by its projection onto the positive semi-definite cone (a
+  // descent direction for indefinite tangents; used as a fallback).
+  double energy_force_tangent(const Eigen::VectorXd& u, Eigen::VectorXd* f,
+                              std::vector<double>* k_values, bool project_psd = false) const;
+
+ private:
+  void gather(const Eigen::VectorXd& u, int e, Vec12* u_e) const;
+
+  Tets tets_;
+  const Material* material_;
+  std::vector<TetGeometry> geometry_;
+  SymmetricPattern pattern_;
+  // For element e and local pair (p <= q) in row-major upper order (78 entries), the index into
+  // the value array of global entry (min(dof p, dof q), max(...)).
+  std::vector<std::array<int, 78>> scatter_;
+};
+
+}  // namespace hapstate

@@ -1,0 +1,341 @@
+#include "solver/path_solver.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace hapstate {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Intermediate sub-steps only need to stay close to the equilibrium path; the final
+// sub-step is solved to the user's tolerance.
+constexpr double kIntermediateRelTol = 1e-6;
+// Armijo sufficient-decrease constant and line-search halvings.
+constexpr double kArmijo = 1e-4;
+constexpr int kMaxLineSearch = 12;
+
+}  // namespace
+
+const char* failure_name(SolveFailure f) {
+  switch (f) {
+    case SolveFailure::kNone: return "none";
+    case SolveFailure::kMaxIterations: return "max_iterations";
+    case SolveFailure::kInverted: return "inverted_element";
+    case SolveFailure::kNotFinite: return "not_finite";
+    case SolveFailure::kLineSearch: return "line_search";
+    case SolveFailure::kCutbackLimit: return "cutback_limit";
+  }
+  return "unknown";
+}
+
+PathSolver::PathSolver(const Problem& problem)
+    : material_(make_material(problem.material)),
+      role_(problem.constraints.role),
+      unit_(problem.unit),
+      num_nodes_(problem.mesh.num_nodes()),
+      options_(problem.solver) {
+  const Eigen::Matrix3Xd positions_m = problem.mesh.nodes * unit_;
+  assembler_ = std::make_unique<Assembler>(positions_m, problem.mesh.tets, *material_);
+  cholesky_ = std::make_unique<SparseCholesky>(assembler_->pattern());
+  timings_.analyze = cholesky_->analyze_seconds();
+  probe_dof_component_.assign(3 * num_nodes_, -1);
+  for (int n : problem.constraints.probe_nodes)
+    for (int c = 0; c < 3; ++c)
+      if (role_[3 * n + c] == DofRole::kProbe) probe_dof_component_[3 * n + c] = c;
+  reset();
+}
+
+PathSolver::~PathSolver() = default;
+
+int PathSolver::num_dofs() const { return assembler_->num_dofs(); }
+
+void PathSolver::reset() {
+  u_.setZero(num_dofs());
+  t_.setZero();
+}
+
+void PathSolver::set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t) {
+  u_ = u_m;
+  t_ = t;
+}
+
+Eigen::Matrix3Xd PathSolver::displacements() const {
+  return Eigen::Map<const Eigen::Matrix3Xd>(u_.data(), 3, num_nodes_) / unit_;
+}
+
+void PathSolver::set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const {
+  for (int d = 0; d < num_dofs(); ++d)
+    if (probe_dof_component_[d] >= 0) (*u)[d] = t[probe_dof_component_[d]] * unit_;
+}
+
+double PathSolver::free_norm(const Eigen::VectorXd& v) const {
+  double s = 0;
+  for (int d = 0; d < num_dofs(); ++d)
+    if (role_[d] == DofRole::kFree) s += v[d] * v[d];
+  return std::sqrt(s);
+}
+
+double PathSolver::reaction_norm(const Eigen::VectorXd& f) const {
+  double s = 0;
+  for (int d = 0; d < num_dofs(); ++d)
+    if (role_[d] != DofRole::kFree) s += f[d] * f[d];
+  return std::sqrt(s);
+}
+
+Eigen::Vector3d PathSolver::force_felt() const {
+  Eigen::VectorXd f;
+  assembler_->energy_and_force(u_, &f);
+  Eigen::Vector3d felt = Eigen::Vector3d::Zero();
+  for (int d = 0; d < num_dofs(); ++d)
+    if (probe_dof_component_[d] >= 0) felt[probe_dof_component_[d]] -= f[d];
+  return felt;
+}
+
+void PathSolver::assemble(const Eigen::VectorXd& u, bool project_psd, double* energy) {
+  const auto start = Clock::now();
+  *energy = assembler_->energy_force_tangent(u, &f_, &k_values_, project_psd);
+  timings_.assembly += seconds_since(start);
+  ++timings_.assemblies;
+}
+
+// Replaces constrained rows and columns by identity; the pattern stays the same.
+void PathSolver::constrain_values() {
+  const SymmetricPattern& p = assembler_->pattern();
+  for (int col = 0; col < p.n; ++col) {
+    const bool col_free = role_[col] == DofRole::kFree;
+    for (int k = p.col_ptr[col]; k < p.col_ptr[col + 1]; ++k) {
+      const int row = p.row_idx[k];
+      if (col_free && role_[row] == DofRole::kFree) continue;
+      k_values_[k] = row == col ? 1.0 : 0.0;
+    }
+  }
+}
+
+// Factorises the constrained tangent held in k_values_; if it is not positive definite,
+// re-assembles with element stiffnesses projected to PSD (a descent direction) and retries.
+bool PathSolver::factorize_with_fallback(const Eigen::VectorXd& u) {
+  constrain_values();
+  auto start = Clock::now();
+  bool ok = cholesky_->factorize(k_values_);
+  timings_.factorize += seconds_since(start);
+  ++timings_.factorizations;
+  if (ok) return true;
+  ++timings_.psd_fallbacks;
+  double energy = 0;
+  Eigen::VectorXd f_keep = f_;
+  assemble(u, /*project_psd=*/true, &energy);
+  f_ = f_keep;
+  constrain_values();
+  // A projected tangent can be singular (zero-energy modes); a tiny diagonal shift keeps it SPD.
+  const SymmetricPattern& p = assembler_->pattern();
+  double max_diag = 0;
+  for (int c = 0; c < p.n; ++c) max_diag = std::max(max_diag, std::abs(k_values_[p.diag[c]]));
+  for (int c = 0; c < p.n; ++c)
+    if (role_[c] == DofRole::kFree) k_values_[p.diag[c]] += 1e-10 * max_diag;
+  start = Clock::now();
+  ok = cholesky_->factorize(k_values_);
+  timings_.factorize += seconds_since(start);
+  ++timings_.factorizations;
+  return ok;
+}
+
+// Newton iterations at the current probe position until ||r_free|| <= abs + rel * ||reactions||.
+bool PathSolver::newton(double rel_tol, MoveResult* result) {
+  result->residual_history.clear();
+  double energy = 0;
+  for (int it = 0;; ++it) {
+    assemble(u_, false, &energy);
+    if (!std::isfinite(energy)) {
+      result->failure = SolveFailure::kInverted;
+      result->reason = "an element is inverted at the start of the Newton solve";
+      return false;
+    }
+    r_ = f_;
+    for (int d = 0; d < num_dofs(); ++d)
+      if (role_[d] != DofRole::kFree) r_[d] = 0.0;
+    const double rnorm = r_.norm();
+    result->residual = rnorm;
+    result->residual_history.push_back(rnorm);
+    if (!std::isfinite(rnorm)) {
+      result->failure = SolveFailure::kNotFinite;
+      result->reason = "residual is not finite";
+      return false;
+    }
+    if (rnorm <= options_.absolute_tolerance + rel_tol * reaction_norm(f_)) return true;
+    if (it >= options_.max_iterations) {
+      result->failure = SolveFailure::kMaxIterations;
+      result->reason = "Newton reached " + std::to_string(options_.max_iterations) +
+                       " iterations with residual " + std::to_string(rnorm) + " N";
+      return false;
+    }
+    ++result->iterations;
+    if (!factorize_with_fallback(u_)) {
+      result->failure = SolveFailure::kNotFinite;
+      result->reason = "tangent factorisation failed even after PSD projection";
+      return false;
+    }
+    auto start = Clock::now();
+    cholesky_->solve(-r_, &du_);
+    timings_.solve += seconds_since(start);
+    if (!du_.allFinite()) {
+      result->failure = SolveFailure::kNotFinite;
+      result->reason = "Newton direction is not finite";
+      return false;
+    }
+    // Backtracking line search on the potential energy; in the round-off regime near the
+    // solution energy differences are meaningless, so a residual decrease is accepted too.
+    const double slope = r_.dot(du_);
+    double alpha = 1.0;
+    bool accepted = false;
+    bool any_finite = false;
+    for (int ls = 0; ls < kMaxLineSearch; ++ls, alpha *= 0.5) {
+      trial_ = u_ + alpha * du_;
+      const double e_trial = assembler_->energy_and_force(trial_, &f_trial_);
+      if (!std::isfinite(e_trial)) continue;
+      any_finite = true;
+      if (e_trial <= energy + kArmijo * alpha * slope) { accepted = true; break; }
+      if (free_norm(f_trial_) < (1.0 - kArmijo * alpha) * rnorm) { accepted = true; break; }
+    }
+    if (!accepted) {
+      result->failure = any_finite ? SolveFailure::kLineSearch : SolveFailure::kInverted;
+      result->reason = any_finite ? "line search found no decrease along the Newton direction"
+                                  : "every line-search trial inverted an element";
+      return false;
+    }
+    u_ = trial_;
+  }
+}
+
+// One sub-step: tangent predictor from t_from to t_to, then Newton corrections.
+bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t_to,
+                         double rel_tol, MoveResult* result) {
+  double energy = 0;
+  assemble(u_, false, &energy);
+  if (!std::isfinite(energy)) {
+    result->failure = SolveFailure::kInverted;
+    result->reason = "start state has an inverted element";
+    return false;
+  }
+  // Predictor: K_FF du_F = -r_F - K_FP dt.
+  Eigen::VectorXd dt = Eigen::VectorXd::Zero(num_dofs());
+  set_probe_dofs(t_to - t_from, &dt);
+  Eigen::VectorXd k_dt;
+  symmetric_multiply(assembler_->pattern(), k_values_, dt, &k_dt);
+  Eigen::VectorXd rhs = -(f_ + k_dt);
+  for (int d = 0; d < num_dofs(); ++d)
+    if (role_[d] != DofRole::kFree) rhs[d] = 0.0;
+  ++result->iterations;
+  if (!factorize_with_fallback(u_)) {
+    result->failure = SolveFailure::kNotFinite;
+    result->reason = "tangent factorisation failed in the predictor";
+    return false;
+  }
+  auto start = Clock::now();
+  cholesky_->solve(rhs, &du_);
+  timings_.solve += seconds_since(start);
+  // Take the predictor, shortened if it inverts an element.
+  Eigen::VectorXd base = u_;
+  set_probe_dofs(t_to, &base);
+  double scale = 1.0;
+  for (int tries = 0; tries < 8; ++tries, scale *= 0.5) {
+    trial_ = base + scale * du_;
+    if (std::isfinite(assembler_->energy(trial_))) break;
+  }
+  if (!std::isfinite(assembler_->energy(trial_))) {
+    trial_ = base;
+    if (!std::isfinite(assembler_->energy(trial_))) {
+      result->failure = SolveFailure::kInverted;
+      result->reason = "the probe step inverts an element";
+      return false;
+    }
+  }
+  u_ = trial_;
+  return newton(rel_tol, result);
+}
+
+MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
+  const auto start = Clock::now();
+  MoveResult result;
+  const Eigen::VectorXd u_start = u_;
+  const Eigen::Vector3d t_start = t_;
+  const double nominal = 1.0 / options_.substeps;
+  const double smallest = nominal / std::pow(2.0, options_.max_cutbacks);
+  double s = 0, ds = nominal;
+  int streak = 0;
+  while (s < 1.0) {
+    const double s_next = s + ds > 1.0 - 1e-12 ? 1.0 : s + ds;
+    const Eigen::Vector3d t_from = t_start + s * (t_target - t_start);
+    const Eigen::Vector3d t_to = t_start + s_next * (t_target - t_start);
+    const Eigen::VectorXd u_saved = u_;
+    const double tol = s_next == 1.0 ? options_.tolerance
+                                     : std::max(options_.tolerance, kIntermediateRelTol);
+    if (substep(t_from, t_to, tol, &result)) {
+      s = s_next;
+      t_ = t_to;
+      ++result.substeps;
+      if (++streak >= 2 && ds < nominal) { ds = std::min(nominal, 2 * ds); streak = 0; }
+      continue;
+    }
+    u_ = u_saved;
+    streak = 0;
+    ds *= 0.5;
+    ++result.cutbacks;
+    if (ds < smallest * (1 - 1e-9)) {
+      result.ok = false;
+      const std::string last = result.reason;
+      if (result.failure == SolveFailure::kNone) result.failure = SolveFailure::kCutbackLimit;
+      result.reason = "sub-step cut back " + std::to_string(options_.max_cutbacks) +
+                      " times and still failing at " + std::to_string(s * 100) +
+                      "% of the move; last: " + last;
+      u_ = u_start;
+      t_ = t_start;
+      result.wall_ms = 1e3 * seconds_since(start);
+      return result;
+    }
+  }
+  result.ok = true;
+  result.failure = SolveFailure::kNone;
+  result.reason.clear();
+  result.wall_ms = 1e3 * seconds_since(start);
+  return result;
+}
+
+Eigen::Matrix3d PathSolver::haptic_stiffness() {
+  double energy = 0;
+  assemble(u_, false, &energy);
+  const std::vector<double> k_full = k_values_;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> y(num_dofs(), 3);
+  for (int c = 0; c < 3; ++c) {
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(num_dofs());
+    for (int d = 0; d < num_dofs(); ++d)
+      if (probe_dof_component_[d] == c) e[d] = 1.0;
+    Eigen::VectorXd col;
+    symmetric_multiply(assembler_->pattern(), k_full, e, &col);
+    y.col(c) = col;
+  }
+  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  if (!factorize_with_fallback(u_)) return stiffness * std::numeric_limits<double>::quiet_NaN();
+  Eigen::Matrix<double, Eigen::Dynamic, 3> y_free = y;
+  for (int d = 0; d < num_dofs(); ++d)
+    if (role_[d] != DofRole::kFree) y_free.row(d).setZero();
+  for (int c = 0; c < 3; ++c) {
+    Eigen::VectorXd z;
+    cholesky_->solve(y_free.col(c), &z);
+    for (int c2 = 0; c2 < 3; ++c2) {
+      double kpp = 0;
+      for (int d = 0; d < num_dofs(); ++d)
+        if (probe_dof_component_[d] == c2) kpp += y(d, c);
+      // d(felt_c2)/d(t_c) = -(K_PP - K_PF K_FF^-1 K_FP)_{c2,c}; per metre -> per mesh unit.
+      stiffness(c2, c) = -(kpp - y_free.col(c2).dot(z)) * unit_;
+    }
+  }
+  return stiffness;
+}
+
+}  // namespace hapstate

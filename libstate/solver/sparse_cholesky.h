@@ -1,0 +1,36 @@
+// Sparse Cholesky factorisation (CHOLMOD) of a symmetric matrix with a fixed pattern: the
+// symbolic analysis (fill-reducing ordering) is done once in the constructor and reused for
+// every numeric factorisation. One instance per thread.
+#pragma once
+
+#include "fem/assembler.h"
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <vector>
+
+namespace hapstate {
+
+class SparseCholesky {
+ public:
+  explicit SparseCholesky(const SymmetricPattern& pattern);
+  ~SparseCholesky();
+  SparseCholesky(const SparseCholesky&) = delete;
+  SparseCholesky& operator=(const SparseCholesky&) = delete;
+
+  // Numeric factorisation of the matrix with the given upper-triangle values (pattern order).
+  // Returns false if the matrix is not positive definite (or the factorisation failed).
+  bool factorize(const std::vector<double>& values);
+  // x = A^{-1} b with the last successful factorisation.
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x);
+
+  double analyze_seconds() const { return analyze_seconds_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  double analyze_seconds_ = 0;
+};
+
+}  // namespace hapstate
