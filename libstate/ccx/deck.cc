@@ -1,5 +1,6 @@
 #include "ccx/deck.h"
 
+#include "io/probe_path.h"
 #include "util/error.h"
 
 #include <Eigen/Dense>
@@ -245,13 +246,10 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
     }
   }
 
-  std::ofstream path_csv(dir / kCcxPathFile);
-  path_csv << "step,x,y,z\n";
   const std::string step = step_cards(options, nlgeom);
   for (std::size_t k = 0; k < probe_path.size(); ++k) {
     const Eigen::Vector3d& pk = probe_path[k];
     const Eigen::Vector3d t = (pk - p.probe_rest) * p.unit;
-    path_csv << k + 1 << "," << num(pk.x()) << "," << num(pk.y()) << "," << num(pk.z()) << "\n";
     out << "**\n** path point " << k + 1 << ": probe at (" << num(pk.x()) << ", " << num(pk.y())
         << ", " << num(pk.z()) << ") mesh units, t = (" << num(t.x()) << ", " << num(t.y())
         << ", " << num(t.z()) << ") m; step time ends at " << k + 1 << "\n"
@@ -270,7 +268,8 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
     if (options.write_frd) out << "*NODE FILE\nU, RF\n";
     out << "*END STEP\n";
   }
-  if (!out || !path_csv) throw InputError(deck_error(dir, "cannot write the deck files"));
+  if (!out) throw InputError(deck_error(dir, "cannot write the deck files"));
+  write_probe_path(probe_path, dir / kCcxPathFile);
   write_meta(p, static_cast<int>(probe_path.size()), dir / kCcxMetaFile);
 }
 

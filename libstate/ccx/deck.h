@@ -26,7 +26,7 @@ struct CcxDeckOptions {
 // File names inside the deck directory.
 inline constexpr const char* kCcxJobName = "problem";       // ccx -i problem
 inline constexpr const char* kCcxDeckFile = "problem.inp";
-inline constexpr const char* kCcxPathFile = "path.csv";      // step,x,y,z (mesh units)
+inline constexpr const char* kCcxPathFile = "path.csv";      // x,y,z (mesh units), row k = step k
 inline constexpr const char* kCcxMetaFile = "hapstate.json"; // what the .dat reader needs
 
 // Writes DIR/problem.inp, DIR/path.csv and DIR/hapstate.json (creating DIR if needed).
