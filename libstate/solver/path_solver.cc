@@ -1,6 +1,7 @@
 #include "solver/path_solver.h"
 
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 
@@ -8,6 +9,12 @@ namespace hapstate {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+std::string sci(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3e", v);
+  return buf;
+}
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -171,7 +178,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result) {
     if (it >= options_.max_iterations) {
       result->failure = SolveFailure::kMaxIterations;
       result->reason = "Newton reached " + std::to_string(options_.max_iterations) +
-                       " iterations with residual " + std::to_string(rnorm) + " N";
+                       " iterations with residual " + sci(rnorm) + " N";
       return false;
     }
     ++result->iterations;
