@@ -26,9 +26,8 @@ constexpr int kCcxFieldWidth = 20;
 std::string num(double v) {
   std::array<char, 64> buf;
   auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
-  for (int digits = 14; r.ptr - buf.data() > kCcxFieldWidth && digits > 0; --digits) {
-    r = std::to_chars(buf.data(), buf.data() + buf.size(), v, std::chars_format::scientific,
-                      digits);
+  for (int digits = 15; r.ptr - buf.data() > kCcxFieldWidth && digits > 0; --digits) {
+    r = std::to_chars(buf.data(), buf.data() + buf.size(), v, std::chars_format::general, digits);
   }
   return std::string(buf.data(), r.ptr);
 }
