@@ -8,8 +8,8 @@
 
 namespace hapstate {
 
-TextCursor::TextCursor(std::string_view text, std::string source, char comment)
-    : text_(text), source_(std::move(source)), comment_(comment) {}
+TextCursor::TextCursor(std::string_view text, std::string source, char comment, int first_line)
+    : text_(text), source_(std::move(source)), comment_(comment), line_(first_line), token_line_(first_line) {}
 
 void TextCursor::skip_space() {
   const std::size_t n = text_.size();

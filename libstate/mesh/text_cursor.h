@@ -13,8 +13,9 @@ namespace hapstate {
 
 class TextCursor {
  public:
-  // `text` must outlive the cursor; `source` is the file name used in error messages.
-  TextCursor(std::string_view text, std::string source, char comment = '\0');
+  // `text` must outlive the cursor; `source` is the file name used in error messages;
+  // `first_line` is the line number of text[0] (for a piece of a larger file).
+  TextCursor(std::string_view text, std::string source, char comment = '\0', int first_line = 1);
 
   // True when only whitespace (and comments) remain.
   bool at_end();
