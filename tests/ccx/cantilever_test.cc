@@ -138,7 +138,9 @@ TEST_P(CcxCantilever, PathSolverMatchesCalculix) {
               name.c_str(), f_scale, tip, worst_f, worst_u);
   EXPECT_LE(worst_f, kRtol);
   EXPECT_LE(worst_u, kRtol);
-  if (GetParam().load == Load::kGrabEnd) EXPECT_GE(tip, 2.5);  // >= 25 % of the length
+  if (GetParam().load == Load::kGrabEnd) {
+    EXPECT_GE(tip, 2.5);  // >= 25 % of the length
+  }
 
   // The comparison tool must agree (exit 0) on the same data.
   const std::string cmd = "python3 " HAPSTATE_SOURCE_DIR "/tools/ccx_compare.py --ccx-dir '" +
