@@ -1,0 +1,28 @@
+// Binding a validated Scene to its mesh: material constants, fixed and probe DOFs, the
+// rigid-body check. The result is the Problem the solver consumes.
+#pragma once
+
+#include "mesh/load.h"
+#include "mesh/mesh.h"
+#include "scene/problem.h"
+#include "scene/scene.h"
+
+namespace hapstate {
+
+// Material constants from the scene: young+poisson through constants_from_young_poisson, or
+// the law's own constants. The others are filled with their small-strain equivalents
+// (mu, lambda always; c10 = mu/2 and d1 = 2/K for linear/stvk).
+MaterialConstants resolve_material(const SceneMaterial& material);
+
+// Applies the scene to `mesh` (mesh units): fixed selectors -> kFixed, grabbed nodes -> kProbe
+// on probe.dofs, probe_rest, then checks that fixed + probe DOFs remove all 6 rigid-body modes
+// of every connected component. All problems (a selector selecting no node, a missing group,
+// a bad node id, a DOF both fixed and grabbed, ...) are reported at once in one InputError;
+// the rigid-body check runs only when there are no other problems. Contact probes are not
+// supported yet (InputError).
+Problem bind_scene(const Scene& scene, Mesh mesh);
+
+// load_mesh(scene.mesh.file, report) then bind_scene.
+Problem build_problem(const Scene& scene, MeshReport* report = nullptr);
+
+}  // namespace hapstate
