@@ -1,0 +1,285 @@
+// bind_scene: fixed selectors, grab variants, conflicts, material and the rigid-body check, on
+// structured box meshes built in code (node (i, j, k) at (i, j, k), id i + nx (j + ny k)).
+#include "box_mesh.h"
+#include "scene/bind.h"
+#include "scene_test_util.h"
+
+#include <gtest/gtest.h>
+
+namespace hapstate {
+namespace {
+
+using testing::box_node;
+using testing::error_of;
+using testing::make_box_mesh;
+using testing::merge_meshes;
+using testing::ScratchDir;
+
+// Lines 1..7; the [[fixed]] tables start at line 8.
+const std::string kHead =
+    "[mesh]\nfile = \"box.msh\"\nunit = 0.001\n"
+    "[material]\nlaw = \"stvk\"\nmu = 1000\n";
+const std::string kTail = "[grid]\nspacing = 0.25\n[solver]\nsubsteps = 7\n";
+
+class BindScene : public ::testing::Test {
+ protected:
+  // A scene with `fixed` ([[fixed]] tables, from line 7) and the body of [probe].
+  Scene scene(const std::string& fixed, const std::string& probe) const {
+    const std::string text = kHead + "lambda = 4000\n" + fixed + "[probe]\n" + probe +
+                             "\nmax_force = 1.5\n" + kTail;
+    return parse_scene(text, scene_path(), SceneParseOptions{.check_files = false});
+  }
+  std::filesystem::path scene_path() const { return dir_.path() / "scene.toml"; }
+  std::string at(int line, const std::string& message) const {
+    return scene_path().string() + ":" + std::to_string(line) + ": " + message;
+  }
+  static DofRole role(const Problem& p, int node, int component) {
+    return p.constraints.role[static_cast<size_t>(3 * node + component)];
+  }
+
+  ScratchDir dir_;
+  Mesh cube_ = make_box_mesh(3, 3, 3);  // 27 nodes on [0, 2]^3
+};
+
+// Face x = 0: its nodes lie on the boundary of the closed box (x = 0, y = 2, z = 2 included).
+const std::string kFixX0 = "[[fixed]]\nbox = [[0, 0, 0], [0.5, 2, 2]]\n";
+
+TEST_F(BindScene, BoxFixesTheClosedBoxAndGrabsTheNearestNode) {
+  const Problem p = bind_scene(scene(kFixX0, "point = [2.2, 1.9, 2.5]"), cube_);
+  ASSERT_EQ(p.constraints.role.size(), 81u);
+  for (int n = 0; n < 27; ++n) {
+    const bool on_face = p.mesh.nodes(0, n) == 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const DofRole expected = on_face ? DofRole::kFixed : n == 26 ? DofRole::kProbe : DofRole::kFree;
+      EXPECT_EQ(role(p, n, c), expected) << "node " << n << " component " << c;
+    }
+  }
+  EXPECT_EQ(p.constraints.probe_nodes, std::vector<int>{26});
+  EXPECT_EQ(p.constraints.probe_components, (std::array<bool, 3>{true, true, true}));
+  EXPECT_EQ(p.probe_rest, Eigen::Vector3d(2, 2, 2));
+  EXPECT_EQ(p.unit, 0.001);
+  EXPECT_EQ(p.max_force, 1.5);
+  EXPECT_EQ(p.solver.substeps, 7);
+  EXPECT_EQ(p.mesh.num_nodes(), 27);
+  EXPECT_EQ(p.material.law, Law::kStvk);
+  EXPECT_EQ(p.material.mu, 1000.0);
+  EXPECT_EQ(p.material.lambda, 4000.0);
+  EXPECT_DOUBLE_EQ(p.material.c10, 500.0);
+  EXPECT_DOUBLE_EQ(p.material.d1, 2.0 / (4000.0 + 2000.0 / 3.0));
+}
+
+TEST_F(BindScene, PlanesWithDefaultAndGivenToleranceAndPartialDofs) {
+  const std::string fixed =
+      "[[fixed]]\nplane = { point = [0.5, 7, 7], normal = [-2, 0, 0], tolerance = 0.5 }\n"
+      "[[fixed]]\nplane = { point = [2, 0, 0], normal = [3, 0, 0] }\ndofs = \"z\"\n";
+  const Problem p = bind_scene(scene(fixed, "point = [2, 1, 1]\ndofs = \"y\""), cube_);
+  const int grabbed = box_node(2, 1, 1, 3, 3);
+  for (int n = 0; n < 27; ++n) {
+    const double x = p.mesh.nodes(0, n);
+    for (int c = 0; c < 3; ++c) {
+      DofRole expected = DofRole::kFree;
+      if (x <= 1.0 || (x == 2.0 && c == 2)) expected = DofRole::kFixed;  // |x - 0.5| <= 0.5
+      if (n == grabbed && c == 1) expected = DofRole::kProbe;
+      EXPECT_EQ(role(p, n, c), expected) << "node " << n << " component " << c;
+    }
+  }
+  EXPECT_EQ(p.constraints.probe_components, (std::array<bool, 3>{false, true, false}));
+}
+
+TEST_F(BindScene, GroupSelectorWithMinimalConstraints) {
+  // z held on the base, x and y at node 0, y at node 2: exactly the 6 rigid modes removed.
+  cube_.groups["base"] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+  cube_.groups["side"] = {0, 1};
+  const std::string fixed =
+      "[[fixed]]\ngroup = \"base\"\ndofs = \"z\"\n"
+      "[[fixed]]\nbox = [[-0.5, -0.5, -0.5], [0.5, 0.5, 0.5]]\ndofs = \"xy\"\n"
+      "[[fixed]]\nbox = [[1.5, -0.5, -0.5], [2.5, 0.5, 0.5]]\ndofs = \"y\"\n";
+  const Problem p = bind_scene(scene(fixed, "point = [1, 1, 2]"), cube_);
+  int fixed_count = 0;
+  for (DofRole r : p.constraints.role) fixed_count += r == DofRole::kFixed;
+  EXPECT_EQ(fixed_count, 9 + 2 + 1);
+  for (int n = 0; n < 9; ++n) EXPECT_EQ(role(p, n, 2), DofRole::kFixed);
+  EXPECT_EQ(role(p, 0, 0), DofRole::kFixed);
+  EXPECT_EQ(role(p, 0, 1), DofRole::kFixed);
+  EXPECT_EQ(role(p, 2, 1), DofRole::kFixed);
+  EXPECT_EQ(role(p, 2, 0), DofRole::kFree);
+  EXPECT_EQ(role(p, 1, 0), DofRole::kFree);
+
+  EXPECT_EQ(error_of([&] {
+              bind_scene(scene("[[fixed]]\ngroup = \"lid\"\n", "point = [1, 1, 2]"), cube_);
+            }),
+            at(8, "fixed[0]: the mesh has no physical group 'lid' (groups: base, side)"));
+}
+
+TEST_F(BindScene, NodeFilesSelectAndReportBadIds) {
+  dir_.write("base.txt", "0 1 2  # first row\n3 4 5\n\n6\t7 8\n");
+  const Problem p =
+      bind_scene(scene("[[fixed]]\nnodes = \"base.txt\"\n", "point = [1, 1, 2]"), cube_);
+  for (int n = 0; n < 27; ++n) {
+    EXPECT_EQ(role(p, n, 0), n < 9 ? DofRole::kFixed : n == 22 ? DofRole::kProbe : DofRole::kFree);
+  }
+
+  const auto bad = dir_.write("bad.txt", "0 1\nfoo 27\n-1 2.5\n");
+  EXPECT_EQ(error_of([&] {
+              bind_scene(scene("[[fixed]]\nnodes = \"bad.txt\"\n", "point = [1, 1, 2]"), cube_);
+            }),
+            bad.string() + ":2: 'foo' is not a node id (a 0-based integer)\n" + bad.string() +
+                ":2: node id 27 out of range: the mesh has 27 nodes (ids 0..26)\n" +
+                bad.string() + ":3: node id -1 out of range: the mesh has 27 nodes (ids 0..26)\n" +
+                bad.string() + ":3: '2.5' is not a node id (a 0-based integer)");
+}
+
+TEST_F(BindScene, SelectorSelectingNoNodeIsNamed) {
+  const std::string fixed = kFixX0 + "[[fixed]]\nbox = [[5, 5, 5], [6, 6, 6.5]]\n" +
+                            "[[fixed]]\nplane = { point = [0, 0, 0.5], normal = [0, 0, 1] }\n";
+  EXPECT_EQ(error_of([&] { bind_scene(scene(fixed, "point = [2, 2, 2]"), cube_); }),
+            at(10, "fixed[1] (box [[5, 5, 5], [6, 6, 6.5]]) selects no node of the mesh") + "\n" +
+                at(12, "fixed[2] (plane through [0, 0, 0.5] normal [0, 0, 1]) selects no node of "
+                       "the mesh"));
+}
+
+TEST_F(BindScene, GrabNearestNodeMayBeInterior) {
+  const Problem p = bind_scene(scene(kFixX0, "point = [1.1, 0.9, 1.2]"), cube_);
+  EXPECT_EQ(p.constraints.probe_nodes, std::vector<int>{box_node(1, 1, 1, 3, 3)});
+  EXPECT_EQ(p.probe_rest, Eigen::Vector3d(1, 1, 1));
+}
+
+TEST_F(BindScene, GrabByRadiusTakesSurfaceNodesOnly) {
+  const std::string fix_bottom = "[[fixed]]\nbox = [[0, 0, 0], [2, 2, 0.5]]\n";
+  const Problem p =
+      bind_scene(scene(fix_bottom, "point = [1, 1, 2]\nradius = 1.0\ndofs = \"xy\""), cube_);
+  // Within distance 1 of (1, 1, 2): (1,1,2) and its 4 surface neighbours; (1,1,1) is interior.
+  const std::vector<int> expected{box_node(1, 0, 2, 3, 3), box_node(0, 1, 2, 3, 3),
+                                  box_node(1, 1, 2, 3, 3), box_node(2, 1, 2, 3, 3),
+                                  box_node(1, 2, 2, 3, 3)};
+  EXPECT_EQ(p.constraints.probe_nodes, expected);
+  EXPECT_EQ(role(p, box_node(1, 1, 1, 3, 3), 0), DofRole::kFree);
+  EXPECT_TRUE(p.probe_rest.isApprox(Eigen::Vector3d(1, 1, 2)));  // the patch centroid
+  EXPECT_EQ(role(p, box_node(2, 1, 2, 3, 3), 0), DofRole::kProbe);
+  EXPECT_EQ(role(p, box_node(2, 1, 2, 3, 3), 1), DofRole::kProbe);
+  EXPECT_EQ(role(p, box_node(2, 1, 2, 3, 3), 2), DofRole::kFree);
+}
+
+TEST_F(BindScene, GrabByRadiusNeedsASurfaceNode) {
+  EXPECT_EQ(error_of([&] {
+              bind_scene(scene(kFixX0, "point = [1, 1, 5]\nradius = 0.5"), cube_);
+            }),
+            at(10, "probe: no surface node of the mesh within radius 0.5 of [1, 1, 5]"));
+}
+
+TEST_F(BindScene, GrabByNodeFile) {
+  dir_.write("grab.txt", "26 25 26\n");
+  const Problem p = bind_scene(scene(kFixX0, "nodes = \"grab.txt\""), cube_);
+  EXPECT_EQ(p.constraints.probe_nodes, (std::vector<int>{25, 26}));
+  EXPECT_EQ(p.probe_rest, Eigen::Vector3d(1.5, 2, 2));
+}
+
+TEST_F(BindScene, DofBothFixedAndGrabbedIsNamed) {
+  dir_.write("grab.txt", "0 26\n");
+  EXPECT_EQ(error_of([&] {
+              bind_scene(scene(kFixX0 + "[[fixed]]\ngroup = \"g\"\n",
+                               "nodes = \"grab.txt\"\ndofs = \"xz\""),
+                         [&] {
+                           Mesh m = cube_;
+                           m.groups["g"] = {26};
+                           return m;
+                         }());
+            }),
+            at(12, "probe: node 0 component x is both fixed (by fixed[0]) and grabbed by the probe") +
+                "\n" +
+                at(12, "probe: node 0 component z is both fixed (by fixed[0]) and grabbed by the "
+                       "probe") +
+                "\n" +
+                at(12, "probe: node 26 component x is both fixed (by fixed[1]) and grabbed by the "
+                       "probe") +
+                "\n" +
+                at(12, "probe: node 26 component z is both fixed (by fixed[1]) and grabbed by the "
+                       "probe"));
+}
+
+TEST_F(BindScene, SingleFixedNodeLeavesRotationAboutTheProbeLine) {
+  const std::string fixed = "[[fixed]]\nbox = [[-0.1, -0.1, -0.1], [0.1, 0.1, 0.1]]\n";
+  EXPECT_EQ(error_of([&] { bind_scene(scene(fixed, "point = [2, 2, 2]"), cube_); }),
+            scene_path().string() +
+                ": the constraints leave 1 rigid-body mode(s) free in component 0 of 27 nodes "
+                "(e.g. rotation about (0.5774, 0.5774, 0.5774) through (1, 1, 1)); add fixed "
+                "nodes");
+  // With only z grabbed, rotation about z through node 0 is free too.
+  EXPECT_EQ(error_of([&] { bind_scene(scene(fixed, "point = [2, 2, 2]\ndofs = \"z\""), cube_); }),
+            scene_path().string() +
+                ": the constraints leave 2 rigid-body mode(s) free in component 0 of 27 nodes "
+                "(e.g. rotation about z through (0, 0, 1)); add fixed nodes");
+}
+
+TEST_F(BindScene, LineOfFixedNodesLeavesRotationAboutTheLine) {
+  const Mesh bar = make_box_mesh(4, 3, 3);  // [0, 3] x [0, 2] x [0, 2], centroid (1.5, 1, 1)
+  const std::string fixed = "[[fixed]]\nbox = [[-0.1, -0.1, -0.1], [2.1, 0.1, 0.1]]\n";
+  EXPECT_EQ(error_of([&] { bind_scene(scene(fixed, "point = [3, 0, 0]"), bar); }),
+            scene_path().string() +
+                ": the constraints leave 1 rigid-body mode(s) free in component 0 of 36 nodes "
+                "(e.g. rotation about x through (1.5, 0, 0)); add fixed nodes");
+}
+
+TEST_F(BindScene, GrabbedNodeAloneLeavesThreeRotations) {
+  EXPECT_EQ(error_of([&] { bind_scene(scene("", "point = [2, 2, 2]"), cube_); }),
+            scene_path().string() +
+                ": the constraints leave 3 rigid-body mode(s) free in component 0 of 27 nodes "
+                "(e.g. rotation about x through (1, 2, 2)); add fixed nodes");
+}
+
+TEST_F(BindScene, GrabbedPatchAloneRemovesAllModes) {
+  dir_.write("patch.txt", "0 1 3\n");  // three non-collinear nodes, moving rigidly together
+  const Problem p = bind_scene(scene("", "nodes = \"patch.txt\""), cube_);
+  EXPECT_EQ(p.constraints.probe_nodes, (std::vector<int>{0, 1, 3}));
+}
+
+TEST_F(BindScene, EveryConnectedComponentIsChecked) {
+  const Mesh two = merge_meshes(cube_, make_box_mesh(2, 2, 2, 1.0, Eigen::Vector3d(10, 0, 0)));
+  EXPECT_EQ(error_of([&] { bind_scene(scene(kFixX0, "point = [2, 2, 2]"), two); }),
+            scene_path().string() +
+                ": the constraints leave 6 rigid-body mode(s) free in component 1 of 8 nodes "
+                "(e.g. translation along x); add fixed nodes");
+}
+
+TEST_F(BindScene, ContactProbeIsNotSupportedYet) {
+  EXPECT_EQ(error_of([&] {
+              bind_scene(scene(kFixX0, "mode = \"contact\"\npoint = [1, 1, 3]\nradius = 0.5"),
+                         cube_);
+            }),
+            at(10, "contact probe not supported yet (use mode = \"grab\")"));
+}
+
+TEST_F(BindScene, MeshWithoutTets) {
+  Mesh empty;
+  empty.source = "empty.msh";
+  EXPECT_EQ(error_of([&] { bind_scene(scene(kFixX0, "point = [2, 2, 2]"), empty); }),
+            scene_path().string() + ": mesh empty.msh has no tetrahedra");
+}
+
+TEST(ResolveMaterial, FromYoungPoissonAndFromOwnConstants) {
+  SceneMaterial m;
+  m.law = Law::kNeoHooke;
+  m.young = 5000;
+  m.poisson = 0.45;
+  const MaterialConstants a = resolve_material(m);
+  const double mu = 5000 / 2.9, bulk = 5000 / (3 * 0.1);
+  EXPECT_EQ(a.law, Law::kNeoHooke);
+  EXPECT_NEAR(a.c10, mu / 2, 1e-9);
+  EXPECT_NEAR(a.d1, 2 / bulk, 1e-15);
+
+  SceneMaterial own;
+  own.law = Law::kMooney;
+  own.c10 = 400;
+  own.c01 = 100;
+  own.d1 = 1e-3;
+  const MaterialConstants b = resolve_material(own);
+  EXPECT_EQ(b.law, Law::kMooney);
+  EXPECT_EQ(b.c10, 400.0);
+  EXPECT_EQ(b.c01, 100.0);
+  EXPECT_EQ(b.d1, 1e-3);
+  EXPECT_DOUBLE_EQ(b.mu, 1000.0);                     // 2 (c10 + c01)
+  EXPECT_DOUBLE_EQ(b.lambda, 2000.0 - 2000.0 / 3.0);  // K - 2 mu / 3, K = 2 / d1
+}
+
+}  // namespace
+}  // namespace hapstate
