@@ -51,6 +51,13 @@ PathSolver::PathSolver(const Problem& problem)
   assembler_ = std::make_unique<Assembler>(positions_m, problem.mesh.tets, *material_);
   cholesky_ = std::make_unique<SparseCholesky>(assembler_->pattern());
   timings_.analyze = cholesky_->analyze_seconds();
+  // Nodes used by no tet have no stiffness: hold them where they are.
+  std::vector<bool> used(num_nodes_, false);
+  for (int e = 0; e < problem.mesh.num_tets(); ++e)
+    for (int a = 0; a < 4; ++a) used[problem.mesh.tets(a, e)] = true;
+  for (int n = 0; n < num_nodes_; ++n)
+    if (!used[n])
+      for (int c = 0; c < 3; ++c) role_[3 * n + c] = DofRole::kFixed;
   probe_dof_component_.assign(3 * num_nodes_, -1);
   for (int n : problem.constraints.probe_nodes)
     for (int c = 0; c < 3; ++c)

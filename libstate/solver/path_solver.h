@@ -74,6 +74,7 @@ class PathSolver {
   Eigen::Matrix3d haptic_stiffness();
 
   const SolverTimings& timings() const { return timings_; }
+  const SparseCholesky& linear_solver() const { return *cholesky_; }
   const SolverOptions& options() const { return options_; }
 
  private:

@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -78,6 +79,28 @@ void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
                  &s.common);
   x->resize(b.size());
   std::memcpy(x->data(), s.sol->x, sizeof(double) * b.size());
+}
+
+}  // namespace hapstate
+
+namespace hapstate {
+
+double SparseCholesky::factor_nonzeros() const { return impl_->common.lnz; }
+double SparseCholesky::factor_flops() const { return impl_->common.fl; }
+const char* SparseCholesky::method() const {
+  return impl_->factor->is_super ? "supernodal" : "simplicial";
+}
+const char* SparseCholesky::ordering() const {
+  switch (impl_->factor->ordering) {
+    case CHOLMOD_NATURAL: return "natural";
+    case CHOLMOD_GIVEN: return "given";
+    case CHOLMOD_AMD: return "AMD";
+    case CHOLMOD_METIS: return "METIS";
+    case CHOLMOD_NESDIS: return "NESDIS";
+    case CHOLMOD_COLAMD: return "COLAMD";
+    case CHOLMOD_POSTORDERED: return "postordered";
+  }
+  return "unknown";
 }
 
 }  // namespace hapstate

@@ -26,6 +26,12 @@ class SparseCholesky {
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x);
 
   double analyze_seconds() const { return analyze_seconds_; }
+  // Non-zeros of the factor and flop count of one numeric factorisation (from the analysis).
+  double factor_nonzeros() const;
+  double factor_flops() const;
+  // "supernodal" or "simplicial", and the fill-reducing ordering CHOLMOD chose.
+  const char* method() const;
+  const char* ordering() const;
 
  private:
   struct Impl;

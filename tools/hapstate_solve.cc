@@ -1,0 +1,179 @@
+// hapstate-solve: the precise path solver. Solves the equilibrium of the scene's body at every
+// point of a probe path, step by step from rest, and writes one CSV row per point.
+#include "ccx/deck.h"
+#include "io/probe_path.h"
+#include "io/vtu_writer.h"
+#include "scene/bind.h"
+#include "scene/scene.h"
+#include "solver/path_solver.h"
+#include "util/main_guard.h"
+#include "util/progress.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <optional>
+
+namespace hapstate {
+namespace {
+
+struct Options {
+  std::string scene;
+  std::string path_csv;
+  std::vector<double> straight;
+  int steps = 10;
+  int random_steps = 0;
+  std::uint64_t seed = 1;
+  double step_length = 0;
+  std::string output;
+  std::string displacements;
+  std::string vtu_dir;
+  std::string ccx_dir;
+  bool quiet = false;
+  bool timings = false;
+};
+
+ProbePath make_path(const Options& o, const Scene& scene, const Problem& problem) {
+  if (!o.path_csv.empty()) return read_probe_path(o.path_csv);
+  if (!o.straight.empty()) {
+    return straight_path(problem.probe_rest, Eigen::Vector3d(o.straight[0], o.straight[1], o.straight[2]),
+                         o.steps);
+  }
+  // Random walk inside the workspace (grid box, or 4 spacings around the probe).
+  const double h = smallest_grid_spacing(scene.grid);
+  Eigen::Vector3d lo = problem.probe_rest - Eigen::Vector3d::Constant(4 * h);
+  Eigen::Vector3d hi = problem.probe_rest + Eigen::Vector3d::Constant(4 * h);
+  if (scene.grid.box) {
+    lo = scene.grid.box->min;
+    hi = scene.grid.box->max;
+  }
+  const double length = o.step_length > 0 ? o.step_length : h;
+  return random_path(problem.probe_rest, o.random_steps, length, lo, hi, o.seed);
+}
+
+int run(const Options& o) {
+  const Scene scene = load_scene(o.scene);
+  MeshReport report;
+  const Problem problem = build_problem(scene, &report);
+  for (const auto& w : report.warnings) std::fprintf(stderr, "hapstate-solve: mesh: %s\n", w.c_str());
+  const ProbePath path = make_path(o, scene, problem);
+
+  if (!o.ccx_dir.empty()) {
+    write_ccx_deck(problem, path, o.ccx_dir);
+    if (!o.quiet) std::fprintf(stderr, "hapstate-solve: wrote CalculiX deck to %s\n", o.ccx_dir.c_str());
+    if (o.output.empty()) return kExitOk;
+  }
+
+  std::ofstream out(o.output);
+  if (!out) throw InputError(o.output + ": cannot write output CSV");
+  out << "step,x,y,z,fx,fy,fz,residual,iterations,substeps,cutbacks,wall_ms,status\n"
+      << std::setprecision(12);
+  std::ofstream disp;
+  if (!o.displacements.empty()) {
+    disp.open(o.displacements);
+    if (!disp) throw InputError(o.displacements + ": cannot write displacement CSV");
+    disp << "step,node,ux,uy,uz\n" << std::setprecision(12);
+  }
+  std::vector<std::pair<double, std::string>> frames;
+  if (!o.vtu_dir.empty()) std::filesystem::create_directories(o.vtu_dir);
+
+  PathSolver solver(problem);
+  Progress progress("hapstate-solve", static_cast<long long>(path.size()),
+                    o.quiet ? nullptr : stderr);
+  long long failures = 0;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const int step = static_cast<int>(k) + 1;
+    const MoveResult r = solver.move_to(path[k] - problem.probe_rest);
+    if (!r.ok) {
+      ++failures;
+      std::fprintf(stderr, "hapstate-solve: step %d (%g, %g, %g) failed: %s: %s\n", step,
+                   path[k].x(), path[k].y(), path[k].z(), failure_name(r.failure), r.reason.c_str());
+    }
+    // On failure the solver stays at the last converged state; the row reports that state's force.
+    const Eigen::Vector3d f = solver.force_felt();
+    out << step << ',' << path[k].x() << ',' << path[k].y() << ',' << path[k].z() << ',' << f.x()
+        << ',' << f.y() << ',' << f.z() << ',' << r.residual << ',' << r.iterations << ','
+        << r.substeps << ',' << r.cutbacks << ',' << r.wall_ms << ','
+        << (r.ok ? "ok" : failure_name(r.failure)) << '\n';
+    if (disp.is_open() || !o.vtu_dir.empty()) {
+      const Eigen::Matrix3Xd u = solver.displacements();
+      if (disp.is_open())
+        for (int n = 0; n < u.cols(); ++n)
+          disp << step << ',' << n << ',' << u(0, n) << ',' << u(1, n) << ',' << u(2, n) << '\n';
+      if (!o.vtu_dir.empty()) {
+        char name[32];
+        std::snprintf(name, sizeof name, "step_%05d.vtu", step);
+        write_vtu(std::filesystem::path(o.vtu_dir) / name, problem.mesh, u);
+        frames.emplace_back(step, name);
+      }
+    }
+    progress.update(step, failures);
+  }
+  progress.finish();
+  if (o.timings) {
+    const SolverTimings& t = solver.timings();
+    std::fprintf(stderr,
+                 "hapstate-solve: timings: symbolic analysis %.3f ms; assembly %.3f ms x %lld; "
+                 "factorisation %.3f ms x %lld (%lld PSD fallbacks); solve %.3f ms total\n",
+                 1e3 * t.analyze, 1e3 * t.assembly / std::max(1LL, t.assemblies), t.assemblies,
+                 1e3 * t.factorize / std::max(1LL, t.factorizations), t.factorizations,
+                 t.psd_fallbacks, 1e3 * t.solve);
+    const SparseCholesky& c = solver.linear_solver();
+    std::fprintf(stderr, "hapstate-solve: %d DOFs, factor %s (%s ordering), nnz(L) %.3g, %.3g flop\n",
+                 solver.num_dofs(), c.method(), c.ordering(), c.factor_nonzeros(), c.factor_flops());
+  }
+  if (!o.vtu_dir.empty()) write_pvd(std::filesystem::path(o.vtu_dir) / "path.pvd", frames);
+  if (!out) throw InputError(o.output + ": write failed");
+  return failures > 0 ? kExitSolveFailed : kExitOk;
+}
+
+}  // namespace
+}  // namespace hapstate
+
+int main(int argc, char** argv) {
+  using namespace hapstate;
+  Options o;
+  CLI::App app{"hapstate-solve: precise non-linear FEM solve of a probe path (the reference the "
+               "playback is measured against).\nExit codes: 0 ok, 1 internal error, 2 bad input, "
+               "3 some path point failed to converge (reported, run completed)."};
+  app.add_option("scene", o.scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
+  auto* path_opt = app.add_option("--path", o.path_csv,
+                                  "probe path CSV with header x,y,z: absolute probe positions "
+                                  "(scene units), solved in order starting from rest")
+                       ->check(CLI::ExistingFile);
+  auto* straight_opt = app.add_option("--straight", o.straight,
+                                      "straight path from the rest position to X Y Z")
+                           ->expected(3);
+  app.add_option("--steps", o.steps, "points on a --straight path")->check(CLI::Range(1, 100000000));
+  auto* random_opt = app.add_option("--random", o.random_steps,
+                                    "seeded random walk of N points from the rest position, "
+                                    "inside the grid workspace")
+                         ->check(CLI::Range(1, 100000000));
+  app.add_option("--seed", o.seed, "seed of --random");
+  app.add_option("--step-length", o.step_length,
+                 "step of --random in scene units (default: the grid spacing)")
+      ->check(CLI::PositiveNumber);
+  path_opt->excludes(straight_opt)->excludes(random_opt);
+  straight_opt->excludes(random_opt);
+  app.add_option("-o,--output", o.output,
+                 "output CSV: step,x,y,z,fx,fy,fz,residual,iterations,substeps,cutbacks,wall_ms,"
+                 "status (f = force felt by the user, N)");
+  app.add_option("--displacements", o.displacements,
+                 "also write every node's displacement per step: CSV step,node,ux,uy,uz");
+  app.add_option("--vtu", o.vtu_dir, "also write the deformed mesh per step as VTU + path.pvd");
+  app.add_option("--export-ccx", o.ccx_dir,
+                 "write the same problem as a CalculiX deck (DIR/problem.inp, see "
+                 "tools/ccx_compare.py)");
+  app.add_flag("-q,--quiet", o.quiet, "no progress line");
+  app.add_flag("--timings", o.timings,
+               "print time per assembly / factorisation / solve and the symbolic analysis");
+  CLI11_PARSE(app, argc, argv);
+  return guarded_main("hapstate-solve", [&] {
+    if (o.path_csv.empty() && o.straight.empty() && o.random_steps == 0)
+      throw InputError("give a probe path: --path FILE, --straight X Y Z or --random N");
+    if (o.output.empty() && o.ccx_dir.empty()) throw InputError("give -o OUT.csv (or --export-ccx DIR)");
+    return run(o);
+  });
+}
