@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs the Debian packages hapstate needs to build, test and run (see docs/dependencies.md).
+# Idempotent: does nothing when every package is already installed. Needs root (or sudo).
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev              # dense/sparse linear algebra, fixed-size element kernels
+  libsuitesparse-dev         # CHOLMOD sparse Cholesky (UMFPACK present as well)
+  libopenblas0-pthread       # optimised BLAS for CHOLMOD's supernodal factorisation (10x over reference BLAS)
+  libhdf5-dev                # configuration vectors (blobs)
+  libsqlite3-dev             # state catalogue
+  libzstd-dev                # compression of stored vectors (HDF5 filter 32015)
+  libtomlplusplus-dev        # scene files
+  libcli11-dev               # command-line parsing
+  libgmsh-dev                # tetrahedralising closed STL/OBJ surfaces
+  libgtest-dev libbenchmark-dev
+  calculix-ccx               # the independent reference solver used by the tests
+  python3 python3-matplotlib # plots and comparison scripts
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+sudo_cmd=()
+[ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"
