@@ -3,7 +3,7 @@
 // its length, (b) pushed down at mid-span by a patch of top-face nodes. Per law (stvk, neohooke,
 // mooney) the forces and displacements must agree to 1e-4 of their maxima over the path.
 // The same results also go through tools/ccx_compare.py in the documented CSV formats.
-#include "box_mesh.h"
+#include "mesh/box_mesh.h"
 #include "ccx/deck.h"
 #include "ccx/read_dat.h"
 #include "ccx/run.h"
@@ -45,7 +45,7 @@ struct Case {
 // The beam with x = 0 clamped and the probe nodes (all three components follow the probe).
 Problem beam_problem(const Case& k, std::vector<Eigen::Vector3d>* path) {
   Problem p;
-  p.mesh = testing::box_mesh({10, 1, 1}, {20, 2, 2});
+  p.mesh = make_box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(10, 1, 1), 20, 2, 2);
   p.unit = kUnit;
   p.material = constants(k.law);
   const int n = p.mesh.num_nodes();

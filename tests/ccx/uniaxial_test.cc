@@ -2,7 +2,7 @@
 // symmetry-plane supports stretched and compressed in x, laterally free. The homogeneous state
 // F = diag(a, b, b) is exact on any tet mesh, so ccx's reaction must match P11(a, b) * area with
 // b solving P22(a, b) = 0, and its displacements must be the affine field.
-#include "box_mesh.h"
+#include "mesh/box_mesh.h"
 #include "ccx/deck.h"
 #include "ccx/read_dat.h"
 #include "ccx/run.h"
@@ -82,7 +82,7 @@ Uniaxial uniaxial(const MaterialConstants& c, double a) {
 // Unit cube, 2x2x2 cells: x fixed on x=0, y on y=0, z on z=0; the x=1 face is the probe, x only.
 Problem cube_problem(Law law) {
   Problem p;
-  p.mesh = testing::box_mesh({1, 1, 1}, {2, 2, 2});
+  p.mesh = make_box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 1, 1), 2, 2, 2);
   p.unit = kUnit;
   p.material = constants(law);
   const int n = p.mesh.num_nodes();
