@@ -11,6 +11,7 @@ packages=(
   libhdf5-dev                # configuration vectors (blobs)
   libsqlite3-dev             # state catalogue
   libzstd-dev                # compression of stored vectors (HDF5 filter 32015)
+  zlib1g-dev                 # zlib-compressed VTK XML (.vtu) meshes
   libtomlplusplus-dev        # scene files
   libcli11-dev               # command-line parsing
   libgmsh-dev                # tetrahedralising closed STL/OBJ surfaces
