@@ -23,6 +23,7 @@ struct Options {
   std::string scene;
   std::string path_csv;
   std::vector<double> straight;
+  std::vector<double> by;
   int steps = 10;
   int random_steps = 0;
   std::uint64_t seed = 1;
@@ -37,6 +38,10 @@ struct Options {
 
 ProbePath make_path(const Options& o, const Scene& scene, const Problem& problem) {
   if (!o.path_csv.empty()) return read_probe_path(o.path_csv);
+  if (!o.by.empty()) {
+    const Eigen::Vector3d d(o.by[0], o.by[1], o.by[2]);
+    return straight_path(problem.probe_rest, problem.probe_rest + d, o.steps);
+  }
   if (!o.straight.empty()) {
     return straight_path(problem.probe_rest, Eigen::Vector3d(o.straight[0], o.straight[1], o.straight[2]),
                          o.steps);
@@ -146,7 +151,10 @@ int main(int argc, char** argv) {
   auto* straight_opt = app.add_option("--straight", o.straight,
                                       "straight path from the rest position to X Y Z")
                            ->expected(3);
-  app.add_option("--steps", o.steps, "points on a --straight path")->check(CLI::Range(1, 100000000));
+  auto* by_opt = app.add_option("--by", o.by,
+                                "straight path from the rest position by DX DY DZ (scene units)")
+                     ->expected(3);
+  app.add_option("--steps", o.steps, "points on a --straight or --by path")->check(CLI::Range(1, 100000000));
   auto* random_opt = app.add_option("--random", o.random_steps,
                                     "seeded random walk of N points from the rest position, "
                                     "inside the grid workspace")
@@ -155,8 +163,9 @@ int main(int argc, char** argv) {
   app.add_option("--step-length", o.step_length,
                  "step of --random in scene units (default: the grid spacing)")
       ->check(CLI::PositiveNumber);
-  path_opt->excludes(straight_opt)->excludes(random_opt);
-  straight_opt->excludes(random_opt);
+  path_opt->excludes(straight_opt)->excludes(random_opt)->excludes(by_opt);
+  straight_opt->excludes(random_opt)->excludes(by_opt);
+  random_opt->excludes(by_opt);
   app.add_option("-o,--output", o.output,
                  "output CSV: step,x,y,z,fx,fy,fz,residual,iterations,substeps,cutbacks,wall_ms,"
                  "status (f = force felt by the user, N)");
@@ -171,8 +180,8 @@ int main(int argc, char** argv) {
                "print time per assembly / factorisation / solve and the symbolic analysis");
   CLI11_PARSE(app, argc, argv);
   return guarded_main("hapstate-solve", [&] {
-    if (o.path_csv.empty() && o.straight.empty() && o.random_steps == 0)
-      throw InputError("give a probe path: --path FILE, --straight X Y Z or --random N");
+    if (o.path_csv.empty() && o.straight.empty() && o.by.empty() && o.random_steps == 0)
+      throw InputError("give a probe path: --path FILE, --straight X Y Z, --by DX DY DZ or --random N");
     if (o.output.empty() && o.ccx_dir.empty()) throw InputError("give -o OUT.csv (or --export-ccx DIR)");
     return run(o);
   });

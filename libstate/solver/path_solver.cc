@@ -22,7 +22,7 @@ double seconds_since(Clock::time_point start) {
 
 // Intermediate sub-steps only need to stay close to the equilibrium path; the final
 // sub-step is solved to the user's tolerance.
-constexpr double kIntermediateRelTol = 1e-6;
+constexpr double kIntermediateRelTol = 1e-2;
 // Armijo sufficient-decrease constant and line-search halvings.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxLineSearch = 12;
