@@ -96,6 +96,7 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
       have_nodes = true;
       if (binary) c.skip_line_end();
       const long long blocks = num.size("number of node blocks");
+      const int header_line = c.line();
       const long long n = num.size("number of nodes");
       num.size("minimum node tag");
       num.size("maximum node tag");
@@ -129,7 +130,7 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
         done += count;
       }
       if (done != n) {
-        c.fail("node blocks hold " + std::to_string(done) + " nodes but $Nodes declares " + std::to_string(n) +
+        c.fail_at(header_line, "node blocks hold " + std::to_string(done) + " nodes but $Nodes declares " + std::to_string(n) +
                " (wrong node count?)");
       }
       const std::string_view end = c.token("$EndNodes");
@@ -139,6 +140,7 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
       have_elements = true;
       if (binary) c.skip_line_end();
       const long long blocks = num.size("number of element blocks");
+      const int header_line = c.line();
       const long long m = num.size("number of elements");
       num.size("minimum element tag");
       num.size("maximum element tag");
@@ -170,7 +172,7 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
         done += count;
       }
       if (done != m) {
-        c.fail("element blocks hold " + std::to_string(done) + " elements but $Elements declares " +
+        c.fail_at(header_line, "element blocks hold " + std::to_string(done) + " elements but $Elements declares " +
                std::to_string(m) + " (wrong element count?)");
       }
       const std::string_view end = c.token("$EndElements");

@@ -106,6 +106,10 @@ class VtuReader {
     if (format == "ascii") {
       TextCursor c(e.text, source_, '\0', doc_.line_at(e.text_offset));
       for (std::size_t i = 0; i < count; ++i) {
+        if (c.at_end()) {
+          c.fail("DataArray holds only " + std::to_string(i) + " values, expected " + std::to_string(count) +
+                 " (wrong count?)");
+        }
         if (type.integral) {
           const long long v = c.read_int("integer value of DataArray");
           if (ints != nullptr) ints->push_back(v);

@@ -36,7 +36,11 @@ bool TextCursor::at_end() {
 std::string_view TextCursor::token(std::string_view what) {
   skip_space();
   token_line_ = line_;
-  if (pos_ >= text_.size()) fail("expected " + std::string(what) + ", got end of file (truncated file?)");
+  if (pos_ >= text_.size()) {
+    // Name the last line that has content.
+    if (!text_.empty() && text_.back() == '\n' && token_line_ > 1) --token_line_;
+    fail("expected " + std::string(what) + ", got end of file (truncated file?)");
+  }
   const std::size_t begin = pos_;
   const std::size_t n = text_.size();
   while (pos_ < n) {
