@@ -1,0 +1,121 @@
+// The catalogue of a state directory: catalogue.sqlite, all metadata and every decision of the
+// precomputation (docs/storage.md). A narrow interface with one verb grammar per table:
+//   insert_<row>, read_<row>(id), read_all_<rows>, num_<rows>, exists_<row>, update_<row>_<field>,
+// plus the few queries the stages need (configurations_at, frontier, transitions_of, ...).
+#pragma once
+
+#include "catalogue/records.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace hapstate {
+
+enum class OpenMode {
+  kReadOnly,   // must exist at the current schema version; no writes
+  kReadWrite,  // must exist at the current schema version
+  kCreate,     // created with the current schema if missing (or empty); else as kReadWrite
+  kMigrate,    // like kCreate, and an older schema is migrated to the current one
+};
+
+// One open connection to a catalogue file (or ":memory:").
+// Threads: a Catalogue is used by one thread at a time; every thread that needs the catalogue
+// opens its own (SQLite WAL allows many readers beside one writer; a writer waits up to
+// kBusyTimeoutMs for another's transaction). Errors: every failure throws InputError naming
+// the file, the SQL statement and SQLite's message; nothing is written when opening fails.
+class Catalogue {
+ public:
+  // "HAPS": PRAGMA application_id of every hapstate catalogue.
+  static constexpr std::int32_t kApplicationId = 0x48415053;
+  static constexpr int kBusyTimeoutMs = 10000;
+
+  // Schema version this build creates and reads (the highest schema/NNNN_*.sql).
+  static int supported_schema_version();
+
+  // Opens `file`. Refused with an InputError, leaving the file untouched: not an SQLite file,
+  // a corrupt file, an SQLite file of another application, a newer schema version ("upgrade
+  // hapstate"), an older one unless kMigrate, a missing file unless kCreate / kMigrate.
+  // Sets WAL, synchronous=NORMAL and foreign keys on.
+  explicit Catalogue(const std::filesystem::path& file, OpenMode mode = OpenMode::kReadWrite);
+  ~Catalogue();
+  Catalogue(Catalogue&&) noexcept;
+  Catalogue& operator=(Catalogue&&) noexcept;
+
+  const std::filesystem::path& file() const;
+  int schema_version() const;
+  // PRAGMA integrity_check: "ok" or SQLite's list of problems.
+  std::string integrity_check();
+  // PRAGMA foreign_key_check: number of rows whose references dangle.
+  std::int64_t num_foreign_key_violations();
+
+  // --- scene (one row) ---
+  // Inserts or replaces the scene row.
+  void write_scene(const SceneRecord& scene);
+  std::optional<SceneRecord> read_scene();
+
+  // --- stage runs ---
+  // Inserts a run (with its inputs) as given; fills in hapstate_version if empty. Returns its id.
+  StageRunId insert_stage_run(const StageRun& run);
+  // Sets outcome, end time and message of a run (typically one inserted as kRunning).
+  void update_stage_run_end(StageRunId id, StageOutcome outcome, TimeMs ended,
+                            std::string_view message);
+  StageRun read_stage_run(StageRunId id);
+  std::vector<StageRun> read_stage_runs(std::string_view stage);  // oldest first
+  // The newest run of `stage` that ended kOk or kUnchanged, if any: the one to compare
+  // input hashes against.
+  std::optional<StageRun> last_successful_stage_run(std::string_view stage);
+
+  // --- check-points ---
+  // Inserts a check-point; its id is assigned unless checkpoint.id is valid. Throws if the
+  // (i, j, k) already exists.
+  CheckpointId insert_checkpoint(const Checkpoint& checkpoint);
+  Checkpoint read_checkpoint(CheckpointId id);  // throws InputError if there is no such row
+  std::optional<Checkpoint> find_checkpoint(const std::array<int, 3>& ijk);
+  std::vector<Checkpoint> read_all_checkpoints();  // by id
+  std::int64_t num_checkpoints();
+  bool exists_checkpoint(CheckpointId id);
+
+  // --- configurations ---
+  // Inserts a configuration; its id is assigned unless configuration.id is valid (a stage
+  // that names blob groups after ids before the insert fixes them this way). Throws if
+  // (checkpoint, level) exists or the check-point does not.
+  ConfigId insert_configuration(const Configuration& configuration);
+  Configuration read_configuration(ConfigId id);  // throws InputError if there is no such row
+  std::vector<Configuration> configurations_at(CheckpointId checkpoint);  // by level
+  // Expandable, kOpen configurations of `wave`, by id: the work list of the expand stage.
+  std::vector<Configuration> frontier(int wave);
+  std::vector<Configuration> read_all_configurations();  // by id
+  std::int64_t num_configurations();
+  bool exists_configuration(ConfigId id);
+  void update_configuration_status(ConfigId id, ConfigStatus status);
+  std::optional<int> max_wave();  // nullopt if there is no configuration
+  // Next level number at a check-point (0 if it has none).
+  Level next_level(CheckpointId checkpoint);
+  // Largest configuration id in use (kInvalid if none): ids above it are free.
+  ConfigId max_config_id();
+  // Every segment some configuration references: the complement is garbage.
+  std::set<SegmentId> referenced_segments();
+
+  // --- transitions ---
+  // Inserts a transition. Throws if (source, direction) exists, if target and outcome
+  // disagree, or if source / target are not configurations.
+  void insert_transition(const Transition& transition);
+  std::optional<Transition> read_transition(ConfigId source, Direction direction);
+  std::vector<Transition> transitions_of(ConfigId source);  // by direction
+  std::vector<Transition> read_all_transitions();           // by (source, direction)
+  std::int64_t num_transitions();
+  std::int64_t num_failed_transitions();
+
+ private:
+  friend class Transaction;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hapstate

@@ -1,0 +1,131 @@
+// Plain rows of the catalogue tables (schema/0001_initial.sql, docs/storage.md). Units:
+// lengths in mesh units, forces in N, stiffness in N per mesh unit, times in ms.
+#pragma once
+
+#include "blobs/segment.h"
+#include "catalogue/direction.h"
+#include "catalogue/hash.h"
+#include "catalogue/ids.h"
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hapstate {
+
+// Table scene: the scene this state directory belongs to (one row).
+struct SceneRecord {
+  std::string text;             // scene.toml as read
+  ContentHash hash;             // of text
+  std::string mesh_file;        // as named in the scene
+  ContentHash mesh_hash;        // of the mesh file's bytes
+  std::int64_t mesh_nodes = 0;
+  std::int64_t mesh_elements = 0;
+  std::int64_t mesh_surface_triangles = 0;
+  std::array<double, 3> bbox_min{};  // mesh units
+  std::array<double, 3> bbox_max{};
+  double volume = 0.0;               // mesh units^3
+
+  bool operator==(const SceneRecord&) const = default;
+};
+
+// How a stage run ended. kRunning: begun and not finished (or the process died).
+enum class StageOutcome { kRunning, kOk, kUnchanged, kPartial, kFailed };
+
+using Clock = std::chrono::system_clock;
+using TimeMs = std::chrono::time_point<Clock, std::chrono::milliseconds>;
+
+// Table stage_run (+ stage_run_input): one execution of a stage and what it consumed.
+struct StageRun {
+  StageRunId id;                 // assigned by the catalogue
+  std::string stage;             // "import", "grid", "expand", "compact", "index"
+  std::vector<std::pair<std::string, ContentHash>> inputs;  // name -> hash, sorted by name
+  std::string parameters;        // resolved options as text
+  std::string hapstate_version;  // filled in by the catalogue if ""
+  TimeMs started{};
+  std::optional<TimeMs> ended;   // nullopt while running
+  StageOutcome outcome = StageOutcome::kRunning;
+  std::string message;           // summary or failure reason
+
+  bool operator==(const StageRun&) const = default;
+};
+
+// Classification of a check-point by the grid stage.
+enum class CheckpointClass {
+  kUnclassified = 0,
+  kWorkspace = 1,         // inside the workspace: configurations are computed here
+  kOutsideWorkspace = 2,  // in the grid box but outside the workspace: never expanded into
+  kFree = 3,              // contact probe: the sphere does not touch the body (zero config)
+  kInsideBody = 4,        // contact probe: the sphere centre is inside the body (unreachable)
+};
+
+// Table checkpoint: P_ijk = origin + (i, j, k) * spacing.
+struct Checkpoint {
+  CheckpointId id;                // kInvalid on insert: assigned by the catalogue
+  std::array<int, 3> ijk{};
+  std::array<double, 3> position{};  // mesh units
+  CheckpointClass classification = CheckpointClass::kUnclassified;
+
+  bool operator==(const Checkpoint&) const = default;
+};
+
+// Expansion status of a configuration.
+enum class ConfigStatus {
+  kOpen = 0,      // some of its 26 directions are undecided (or it is not expandable)
+  kExpanded = 1,  // all 26 transitions are stored
+  kMerged = 2,    // duplicate level merged into another by compaction; not used any more
+};
+
+// Where a configuration's vectors live: blobs/seg-NNNNNN.h5, group `name` holding the
+// datasets `name`/u (displacements), `name`/t (probe displacement), `name`/h (reactions).
+struct BlobRef {
+  SegmentId segment;
+  std::string name;  // e.g. "c42"
+
+  bool valid() const { return segment.valid() && !name.empty(); }
+  bool operator==(const BlobRef&) const = default;
+};
+
+// Table configuration: one equilibrium state (a level of a check-point).
+struct Configuration {
+  ConfigId id;                  // kInvalid on insert: assigned (or give one to fix it)
+  CheckpointId checkpoint;
+  Level level;
+  int wave = 0;                 // breadth-first distance from a zero configuration
+  std::array<double, 3> force{};      // felt by the user, N
+  std::array<double, 9> stiffness{};  // d(force)/d(probe), row-major, N per mesh unit
+  bool expandable = false;      // |force| <= F_max and inside the workspace
+  ConfigStatus status = ConfigStatus::kOpen;
+  std::optional<BlobRef> blob;  // nullopt: no vectors stored (e.g. the trivial zero state)
+  std::vector<double> summary;  // small sketch for fast level comparison
+
+  bool operator==(const Configuration&) const = default;
+};
+
+// Result of a transition.
+enum class TransitionOutcome {
+  kReached = 0,      // target is the configuration reached
+  kOutsideGrid = 1,  // the neighbour is not a check-point of the grid / workspace
+  kFailed = 2,       // the solve failed; failure_reason says why
+};
+
+// Table transition: moving the probe from `source` one grid step in `direction`.
+struct Transition {
+  ConfigId source;
+  Direction direction{0};
+  TransitionOutcome outcome = TransitionOutcome::kReached;
+  ConfigId target;              // valid iff outcome == kReached
+  int substeps = 0;
+  int newton_iterations = 0;
+  double final_residual = 0.0;  // N
+  double wall_ms = 0.0;
+  std::string failure_reason;   // "" unless kFailed
+
+  bool operator==(const Transition&) const = default;
+};
+
+}  // namespace hapstate

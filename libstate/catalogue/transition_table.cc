@@ -1,0 +1,94 @@
+// Table transition.
+#include "catalogue/catalogue_impl.hpp"
+#include "util/error.h"
+
+namespace hapstate {
+namespace {
+
+#define HAPSTATE_TRANSITION_COLUMNS                                                       \
+  "source, direction, outcome, target, substeps, newton_iterations, final_residual, " \
+  "wall_ms, failure_reason"
+
+constexpr const char* kInsert = "INSERT INTO transition (" HAPSTATE_TRANSITION_COLUMNS
+                                ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)";
+constexpr const char* kRead = "SELECT " HAPSTATE_TRANSITION_COLUMNS
+                              " FROM transition WHERE source = ? AND direction = ?";
+constexpr const char* kOfSource = "SELECT " HAPSTATE_TRANSITION_COLUMNS
+                                  " FROM transition WHERE source = ? ORDER BY direction";
+constexpr const char* kReadAll =
+    "SELECT " HAPSTATE_TRANSITION_COLUMNS " FROM transition ORDER BY source, direction";
+constexpr const char* kCount = "SELECT count(*) FROM transition";
+constexpr const char* kCountFailed = "SELECT count(*) FROM transition WHERE outcome = 2";
+
+#undef HAPSTATE_TRANSITION_COLUMNS
+
+Transition row_to_transition(const catalogue_detail::Statement& s) {
+  Transition t;
+  t.source = ConfigId(s.column_int(0));
+  t.direction = Direction(static_cast<int>(s.column_int(1)));  // CHECKed 0..25 by the schema
+  t.outcome = static_cast<TransitionOutcome>(s.column_int(2));
+  if (!s.is_null(3)) t.target = ConfigId(s.column_int(3));
+  t.substeps = static_cast<int>(s.column_int(4));
+  t.newton_iterations = static_cast<int>(s.column_int(5));
+  t.final_residual = s.column_double(6);
+  t.wall_ms = s.column_double(7);
+  t.failure_reason = s.column_text(8);
+  return t;
+}
+
+}  // namespace
+
+void Catalogue::insert_transition(const Transition& t) {
+  catalogue_detail::StatementUse s(impl_->statement(kInsert));
+  s->bind(1, t.source.value());
+  s->bind(2, t.direction.index());
+  s->bind(3, static_cast<int>(t.outcome));
+  if (t.target.valid()) {
+    s->bind(4, t.target.value());
+  } else {
+    s->bind_null(4);
+  }
+  s->bind(5, t.substeps);
+  s->bind(6, t.newton_iterations);
+  s->bind(7, t.final_residual);
+  s->bind(8, t.wall_ms);
+  s->bind(9, t.failure_reason);
+  s->run();
+}
+
+std::optional<Transition> Catalogue::read_transition(ConfigId source, Direction direction) {
+  catalogue_detail::StatementUse s(impl_->statement(kRead));
+  s->bind(1, source.value());
+  s->bind(2, direction.index());
+  if (!s->step()) return std::nullopt;
+  return row_to_transition(*s);
+}
+
+std::vector<Transition> Catalogue::transitions_of(ConfigId source) {
+  catalogue_detail::StatementUse s(impl_->statement(kOfSource));
+  s->bind(1, source.value());
+  std::vector<Transition> out;
+  while (s->step()) out.push_back(row_to_transition(*s));
+  return out;
+}
+
+std::vector<Transition> Catalogue::read_all_transitions() {
+  catalogue_detail::StatementUse s(impl_->statement(kReadAll));
+  std::vector<Transition> out;
+  while (s->step()) out.push_back(row_to_transition(*s));
+  return out;
+}
+
+std::int64_t Catalogue::num_transitions() {
+  catalogue_detail::StatementUse s(impl_->statement(kCount));
+  s->step();
+  return s->column_int(0);
+}
+
+std::int64_t Catalogue::num_failed_transitions() {
+  catalogue_detail::StatementUse s(impl_->statement(kCountFailed));
+  s->step();
+  return s->column_int(0);
+}
+
+}  // namespace hapstate

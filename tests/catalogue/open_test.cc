@@ -1,0 +1,206 @@
+// Opening catalogues: creation settings, refusal of foreign, future, corrupt and missing
+// files without touching them, read-only access, several connections.
+#include "catalogue/catalogue.h"
+#include "catalogue/transaction.h"
+#include "util/error.h"
+#include "../blobs/temp_dir.h"
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <fstream>
+#include <iterator>
+#include <string>
+
+namespace hapstate {
+namespace {
+
+using test_util::TempDir;
+
+template <class F>
+void expect_input_error(F&& f, const std::string& part) {
+  try {
+    f();
+    ADD_FAILURE() << "no InputError thrown";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+}
+
+std::string file_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Runs SQL on a file with plain SQLite, outside the library; returns the first column of the
+// last row as text.
+std::string raw_sql(const std::filesystem::path& file, const std::string& sql) {
+  sqlite3* db = nullptr;
+  EXPECT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
+  std::string result;
+  char* error = nullptr;
+  auto keep = [](void* out, int n, char** values, char**) {
+    if (n > 0 && values[0] != nullptr) *static_cast<std::string*>(out) = values[0];
+    return 0;
+  };
+  EXPECT_EQ(sqlite3_exec(db, sql.c_str(), keep, &result, &error), SQLITE_OK)
+      << (error ? error : "");
+  sqlite3_free(error);
+  sqlite3_close(db);
+  return result;
+}
+
+void fill(Catalogue& cat) {
+  Checkpoint c;
+  c.ijk = {1, 2, 3};
+  c.classification = CheckpointClass::kWorkspace;
+  const CheckpointId id = cat.insert_checkpoint(c);
+  Configuration config;
+  config.checkpoint = id;
+  config.level = Level(0);
+  cat.insert_configuration(config);
+}
+
+// Expects opening `file` with every mode to fail with `part`, and the file to stay unchanged.
+void expect_refused_untouched(const std::filesystem::path& file, const std::string& part) {
+  const std::string before = file_bytes(file);
+  const auto mtime = std::filesystem::last_write_time(file);
+  for (OpenMode mode : {OpenMode::kReadOnly, OpenMode::kReadWrite, OpenMode::kCreate,
+                        OpenMode::kMigrate}) {
+    expect_input_error([&] { Catalogue cat(file, mode); }, part);
+  }
+  EXPECT_EQ(file_bytes(file), before);
+  EXPECT_EQ(std::filesystem::last_write_time(file), mtime);
+}
+
+TEST(CatalogueOpen, CreateSetsWalApplicationIdAndVersion) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  {
+    Catalogue cat(file, OpenMode::kCreate);
+    fill(cat);
+    EXPECT_EQ(cat.file(), file);
+  }
+  EXPECT_EQ(raw_sql(file, "PRAGMA journal_mode"), "wal");
+  EXPECT_EQ(raw_sql(file, "PRAGMA application_id"), std::to_string(0x48415053));
+  EXPECT_EQ(raw_sql(file, "PRAGMA user_version"), "1");
+  EXPECT_EQ(raw_sql(file, "SELECT count(*) FROM configuration"), "1");
+  EXPECT_EQ(raw_sql(file, "SELECT name FROM sqlite_schema WHERE name = 'configuration_frontier'"),
+            "configuration_frontier");
+}
+
+TEST(CatalogueOpen, ReopenReadWriteAndReadOnly) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  { Catalogue cat(file, OpenMode::kCreate); fill(cat); }
+  {
+    Catalogue cat(file, OpenMode::kCreate);  // existing and current: opened as is
+    EXPECT_EQ(cat.num_configurations(), 1);
+  }
+  {
+    Catalogue cat(file, OpenMode::kReadWrite);
+    EXPECT_EQ(cat.num_checkpoints(), 1);
+  }
+  Catalogue reader(file, OpenMode::kReadOnly);
+  EXPECT_EQ(reader.num_configurations(), 1);
+  Checkpoint c;
+  c.ijk = {9, 9, 9};
+  expect_input_error([&] { reader.insert_checkpoint(c); }, "readonly database");
+}
+
+TEST(CatalogueOpen, MissingFileIsNotCreatedUnlessAsked) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); }, "no catalogue here");
+  expect_input_error([&] { Catalogue cat(file, OpenMode::kReadOnly); }, "no catalogue here");
+  EXPECT_FALSE(std::filesystem::exists(file));
+  Catalogue cat(file, OpenMode::kMigrate);  // migration from nothing
+  EXPECT_EQ(cat.schema_version(), 1);
+}
+
+TEST(CatalogueOpen, EmptyFileIsMigratedFromScratch) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  std::ofstream(file).close();
+  expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); }, "empty catalogue");
+  Catalogue cat(file, OpenMode::kCreate);
+  EXPECT_EQ(cat.schema_version(), 1);
+  EXPECT_EQ(cat.integrity_check(), "ok");
+}
+
+TEST(CatalogueOpen, FutureSchemaVersionIsRefusedAndFileUnchanged) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  { Catalogue cat(file, OpenMode::kCreate); fill(cat); }
+  raw_sql(file, "PRAGMA user_version = 7");
+  ASSERT_FALSE(std::filesystem::exists(file.string() + "-wal"));  // checkpointed on close
+  expect_refused_untouched(
+      file, file.string() + " has schema version 7, this hapstate supports up to 1: upgrade hapstate");
+}
+
+TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  raw_sql(file, "CREATE TABLE t (x); PRAGMA application_id = " +
+                    std::to_string(Catalogue::kApplicationId));
+  const std::string before = file_bytes(file);
+  expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
+                     "has schema version 0, this hapstate needs 1: migrate it first");
+  expect_input_error([&] { Catalogue cat(file, OpenMode::kCreate); }, "migrate it first");
+  EXPECT_EQ(file_bytes(file), before);
+}
+
+TEST(CatalogueOpen, NonSqliteFileIsRefusedUntouched) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  std::ofstream(file) << std::string(500, '#') << " this is a scene file, not a database\n";
+  expect_refused_untouched(file, "not an SQLite database");
+  std::ofstream(file, std::ios::trunc) << "short";
+  expect_refused_untouched(file, "not an SQLite database");
+}
+
+TEST(CatalogueOpen, OtherApplicationsDatabaseIsRefused) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  raw_sql(file, "CREATE TABLE photos (id INTEGER PRIMARY KEY, name TEXT)");
+  expect_refused_untouched(file, "not a hapstate catalogue (SQLite application_id 0x00000000");
+}
+
+TEST(CatalogueOpen, CorruptFileGivesAClearError) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  { Catalogue cat(file, OpenMode::kCreate); fill(cat); }
+  {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(100);
+    const std::string junk(3000, '\xAB');  // page 1 after the header: the schema table
+    f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+  }
+  expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
+                     "the catalogue file is corrupt or not an SQLite database");
+}
+
+TEST(CatalogueOpen, SecondConnectionSeesCommittedWrites) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  Catalogue writer(file, OpenMode::kCreate);
+  Catalogue reader(file, OpenMode::kReadOnly);
+  {
+    Transaction tx(writer);
+    fill(writer);
+    EXPECT_EQ(reader.num_configurations(), 0);  // not committed yet
+    tx.commit();
+  }
+  EXPECT_EQ(reader.num_configurations(), 1);
+  Catalogue second_writer(file, OpenMode::kReadWrite);
+  Transaction tx(writer);
+  Checkpoint c;
+  c.ijk = {5, 5, 5};
+  writer.insert_checkpoint(c);
+  tx.commit();
+  EXPECT_EQ(second_writer.num_checkpoints(), 2);
+  EXPECT_EQ(second_writer.integrity_check(), "ok");
+}
+
+}  // namespace
+}  // namespace hapstate
