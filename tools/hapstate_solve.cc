@@ -178,7 +178,11 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", o.quiet, "no progress line");
   app.add_flag("--timings", o.timings,
                "print time per assembly / factorisation / solve and the symbolic analysis");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitBadInput;  // --help is not an error
+  }
   return guarded_main("hapstate-solve", [&] {
     if (o.path_csv.empty() && o.straight.empty() && o.by.empty() && o.random_steps == 0)
       throw InputError("give a probe path: --path FILE, --straight X Y Z, --by DX DY DZ or --random N");

@@ -43,13 +43,22 @@ double tet_energy(const TetGeometry& g, const Material& material, const Vec12& u
     for (int n = 0; n < 4; ++n) force->segment<3>(3 * n) = g.volume * (p * g.grad.row(n).transpose());
   }
   if (stiffness) {
-    // B (9x12): d vecF(i+3j) / d u(3a+i') = delta(i,i') grad(a,j); K = V B^T A B.
-    Eigen::Matrix<double, 9, 12> b = Eigen::Matrix<double, 9, 12>::Zero();
-    for (int n = 0; n < 4; ++n)
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) b(i + 3 * j, 3 * n + i) = g.grad(n, j);
-    const Eigen::Matrix<double, 9, 12> ab = a * b;
-    stiffness->noalias() = g.volume * (b.transpose() * ab);
+    // K(3a+i, 3b+k) = V sum_{j,l} A(i+3j, k+3l) grad(a,j) grad(b,l), using the sparsity of
+    // d vecF / d u_e: first H_a(i, k+3l) = sum_j A(i+3j, k+3l) grad(a,j), then contract with b.
+    Eigen::Matrix<double, 3, 9> h[4];
+    for (int n = 0; n < 4; ++n) {
+      h[n] = g.grad(n, 0) * a.block<3, 9>(0, 0) + g.grad(n, 1) * a.block<3, 9>(3, 0) +
+             g.grad(n, 2) * a.block<3, 9>(6, 0);
+    }
+    for (int na = 0; na < 4; ++na) {
+      for (int nb = na; nb < 4; ++nb) {
+        const Mat3 kab = g.volume * (g.grad(nb, 0) * h[na].block<3, 3>(0, 0) +
+                                     g.grad(nb, 1) * h[na].block<3, 3>(0, 3) +
+                                     g.grad(nb, 2) * h[na].block<3, 3>(0, 6));
+        stiffness->block<3, 3>(3 * na, 3 * nb) = kab;
+        if (nb != na) stiffness->block<3, 3>(3 * nb, 3 * na) = kab.transpose();
+      }
+    }
   }
   return g.volume * w;
 }

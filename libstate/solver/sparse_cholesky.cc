@@ -21,13 +21,16 @@ struct SparseCholesky::Impl {
   cholmod_dense* work_e = nullptr;
 };
 
-SparseCholesky::SparseCholesky(const SymmetricPattern& pattern) : impl_(std::make_unique<Impl>()) {
+SparseCholesky::SparseCholesky(const SymmetricPattern& pattern, Method method)
+    : impl_(std::make_unique<Impl>()) {
   const auto start = std::chrono::steady_clock::now();
   Impl& s = *impl_;
   cholmod_start(&s.common);
   s.common.print = 0;
   s.common.error_handler = nullptr;
   s.common.quick_return_if_not_posdef = 1;
+  if (method == Method::kSimplicial) s.common.supernodal = CHOLMOD_SIMPLICIAL;
+  if (method == Method::kSupernodal) s.common.supernodal = CHOLMOD_SUPERNODAL;
   s.col_ptr = pattern.col_ptr;
   s.row_idx = pattern.row_idx;
   s.values.assign(pattern.nnz(), 0.0);

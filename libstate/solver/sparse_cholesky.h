@@ -14,7 +14,8 @@ namespace hapstate {
 
 class SparseCholesky {
  public:
-  explicit SparseCholesky(const SymmetricPattern& pattern);
+  enum class Method { kAuto, kSimplicial, kSupernodal };  // kAuto: CHOLMOD's own choice
+  explicit SparseCholesky(const SymmetricPattern& pattern, Method method = Method::kAuto);
   ~SparseCholesky();
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;
