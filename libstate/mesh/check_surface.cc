@@ -28,7 +28,7 @@ Eigen::Vector3d point(const TriangleSurface& s, int v) {
 // Uniform grid over the bounding box holding the triangles overlapping each cell.
 class FaceGrid {
  public:
-  explicit FaceGrid(const TriangleSurface& s) : s_(s) {
+  explicit FaceGrid(const TriangleSurface& s) {
     lo_ = Eigen::Vector3d::Constant(1e300);
     Eigen::Vector3d hi = Eigen::Vector3d::Constant(-1e300);
     for (std::size_t i = 0; i < s.xyz.size() / 3; ++i) {
@@ -67,7 +67,6 @@ class FaceGrid {
   }
 
  private:
-  const TriangleSurface& s_;
   Eigen::Vector3d lo_;
   double h_ = 1;
   int n_[3] = {1, 1, 1};

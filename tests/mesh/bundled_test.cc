@@ -31,7 +31,9 @@ TEST_P(BundledMesh, ImportsWithDocumentedCounts) {
     EXPECT_EQ(test::boundary_node_count(m), e.boundary_nodes);
     EXPECT_EQ(m.surface.cols(), e.boundary_faces);
   }
-  if (e.volume > 0) EXPECT_NEAR(test::tet_volume_sum(m), e.volume, 0.01);
+  if (e.volume > 0) {
+    EXPECT_NEAR(test::tet_volume_sum(m), e.volume, 0.01);
+  }
   EXPECT_EQ(report.reoriented, 0);
   EXPECT_EQ(report.degenerate, 0);
   EXPECT_EQ(report.duplicate, 0);

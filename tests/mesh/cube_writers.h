@@ -76,12 +76,12 @@ inline std::string msh2(const CubeMesh& c, bool binary) {
   } else {
     for (const auto& t : c.bottom) {
       s += std::to_string(id++) + " 2 2 7 1";
-      for (int v : t) s += " " + std::to_string(gmsh_tag(v));
+      for (int v : t) s.append(1, ' ').append(std::to_string(gmsh_tag(v)));
       s += "\n";
     }
     for (const auto& t : c.tets) {
       s += std::to_string(id++) + " 4 2 9 1";
-      for (int v : t) s += " " + std::to_string(gmsh_tag(v));
+      for (int v : t) s.append(1, ' ').append(std::to_string(gmsh_tag(v)));
       s += "\n";
     }
   }
@@ -167,7 +167,7 @@ inline std::string msh4(const CubeMesh& c, bool binary) {
     s += "3 1 4 6\n";
     for (const auto& t : c.tets) {
       s += std::to_string(id++);
-      for (int v : t) s += " " + std::to_string(gmsh_tag(v));
+      for (int v : t) s.append(1, ' ').append(std::to_string(gmsh_tag(v)));
       s += "\n";
     }
   }
@@ -216,7 +216,7 @@ inline std::string vtk_legacy(const CubeMesh& c, bool binary, bool offsets_layou
         for (int v : cell) put<std::int32_t>(&s, v, true);
       } else {
         s += std::to_string(cell.size());
-        for (int v : cell) s += " " + std::to_string(v);
+        for (int v : cell) s.append(1, ' ').append(std::to_string(v));
         s += "\n";
       }
     }
