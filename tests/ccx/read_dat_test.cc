@@ -1,5 +1,4 @@
 // The .dat reader and the deck writer's checks, without running ccx.
-#include "box_mesh.h"
 #include "ccx/deck.h"
 #include "ccx/read_dat.h"
 #include "util/error.h"
