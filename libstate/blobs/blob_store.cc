@@ -180,6 +180,38 @@ std::size_t BlobStore::size_of(SegmentId id, std::string_view name) const {
   return static_cast<std::size_t>(count);
 }
 
+namespace {
+
+herr_t collect_dataset(hid_t, const char* name, const H5O_info_t* info, void* out) {
+  if (info->type == H5O_TYPE_DATASET) static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+  return 0;
+}
+
+}  // namespace
+
+std::vector<std::string> BlobStore::list_vectors(SegmentId id) const {
+  std::shared_ptr<Hid> file = impl_->open(id);
+  QuietErrors quiet;
+  std::vector<std::string> names;
+  if (H5Ovisit2(file->get(), H5_INDEX_NAME, H5_ITER_INC, collect_dataset, &names, H5O_INFO_BASIC) < 0) {
+    throw InputError(with_reason(impl_->path_of(id).string() + ": cannot list the vectors (corrupt?)"));
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+Precision BlobStore::precision_of(SegmentId id, std::string_view name) const {
+  std::shared_ptr<Hid> file;
+  Hid dataset = impl_->open_dataset(id, name, &file, false);
+  QuietErrors quiet;
+  Hid type(H5Dget_type(dataset.get()));
+  if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT) {
+    throw InputError(with_reason(vector_place(impl_->path_of(id), name) +
+                                 ": not a floating-point dataset"));
+  }
+  return H5Tget_size(type.get()) <= 4 ? Precision::kFloat32 : Precision::kFloat64;
+}
+
 SegmentProvenance BlobStore::provenance(SegmentId id) const {
   std::shared_ptr<Hid> file = impl_->open(id);
   QuietErrors quiet;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <set>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -39,6 +40,12 @@ class BlobStore {
 
   // Number of values of vector `name`, without reading it.
   std::size_t size_of(SegmentId id, std::string_view name) const;
+
+  // Full names of every vector (dataset) of segment `id`, e.g. "c42/u", sorted.
+  std::vector<std::string> list_vectors(SegmentId id) const;
+
+  // Storage precision of vector `name` (float32 or float64).
+  Precision precision_of(SegmentId id, std::string_view name) const;
 
   // The provenance root attributes of segment `id`.
   SegmentProvenance provenance(SegmentId id) const;

@@ -4,6 +4,7 @@
 // plus the few queries the stages need (configurations_at, frontier, transitions_of, ...).
 #pragma once
 
+#include "catalogue/query.h"
 #include "catalogue/records.h"
 
 #include <cstdint>
@@ -111,6 +112,24 @@ class Catalogue {
   std::vector<Transition> read_all_transitions();           // by (source, direction)
   std::int64_t num_transitions();
   std::int64_t num_failed_transitions();
+
+  // --- maintenance (hapstate-compact; maintenance_verbs.cc) ---
+  // Points configuration `id` at `blob` (nullopt: no vectors stored). Throws InputError if
+  // there is no such configuration.
+  void update_configuration_blob(ConfigId id, const std::optional<BlobRef>& blob);
+  // Every transition whose target is `from` targets `to` instead. Returns the rows changed.
+  std::int64_t retarget_transitions(ConfigId from, ConfigId to);
+  // Gives the transitions of `from` to source `to` in every direction `to` has not decided
+  // yet; the others stay with `from`. Returns the rows moved.
+  std::int64_t move_transitions(ConfigId from, ConfigId to);
+  // VACUUM (rewrites the file without free pages) and PRAGMA wal_checkpoint(TRUNCATE) (empties
+  // the WAL). Not inside a Transaction; needs no other connection reading at the time.
+  void vacuum();
+  // Runs one read-only SQL statement and returns all its rows (query.cc). Refused with an
+  // InputError, before anything runs: more than one statement, a statement that could write
+  // (sqlite3_stmt_readonly), ATTACH / DETACH, transaction control, a PRAGMA with a value.
+  // On a kReadOnly catalogue SQLite itself refuses writes as well.
+  QueryResult query_read_only(std::string_view sql);
 
  private:
   friend class Transaction;

@@ -1,0 +1,181 @@
+#include "maintenance/compact.h"
+
+#include "blobs/blob_store.h"
+#include "catalogue/catalogue.h"
+#include "catalogue/transaction.h"
+#include "maintenance/level_merge.h"
+#include "scene/scene.h"
+#include "util/error.h"
+
+#include <algorithm>
+#include <set>
+#include <sstream>
+
+namespace hapstate {
+namespace {
+
+TimeMs now_ms() { return std::chrono::time_point_cast<std::chrono::milliseconds>(Clock::now()); }
+
+void say(std::FILE* log, const std::string& line) {
+  if (log != nullptr) std::fprintf(log, "hapstate-compact: %s\n", line.c_str());
+}
+
+Scene stored_scene(Catalogue& catalogue, const StatePaths& dir, ContentHash* hash) {
+  const std::optional<SceneRecord> record = catalogue.read_scene();
+  if (!record) {
+    throw InputError(dir.catalogue.string() + ": no scene stored (run hapstate-import first)");
+  }
+  *hash = record->hash;
+  SceneParseOptions options;
+  options.check_files = false;
+  return parse_scene(record->text, dir.root / "scene.toml (stored in catalogue.sqlite)", options);
+}
+
+std::int64_t freelist_pages(Catalogue& catalogue) {
+  const QueryResult r = catalogue.query_read_only("PRAGMA freelist_count");
+  return r.rows.empty() ? 0 : std::get<std::int64_t>(r.rows.front().front());
+}
+
+std::string bytes_text(std::int64_t bytes) {
+  char text[64];
+  if (bytes >= (1 << 20)) {
+    std::snprintf(text, sizeof text, "%lld (%.1f MiB)", static_cast<long long>(bytes), bytes / 1048576.0);
+  } else if (bytes >= 1024) {
+    std::snprintf(text, sizeof text, "%lld (%.1f KiB)", static_cast<long long>(bytes), bytes / 1024.0);
+  } else {
+    std::snprintf(text, sizeof text, "%lld", static_cast<long long>(bytes));
+  }
+  return text;
+}
+
+std::string counts_text(const CompactReport& r) {
+  std::ostringstream s;
+  s << r.merged_levels << " levels merged, " << r.retargeted_transitions
+    << " transitions rewritten, " << r.moved_transitions << " moved, "
+    << r.repacked_configurations << " configurations repacked into " << r.new_segments
+    << " segments, " << r.garbage_segments << " garbage segments dropped";
+  return s.str();
+}
+
+}  // namespace
+
+std::string CompactReport::text() const {
+  std::ostringstream s;
+  if (nothing_to_do) s << "nothing to do: no duplicate level, no garbage, blobs already packed\n";
+  s << (dry_run ? "would do: " : "") << counts_text(*this) << "\n";
+  s << "levels compared: " << compared_pairs << " pairs by vectors, " << force_rejections
+    << " told apart by force\n";
+  s << "segments: " << before.segments << " -> " << after.segments << "\n";
+  s << "catalogue bytes: " << bytes_text(before.catalogue_bytes) << " -> "
+    << bytes_text(after.catalogue_bytes) << "\n";
+  s << "blob bytes: " << bytes_text(before.blob_bytes) << " -> " << bytes_text(after.blob_bytes) << "\n";
+  s << "total bytes: " << bytes_text(before.total()) << " -> " << bytes_text(after.total()) << "\n";
+  return s.str();
+}
+
+CompactReport compact_state(const std::filesystem::path& state_dir, const CompactOptions& options,
+                            std::FILE* log) {
+  const StatePaths dir = locate_state(state_dir);
+  CompactReport report;
+  report.dry_run = options.dry_run;
+  report.before = measure_disk_use(dir);
+
+  const auto hook = [&](std::string_view point) {
+    if (options.fault_point) options.fault_point(point);
+  };
+  std::optional<Catalogue> catalogue_slot;
+  catalogue_slot.emplace(dir.catalogue, options.dry_run ? OpenMode::kReadOnly : OpenMode::kReadWrite);
+  Catalogue& catalogue = *catalogue_slot;
+  BlobStore blobs(dir.blobs);
+  ContentHash scene_hash;
+  const Scene scene = stored_scene(catalogue, dir, &scene_hash);
+  const LevelTolerances tolerances = level_tolerances(scene);
+
+  StageRunId run_id;
+  if (!options.dry_run) {
+    StageRun run;
+    run.stage = "compact";
+    run.inputs = {{"scene", scene_hash}};
+    run.parameters = "max_segment_values=" + std::to_string(options.repack.max_segment_values) +
+                     " zstd_level=" + std::to_string(options.repack.zstd_level);
+    run.started = now_ms();
+    run_id = catalogue.insert_stage_run(run);
+  }
+  try {
+    // 1. Garbage left by a crash (or by an earlier compaction that died before deleting).
+    const std::set<SegmentId> referenced = catalogue.referenced_segments();
+    report.garbage_segments = static_cast<std::int64_t>(blobs.unreferenced_segments(referenced).size());
+    if (!options.dry_run && report.garbage_segments > 0) {
+      blobs.remove_unreferenced_segments(referenced);
+      say(log, "removed " + std::to_string(report.garbage_segments) + " garbage segments");
+    }
+
+    // 2. Duplicate levels.
+    MergeSearchStats stats;
+    const std::vector<LevelMerge> merges = find_level_merges(catalogue, blobs, tolerances, &stats);
+    report.compared_pairs = stats.compared;
+    report.force_rejections = stats.force_rejections;
+    std::set<ConfigId> merged_ids;
+    for (const LevelMerge& m : merges) merged_ids.insert(m.merged);
+
+    // 3. Repack the vectors of the configurations that stay live.
+    std::vector<Configuration> live;
+    for (Configuration& c : catalogue.read_all_configurations()) {
+      if (c.status != ConfigStatus::kMerged && !merged_ids.contains(c.id)) live.push_back(std::move(c));
+    }
+    const RepackPlan plan = plan_repack(live, blobs, options.repack);
+    report.dead_vectors = plan.dead_vectors;
+    report.freelist_pages = freelist_pages(catalogue);
+    report.nothing_to_do = merges.empty() && !plan.needed && report.garbage_segments == 0 &&
+                           report.freelist_pages == 0;
+
+    if (options.dry_run) {
+      report.merged_levels = static_cast<std::int64_t>(merges.size());
+      report.repacked_configurations = plan.needed ? static_cast<std::int64_t>(plan.moves.size()) : 0;
+      report.after = report.before;
+      return report;
+    }
+
+    RepackResult repacked;
+    if (plan.needed) {
+      const SegmentProvenance provenance{scene_hash.hex(), "", "compact"};
+      repacked = write_repacked_segments(plan, blobs, provenance, options.repack);
+      report.repacked_configurations = static_cast<std::int64_t>(repacked.new_refs.size());
+      report.new_segments = static_cast<std::int64_t>(repacked.new_segments.size());
+      say(log, "wrote " + std::to_string(report.new_segments) + " new segments");
+    }
+    hook("segments-written");
+
+    // 4. One transaction: merges and blob references, all or nothing.
+    if (!merges.empty() || !repacked.new_refs.empty()) {
+      Transaction transaction(catalogue);
+      const MergeCounts counts = apply_level_merges(catalogue, merges);
+      for (const auto& [config, ref] : repacked.new_refs) catalogue.update_configuration_blob(config, ref);
+      transaction.commit();
+      report.merged_levels = counts.merged_levels;
+      report.retargeted_transitions = counts.retargeted_transitions;
+      report.moved_transitions = counts.moved_transitions;
+    }
+    hook("committed");
+
+    // 5. The old segments are now garbage; then VACUUM.
+    blobs.remove_unreferenced_segments(catalogue.referenced_segments());
+    catalogue.update_stage_run_end(run_id, report.nothing_to_do ? StageOutcome::kUnchanged : StageOutcome::kOk,
+                                   now_ms(), report.nothing_to_do ? "nothing to do" : counts_text(report));
+    if (!report.nothing_to_do) catalogue.vacuum();
+  } catch (const std::exception& e) {
+    if (run_id.valid()) {
+      try {
+        catalogue.update_stage_run_end(run_id, StageOutcome::kFailed, now_ms(), e.what());
+      } catch (...) {
+      }
+    }
+    throw;
+  }
+  blobs.close_all();
+  catalogue_slot.reset();  // closing the last connection folds the WAL into the file
+  report.after = measure_disk_use(dir);
+  return report;
+}
+
+}  // namespace hapstate

@@ -1,0 +1,54 @@
+// The controller of hapstate-compact: merges duplicate levels, repacks the live blobs into
+// fewer segments, drops garbage segments and vacuums the catalogue (docs/inspect.md,
+// "Compaction rules"). A crash at any instant leaves a consistent state directory.
+#pragma once
+
+#include "maintenance/repack.h"
+#include "maintenance/state_paths.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <string_view>
+
+namespace hapstate {
+
+struct CompactOptions {
+  bool dry_run = false;  // find and report only: nothing is written, no stage run recorded
+  RepackOptions repack;
+  // Test hook, called at the named points of a real run: "segments-written" (new segments
+  // durable, catalogue not yet changed) and "committed" (catalogue repointed, old segments
+  // not yet deleted). Throwing from it simulates a crash there.
+  std::function<void(std::string_view point)> fault_point;
+};
+
+struct CompactReport {
+  DiskUse before, after;
+  std::int64_t merged_levels = 0;
+  std::int64_t retargeted_transitions = 0;
+  std::int64_t moved_transitions = 0;
+  std::int64_t compared_pairs = 0;       // level pairs whose vectors were compared
+  std::int64_t force_rejections = 0;     // level pairs told apart by force alone
+  std::int64_t garbage_segments = 0;     // unreferenced segments found at the start (removed)
+  std::int64_t repacked_configurations = 0;
+  std::int64_t new_segments = 0;
+  std::int64_t dead_vectors = 0;         // vectors of merged configurations dropped
+  std::int64_t freelist_pages = 0;       // free catalogue pages before VACUUM
+  bool nothing_to_do = false;
+  bool dry_run = false;
+
+  // Human-readable lines: counts, then bytes before -> after.
+  std::string text() const;
+};
+
+// Compacts the state directory `state_dir`. Throws InputError for a missing state directory,
+// a catalogue without a scene, a scene that does not parse, a missing or corrupt blob; the
+// state is then unchanged (or changed only by a completed, consistent step). Records a stage
+// run "compact" (outcome ok, or unchanged when there was nothing to do) unless dry_run.
+// `log` receives progress lines (nullptr: silent).
+CompactReport compact_state(const std::filesystem::path& state_dir, const CompactOptions& options,
+                            std::FILE* log = nullptr);
+
+}  // namespace hapstate

@@ -1,0 +1,156 @@
+// hapstate-inspect summary.
+#include "maintenance/inspect_common.hpp"
+
+#include <sstream>
+#include <variant>
+
+namespace hapstate {
+
+using namespace inspect_detail;
+
+namespace {
+
+constexpr int kLastRuns = 10;
+
+std::int64_t int_at(const std::vector<QueryValue>& row, std::size_t c) {
+  const auto* v = std::get_if<std::int64_t>(&row.at(c));
+  return v != nullptr ? *v : 0;
+}
+
+std::string text_at(const std::vector<QueryValue>& row, std::size_t c) {
+  const auto* v = std::get_if<std::string>(&row.at(c));
+  return v != nullptr ? *v : "";
+}
+
+Json summary_json(const StatePaths& dir, Catalogue& cat) {
+  Json j;
+  j["state"] = dir.root.string();
+  j["schema_version"] = cat.schema_version();
+  if (const auto scene = cat.read_scene()) {
+    j["scene"] = {{"hash", scene->hash.hex()},
+                  {"mesh_file", scene->mesh_file},
+                  {"mesh_nodes", scene->mesh_nodes},
+                  {"mesh_elements", scene->mesh_elements},
+                  {"mesh_surface_triangles", scene->mesh_surface_triangles}};
+  } else {
+    j["scene"] = nullptr;
+  }
+
+  Json stages = Json::array();
+  for (const auto& row : cat.query_read_only("SELECT stage, count(*), max(id) FROM stage_run "
+                                             "GROUP BY stage ORDER BY min(id)").rows) {
+    stages.push_back({{"stage", text_at(row, 0)},
+                      {"runs", int_at(row, 1)},
+                      {"last", stage_run_json(cat.read_stage_run(StageRunId(int_at(row, 2))))}});
+  }
+  j["stages"] = stages;
+  Json last = Json::array();
+  for (const auto& row : cat.query_read_only("SELECT id FROM stage_run ORDER BY id DESC LIMIT " +
+                                             std::to_string(kLastRuns)).rows) {
+    last.push_back(stage_run_json(cat.read_stage_run(StageRunId(int_at(row, 0)))));
+  }
+  j["last_runs"] = last;
+
+  Json by_class = Json::object();
+  for (int c = 0; c <= 4; ++c) by_class[checkpoint_class_name(static_cast<CheckpointClass>(c))] = 0;
+  for (const auto& row :
+       cat.query_read_only("SELECT classification, count(*) FROM checkpoint GROUP BY 1").rows) {
+    by_class[checkpoint_class_name(static_cast<CheckpointClass>(int_at(row, 0)))] = int_at(row, 1);
+  }
+  const std::int64_t checkpoints = cat.num_checkpoints();
+  j["checkpoints"] = {{"total", checkpoints}, {"by_class", by_class}};
+
+  Json configs = {{"total", cat.num_configurations()}, {"open", 0}, {"expanded", 0}, {"merged", 0}};
+  for (const auto& row :
+       cat.query_read_only("SELECT status, count(*) FROM configuration GROUP BY 1").rows) {
+    configs[config_status_name(static_cast<ConfigStatus>(int_at(row, 0)))] = int_at(row, 1);
+  }
+  configs["expandable"] = query_int(cat, "SELECT count(*) FROM configuration WHERE expandable = 1");
+  const auto max_wave = cat.max_wave();
+  configs["max_wave"] = max_wave ? Json(*max_wave) : Json(nullptr);
+  j["configurations"] = configs;
+
+  // Live levels (not merged) per check-point; check-points without any count as 0.
+  Json histogram = Json::array();
+  std::int64_t with_levels = 0;
+  const auto rows = cat.query_read_only(
+                           "SELECT n, count(*) FROM (SELECT count(*) AS n FROM configuration "
+                           "WHERE status != 2 GROUP BY checkpoint) GROUP BY n ORDER BY n")
+                        .rows;
+  for (const auto& row : rows) with_levels += int_at(row, 1);
+  if (checkpoints > with_levels) histogram.push_back({{"levels", 0}, {"checkpoints", checkpoints - with_levels}});
+  for (const auto& row : rows) histogram.push_back({{"levels", int_at(row, 0)}, {"checkpoints", int_at(row, 1)}});
+  j["levels_per_checkpoint"] = histogram;
+
+  Json transitions = {{"total", cat.num_transitions()}, {"reached", 0}, {"outside_grid", 0}, {"failed", 0}};
+  for (const auto& row :
+       cat.query_read_only("SELECT outcome, count(*) FROM transition GROUP BY 1").rows) {
+    transitions[transition_outcome_name(static_cast<TransitionOutcome>(int_at(row, 0)))] = int_at(row, 1);
+  }
+  j["transitions"] = transitions;
+  Json failures = Json::array();
+  for (const auto& row : cat.query_read_only("SELECT failure_reason, count(*) FROM transition "
+                                             "WHERE outcome = 2 GROUP BY 1 ORDER BY 2 DESC, 1").rows) {
+    failures.push_back({{"reason", text_at(row, 0)}, {"count", int_at(row, 1)}});
+  }
+  j["failures_by_reason"] = failures;
+
+  const DiskUse disk = measure_disk_use(dir);
+  j["disk"] = {{"catalogue_bytes", disk.catalogue_bytes},
+               {"blob_bytes", disk.blob_bytes},
+               {"segments", disk.segments},
+               {"problem_bytes", disk.problem_bytes},
+               {"total_bytes", disk.total()}};
+  return j;
+}
+
+std::string summary_text(const Json& j) {
+  std::ostringstream s;
+  s << "state " << j["state"].get<std::string>() << " (schema " << j["schema_version"] << ")\n";
+  if (j["scene"].is_null()) {
+    s << "scene: none (not imported)\n";
+  } else {
+    s << "scene " << j["scene"]["hash"].get<std::string>() << ": mesh "
+      << j["scene"]["mesh_file"].get<std::string>() << ", " << j["scene"]["mesh_nodes"] << " nodes, "
+      << j["scene"]["mesh_elements"] << " tets\n";
+  }
+  s << "stages:\n";
+  if (j["stages"].empty()) s << "  (no run yet)\n";
+  for (const auto& st : j["stages"]) {
+    s << "  " << st["stage"].get<std::string>() << ": " << st["runs"] << " runs, last #"
+      << st["last"]["id"] << " " << st["last"]["outcome"].get<std::string>();
+    const std::string message = st["last"]["message"].get<std::string>();
+    if (!message.empty()) s << ": " << message;
+    s << "\n";
+  }
+  s << "check-points: " << j["checkpoints"]["total"];
+  for (const auto& [name, n] : j["checkpoints"]["by_class"].items()) {
+    if (n.get<std::int64_t>() > 0) s << ", " << n << " " << name;
+  }
+  const Json& c = j["configurations"];
+  s << "\nconfigurations: " << c["total"] << " (" << c["open"] << " open, " << c["expanded"]
+    << " expanded, " << c["merged"] << " merged; " << c["expandable"] << " expandable; max wave "
+    << (c["max_wave"].is_null() ? std::string("-") : c["max_wave"].dump()) << ")\n";
+  s << "levels per check-point:";
+  for (const auto& h : j["levels_per_checkpoint"]) s << "  " << h["levels"] << ": " << h["checkpoints"];
+  const Json& t = j["transitions"];
+  s << "\ntransitions: " << t["total"] << " (" << t["reached"] << " reached, " << t["outside_grid"]
+    << " outside the grid, " << t["failed"] << " failed)\n";
+  for (const auto& f : j["failures_by_reason"]) {
+    s << "  failed " << f["count"] << "x: " << f["reason"].get<std::string>() << "\n";
+  }
+  const Json& d = j["disk"];
+  s << "disk: catalogue " << d["catalogue_bytes"] << " B, blobs " << d["blob_bytes"] << " B in "
+    << d["segments"] << " segments, problem " << d["problem_bytes"] << " B, total " << d["total_bytes"] << " B\n";
+  return s.str();
+}
+
+}  // namespace
+
+InspectOutput inspect_summary(const StatePaths& dir) {
+  Catalogue cat = open_read_only(dir);
+  const Json j = summary_json(dir, cat);
+  return {dump(j), summary_text(j)};
+}
+
+}  // namespace hapstate

@@ -1,0 +1,128 @@
+#include "maintenance/repack.h"
+
+#include "blobs/blob_store.h"
+#include "blobs/segment_writer.h"
+
+#include <algorithm>
+#include <map>
+#include <memory>
+
+namespace hapstate {
+namespace {
+
+// "c<digits>": the group of a configuration's vectors (docs/storage.md, naming scheme).
+bool is_configuration_group(std::string_view group) {
+  return group.size() > 1 && group[0] == 'c' &&
+         std::all_of(group.begin() + 1, group.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+}
+
+// The live blob name `vector` lies under, or "" if none.
+std::string owning_name(const std::string& vector, const std::set<std::string>& names) {
+  for (std::size_t slash = vector.find('/'); slash != std::string::npos;
+       slash = vector.find('/', slash + 1)) {
+    const std::string prefix = vector.substr(0, slash);
+    if (names.contains(prefix)) return prefix;
+  }
+  return "";
+}
+
+}  // namespace
+
+RepackPlan plan_repack(std::span<const Configuration> live, const BlobStore& blobs,
+                       const RepackOptions& options) {
+  RepackPlan plan;
+  std::map<SegmentId, std::set<std::string>> names_in;
+  for (const Configuration& c : live) {
+    if (c.blob) names_in[c.blob->segment].insert(c.blob->name);
+  }
+  std::map<std::pair<SegmentId, std::string>, std::vector<std::string>> vectors_of;
+  std::int64_t dead = 0;
+  for (const auto& [segment, names] : names_in) {
+    std::int64_t segment_dead = 0;
+    bool foreign = false;
+    for (const std::string& vector : blobs.list_vectors(segment)) {
+      const std::string owner = owning_name(vector, names);
+      if (!owner.empty()) {
+        vectors_of[{segment, owner}].push_back(vector);
+      } else if (is_configuration_group(vector.substr(0, vector.find('/')))) {
+        ++segment_dead;
+      } else {
+        foreign = true;
+      }
+    }
+    if (foreign) {
+      plan.pinned.insert(segment);
+    } else {
+      dead += segment_dead;
+      plan.sources.push_back(segment);
+    }
+  }
+  for (const Configuration& c : live) {
+    if (!c.blob || plan.pinned.contains(c.blob->segment)) continue;
+    BlobMove move{c.id, *c.blob, vectors_of[{c.blob->segment, c.blob->name}]};
+    for (const std::string& v : move.vectors) {
+      plan.live_values += static_cast<std::int64_t>(blobs.size_of(c.blob->segment, v));
+    }
+    plan.moves.push_back(std::move(move));
+  }
+  std::sort(plan.moves.begin(), plan.moves.end(),
+            [](const BlobMove& a, const BlobMove& b) { return a.config < b.config; });
+  plan.dead_vectors = dead;
+  const std::int64_t cap = std::max<std::int64_t>(options.max_segment_values, 1);
+  const auto wanted = static_cast<std::size_t>(std::max<std::int64_t>(1, (plan.live_values + cap - 1) / cap));
+  plan.needed = !plan.sources.empty() && (dead > 0 || plan.sources.size() > wanted);
+  return plan;
+}
+
+RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& blobs,
+                                     const SegmentProvenance& provenance,
+                                     const RepackOptions& options) {
+  RepackResult result;
+  if (!plan.needed) return result;
+  SegmentWriterOptions writer_options;
+  writer_options.zstd_level = options.zstd_level;
+  SegmentId next = blobs.next_segment_id();
+  std::unique_ptr<SegmentWriter> writer;
+  std::int64_t in_segment = 0;
+  std::map<std::pair<SegmentId, std::string>, BlobRef> copied;  // shared blobs copied once
+
+  const auto close_current = [&] {
+    if (!writer) return;
+    writer->close();
+    result.new_segments.push_back(writer->id());
+    writer.reset();
+  };
+  for (const BlobMove& move : plan.moves) {
+    const auto key = std::make_pair(move.from.segment, move.from.name);
+    if (auto it = copied.find(key); it != copied.end()) {
+      result.new_refs.emplace_back(move.config, it->second);
+      continue;
+    }
+    std::int64_t values = 0;
+    for (const std::string& v : move.vectors) {
+      values += static_cast<std::int64_t>(blobs.size_of(move.from.segment, v));
+    }
+    if (writer && in_segment > 0 && in_segment + values > options.max_segment_values) close_current();
+    if (!writer) {
+      writer = std::make_unique<SegmentWriter>(blobs.directory(), next, provenance, writer_options);
+      next.value += 1;
+      in_segment = 0;
+    }
+    for (const std::string& v : move.vectors) {
+      if (blobs.precision_of(move.from.segment, v) == Precision::kFloat32) {
+        writer->write(v, std::span<const float>(blobs.read_float32(move.from.segment, v)));
+      } else {
+        writer->write(v, std::span<const double>(blobs.read(move.from.segment, v)));
+      }
+    }
+    in_segment += values;
+    result.values_written += values;
+    const BlobRef ref{writer->id(), move.from.name};
+    copied.emplace(key, ref);
+    result.new_refs.emplace_back(move.config, ref);
+  }
+  close_current();
+  return result;
+}
+
+}  // namespace hapstate

@@ -1,0 +1,68 @@
+// Repacking the live blobs of a state directory into fewer, dense segments. Crash safety
+// (docs/storage.md): new segments are written and fsynced first; the caller then repoints the
+// catalogue in one transaction; the old segments, now unreferenced, are garbage.
+#pragma once
+
+#include "blobs/segment.h"
+#include "catalogue/records.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <set>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hapstate {
+
+class BlobStore;
+
+struct RepackOptions {
+  // A new segment is closed once it holds this many values (float64 or float32) and the next
+  // configuration would exceed it: 2^27 values = 1 GiB of float64 before compression.
+  std::int64_t max_segment_values = std::int64_t{1} << 27;
+  int zstd_level = 3;
+};
+
+// One configuration whose vectors move.
+struct BlobMove {
+  ConfigId config;
+  BlobRef from;
+  std::vector<std::string> vectors;  // full names in `from.segment`, e.g. "c42/u"
+};
+
+struct RepackPlan {
+  bool needed = false;                 // false: nothing is written
+  std::vector<BlobMove> moves;         // by config id
+  std::vector<SegmentId> sources;      // segments emptied by the moves
+  std::set<SegmentId> pinned;          // segments holding vectors that belong to no
+                                       // configuration (e.g. the mesh): never repacked
+  std::int64_t live_values = 0;        // values of the repackable live vectors
+  std::int64_t dead_vectors = 0;       // vectors of merged or deleted configurations
+};
+
+// Decides what to repack. `live` = the configurations that keep their vectors (not merged).
+// In a segment referenced by `live`, a vector is live if it lies under a live blob name,
+// dead if its top group is "c<digits>" and it is not live, foreign otherwise (which pins the
+// segment). Repacking is needed when the repackable segments hold a dead vector or are more
+// than ceil(live_values / max_segment_values). Reads segment listings only.
+RepackPlan plan_repack(std::span<const Configuration> live, const BlobStore& blobs,
+                       const RepackOptions& options);
+
+struct RepackResult {
+  std::vector<std::pair<ConfigId, BlobRef>> new_refs;  // by config id
+  std::vector<SegmentId> new_segments;
+  std::int64_t values_written = 0;
+};
+
+// Copies the vectors of `plan.moves` (same names, same precision) into new segments with
+// ids from blobs.next_segment_id() upwards, each closed and fsynced before this returns.
+// Nothing in the catalogue changes. On an exception, the segments written so far stay on
+// disk unreferenced (garbage).
+RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& blobs,
+                                     const SegmentProvenance& provenance,
+                                     const RepackOptions& options);
+
+}  // namespace hapstate

@@ -1,0 +1,239 @@
+// Compaction of a synthetic state directory: exactly the duplicates are merged, transitions
+// rewritten, blobs repacked, garbage dropped, and a crash at either commit point is harmless.
+#include "blobs/blob_store.h"
+#include "catalogue/catalogue.h"
+#include "maintenance/compact.h"
+#include "maintenance/level_compare.h"
+#include "maintenance/level_merge.h"
+#include "scene/scene.h"
+#include "synthetic_state.h"
+#include "util/error.h"
+#include "../blobs/temp_dir.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+namespace hapstate {
+namespace {
+
+using test_util::TempDir;
+
+struct SimulatedCrash : std::runtime_error {
+  SimulatedCrash() : std::runtime_error("simulated crash") {}
+};
+
+CompactOptions crash_at(std::string point) {
+  CompactOptions o;
+  o.fault_point = [point](std::string_view at) {
+    if (at == point) throw SimulatedCrash();
+  };
+  return o;
+}
+
+// Every live configuration's vectors can be read and equal what was written.
+void expect_all_blobs_readable(const std::filesystem::path& dir) {
+  Catalogue cat(dir / "catalogue.sqlite", OpenMode::kReadOnly);
+  BlobStore blobs(dir / "blobs");
+  for (const Configuration& c : cat.read_all_configurations()) {
+    if (!c.blob) continue;
+    EXPECT_EQ(blobs.read(c.blob->segment, c.blob->name + "/u"), test_util::synthetic_u(c.id.value()))
+        << "configuration " << c.id.value();
+  }
+}
+
+void expect_consistent(const std::filesystem::path& dir) {
+  Catalogue cat(dir / "catalogue.sqlite", OpenMode::kReadOnly);
+  EXPECT_EQ(cat.integrity_check(), "ok");
+  EXPECT_EQ(cat.num_foreign_key_violations(), 0);
+  BlobStore blobs(dir / "blobs");
+  EXPECT_TRUE(blobs.unreferenced_segments(cat.referenced_segments()).empty());
+}
+
+TEST(LevelCompare, DistanceInToleranceUnits) {
+  const LevelTolerances tol{0.01, 0.05};
+  const std::vector<double> u = {0.0, 1.0}, h = {0.0, 0.0, 0.0};
+  EXPECT_DOUBLE_EQ(level_distance(u, h, std::vector<double>{0.005, 1.0}, h, tol), 0.5);
+  EXPECT_DOUBLE_EQ(level_distance(u, h, u, std::vector<double>{0.03, 0.04, 0.0}, tol), 1.0);
+  EXPECT_TRUE(std::isinf(level_distance(u, h, std::vector<double>{0.0}, h, tol)));
+}
+
+TEST(LevelCompare, ForcesProveDistinctOnlyBeyondTheBound) {
+  const LevelTolerances tol{0.01, 0.05};
+  Configuration a, b;
+  b.force = {0.08, 0.0, 0.0};  // < sqrt(3) * 0.05 = 0.0866
+  EXPECT_FALSE(forces_prove_distinct(a, b, 3, tol));
+  b.force = {0.09, 0.0, 0.0};
+  EXPECT_TRUE(forces_prove_distinct(a, b, 3, tol));
+}
+
+TEST(FindLevelMerges, FindsExactlyTheDuplicates) {
+  TempDir dir("compact");
+  test_util::write_synthetic_state(dir.path());
+  Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
+  BlobStore blobs(dir.path() / "blobs");
+  MergeSearchStats stats;
+  const auto merges = find_level_merges(cat, blobs, {test_util::kUTol, test_util::kHTol}, &stats);
+  ASSERT_EQ(merges.size(), 2u);
+  EXPECT_EQ(merges[0].kept, ConfigId(3));
+  EXPECT_EQ(merges[0].merged, ConfigId(4));
+  EXPECT_NEAR(merges[0].distance, 0.5, 1e-9);
+  EXPECT_EQ(merges[1].kept, ConfigId(6));
+  EXPECT_EQ(merges[1].merged, ConfigId(8));
+  EXPECT_NEAR(merges[1].distance, 0.99, 1e-9);
+  EXPECT_EQ(stats.compared, 4);          // c4-c3, c5-c3, c7-c6, c8-c6
+  EXPECT_EQ(stats.force_rejections, 1);  // c2-c1 (1 N apart)
+}
+
+TEST(Compact, MergesRewritesRepacksAndShrinks) {
+  TempDir dir("compact");
+  test_util::write_synthetic_state(dir.path());
+  const CompactReport r = compact_state(dir.path(), {});
+  EXPECT_FALSE(r.nothing_to_do);
+  EXPECT_EQ(r.merged_levels, 2);
+  EXPECT_EQ(r.retargeted_transitions, 3);  // c2->c4, c6->c4, c4->c8
+  EXPECT_EQ(r.moved_transitions, 1);       // c4's outside-grid direction 13 given to c3
+  EXPECT_EQ(r.garbage_segments, 0);
+  EXPECT_EQ(r.repacked_configurations, 5);  // c2, c3, c5, c6, c7
+  EXPECT_EQ(r.new_segments, 1);
+  EXPECT_EQ(r.dead_vectors, 6);             // c4 and c8: u, t, h
+  EXPECT_EQ(r.before.segments, 3);
+  EXPECT_EQ(r.after.segments, 1);
+  EXPECT_LT(r.after.blob_bytes, r.before.blob_bytes);
+  EXPECT_LT(r.after.total(), r.before.total());
+
+  Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
+  EXPECT_EQ(cat.read_configuration(ConfigId(4)).status, ConfigStatus::kMerged);
+  EXPECT_EQ(cat.read_configuration(ConfigId(8)).status, ConfigStatus::kMerged);
+  EXPECT_FALSE(cat.read_configuration(ConfigId(4)).blob.has_value());
+  for (int id : {2, 3, 5, 6, 7}) {
+    const Configuration c = cat.read_configuration(ConfigId(id));
+    EXPECT_NE(c.status, ConfigStatus::kMerged) << id;
+    ASSERT_TRUE(c.blob.has_value()) << id;
+    EXPECT_EQ(c.blob->segment, SegmentId{4}) << id;
+  }
+  EXPECT_EQ(cat.read_transition(ConfigId(2), Direction(21))->target, ConfigId(3));
+  EXPECT_EQ(cat.read_transition(ConfigId(6), Direction(4))->target, ConfigId(3));
+  EXPECT_EQ(cat.read_transition(ConfigId(4), Direction(21))->target, ConfigId(6));
+  EXPECT_EQ(cat.read_transition(ConfigId(3), Direction(13))->outcome, TransitionOutcome::kOutsideGrid);
+  EXPECT_FALSE(cat.read_transition(ConfigId(4), Direction(13)).has_value());
+  EXPECT_EQ(cat.num_transitions(), 10);
+  const auto target_4 = cat.query_read_only("SELECT count(*) FROM transition WHERE target IN (4, 8)");
+  EXPECT_EQ(std::get<std::int64_t>(target_4.rows[0][0]), 0);
+
+  BlobStore blobs(dir.path() / "blobs");
+  EXPECT_EQ(blobs.list_segments(), std::vector<SegmentId>{SegmentId{4}});
+  EXPECT_EQ(blobs.list_vectors(SegmentId{4}).size(), 16u);  // 5 x (u, t, h) + c3/visual
+  EXPECT_EQ(blobs.precision_of(SegmentId{4}, "c3/visual"), Precision::kFloat32);
+  EXPECT_EQ(blobs.read_float32(SegmentId{4}, "c3/visual"), (std::vector<float>{0.5f, -1.25f, 3.0f}));
+  EXPECT_EQ(blobs.provenance(SegmentId{4}).stage, "compact");
+
+  const auto runs = cat.read_stage_runs("compact");
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].outcome, StageOutcome::kOk);
+  expect_all_blobs_readable(dir.path());
+  expect_consistent(dir.path());
+}
+
+TEST(Compact, SecondRunHasNothingToDo) {
+  TempDir dir("compact");
+  test_util::write_synthetic_state(dir.path());
+  compact_state(dir.path(), {});
+  const CompactReport r = compact_state(dir.path(), {});
+  EXPECT_TRUE(r.nothing_to_do);
+  EXPECT_EQ(r.merged_levels, 0);
+  EXPECT_EQ(r.new_segments, 0);
+  EXPECT_EQ(r.garbage_segments, 0);
+  EXPECT_EQ(r.before.segments, 1);
+  EXPECT_EQ(r.after.segments, 1);
+  EXPECT_EQ(r.after.blob_bytes, r.before.blob_bytes);
+  EXPECT_NE(r.text().find("nothing to do"), std::string::npos);
+  Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
+  const auto runs = cat.read_stage_runs("compact");
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[1].outcome, StageOutcome::kUnchanged);
+  expect_consistent(dir.path());
+}
+
+TEST(Compact, DryRunChangesNothing) {
+  TempDir dir("compact");
+  test_util::write_synthetic_state(dir.path());
+  CompactOptions o;
+  o.dry_run = true;
+  const CompactReport r = compact_state(dir.path(), o);
+  EXPECT_EQ(r.merged_levels, 2);
+  EXPECT_EQ(r.repacked_configurations, 5);
+  Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
+  EXPECT_EQ(cat.read_configuration(ConfigId(4)).status, ConfigStatus::kOpen);
+  EXPECT_TRUE(cat.read_stage_runs("compact").empty());
+  EXPECT_EQ(BlobStore(dir.path() / "blobs").list_segments().size(), 3u);
+}
+
+TEST(Compact, CrashBeforeTheCommitLeavesTheOriginalState) {
+  TempDir dir("compact");
+  test_util::write_synthetic_state(dir.path());
+  EXPECT_THROW(compact_state(dir.path(), crash_at("segments-written")), SimulatedCrash);
+  {
+    Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
+    EXPECT_EQ(cat.read_configuration(ConfigId(4)).status, ConfigStatus::kOpen);
+    EXPECT_EQ(cat.read_configuration(ConfigId(4)).blob->segment, SegmentId{2});
+    EXPECT_EQ(cat.read_transition(ConfigId(2), Direction(21))->target, ConfigId(4));
+    EXPECT_EQ(cat.integrity_check(), "ok");
+    // The new segment was written and is now an orphan.
+    BlobStore blobs(dir.path() / "blobs");
+    EXPECT_EQ(blobs.unreferenced_segments(cat.referenced_segments()).size(), 1u);
+  }
+  expect_all_blobs_readable(dir.path());
+  const CompactReport r = compact_state(dir.path(), {});
+  EXPECT_EQ(r.garbage_segments, 1);
+  EXPECT_EQ(r.merged_levels, 2);
+  EXPECT_EQ(r.after.segments, 1);
+  expect_all_blobs_readable(dir.path());
+  expect_consistent(dir.path());
+}
+
+TEST(Compact, CrashAfterTheCommitLeavesGarbageForTheNextRun) {
+  TempDir dir("compact");
+  test_util::write_synthetic_state(dir.path());
+  EXPECT_THROW(compact_state(dir.path(), crash_at("committed")), SimulatedCrash);
+  expect_all_blobs_readable(dir.path());  // through the new references
+  {
+    Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
+    EXPECT_EQ(cat.read_configuration(ConfigId(4)).status, ConfigStatus::kMerged);
+    EXPECT_EQ(BlobStore(dir.path() / "blobs").unreferenced_segments(cat.referenced_segments()).size(), 3u);
+  }
+  const CompactReport r = compact_state(dir.path(), {});
+  EXPECT_EQ(r.garbage_segments, 3);
+  EXPECT_EQ(r.merged_levels, 0);
+  EXPECT_EQ(r.new_segments, 0);
+  EXPECT_EQ(r.after.segments, 1);
+  expect_consistent(dir.path());
+}
+
+TEST(Compact, MissingStateOrSceneIsAnInputError) {
+  TempDir dir("compact");
+  EXPECT_THROW(compact_state(dir.path() / "nope", {}), InputError);
+  EXPECT_THROW(compact_state(dir.path(), {}), InputError);  // no catalogue.sqlite
+  { Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kCreate); }
+  try {
+    compact_state(dir.path(), {});
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no scene stored"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Compact, SmallSegmentCapGivesSeveralSegments) {
+  TempDir dir("compact");
+  test_util::write_synthetic_state(dir.path());
+  CompactOptions o;
+  o.repack.max_segment_values = 1200;  // two configurations (549 values each) per segment
+  const CompactReport r = compact_state(dir.path(), o);
+  EXPECT_EQ(r.new_segments, 3);  // {c2, c3}, {c5, c6}, {c7}
+  EXPECT_EQ(r.after.segments, 3);
+  expect_all_blobs_readable(dir.path());
+  EXPECT_TRUE(compact_state(dir.path(), o).nothing_to_do);
+}
+
+}  // namespace
+}  // namespace hapstate
