@@ -95,6 +95,9 @@ class Catalogue {
   std::int64_t num_configurations();
   bool exists_configuration(ConfigId id);
   void update_configuration_status(ConfigId id, ConfigStatus status);
+  // Sets the expandable flag (e.g. after the device limit F_max changed). Throws InputError if
+  // there is no such configuration.
+  void update_configuration_expandable(ConfigId id, bool expandable);
   std::optional<int> max_wave();  // nullopt if there is no configuration
   // Next level number at a check-point (0 if it has none).
   Level next_level(CheckpointId checkpoint);
@@ -112,6 +115,9 @@ class Catalogue {
   std::vector<Transition> read_all_transitions();           // by (source, direction)
   std::int64_t num_transitions();
   std::int64_t num_failed_transitions();
+  // Deletes the decision (source, direction), e.g. an kOutsideGrid outcome whose neighbour
+  // became part of an enlarged workspace. Returns whether a row was deleted.
+  bool delete_transition(ConfigId source, Direction direction);
 
   // --- maintenance (hapstate-compact; maintenance_verbs.cc) ---
   // Points configuration `id` at `blob` (nullopt: no vectors stored). Throws InputError if

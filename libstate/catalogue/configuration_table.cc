@@ -23,6 +23,8 @@ constexpr const char* kReadAll = "SELECT " HAPSTATE_CONFIG_COLUMNS " FROM config
 constexpr const char* kCount = "SELECT count(*) FROM configuration";
 constexpr const char* kExists = "SELECT 1 FROM configuration WHERE id = ?";
 constexpr const char* kUpdateStatus = "UPDATE configuration SET status = ? WHERE id = ?";
+constexpr const char* kUpdateExpandable =
+    "UPDATE configuration SET expandable = ? WHERE id = ?";
 constexpr const char* kMaxWave = "SELECT max(wave) FROM configuration";
 constexpr const char* kNextLevel =
     "SELECT coalesce(max(level) + 1, 0) FROM configuration WHERE checkpoint = ?";
@@ -123,6 +125,16 @@ bool Catalogue::exists_configuration(ConfigId id) {
 void Catalogue::update_configuration_status(ConfigId id, ConfigStatus status) {
   catalogue_detail::StatementUse s(impl_->statement(kUpdateStatus));
   s->bind(1, static_cast<int>(status));
+  s->bind(2, id.value());
+  s->run();
+  if (sqlite3_changes(impl_->db->get()) != 1) {
+    throw InputError(impl_->label() + ": no configuration with id " + std::to_string(id.value()));
+  }
+}
+
+void Catalogue::update_configuration_expandable(ConfigId id, bool expandable) {
+  catalogue_detail::StatementUse s(impl_->statement(kUpdateExpandable));
+  s->bind(1, expandable ? 1 : 0);
   s->bind(2, id.value());
   s->run();
   if (sqlite3_changes(impl_->db->get()) != 1) {

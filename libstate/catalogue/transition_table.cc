@@ -19,6 +19,7 @@ constexpr const char* kReadAll =
     "SELECT " HAPSTATE_TRANSITION_COLUMNS " FROM transition ORDER BY source, direction";
 constexpr const char* kCount = "SELECT count(*) FROM transition";
 constexpr const char* kCountFailed = "SELECT count(*) FROM transition WHERE outcome = 2";
+constexpr const char* kDelete = "DELETE FROM transition WHERE source = ? AND direction = ?";
 
 #undef HAPSTATE_TRANSITION_COLUMNS
 
@@ -89,6 +90,14 @@ std::int64_t Catalogue::num_failed_transitions() {
   catalogue_detail::StatementUse s(impl_->statement(kCountFailed));
   s->step();
   return s->column_int(0);
+}
+
+bool Catalogue::delete_transition(ConfigId source, Direction direction) {
+  catalogue_detail::StatementUse s(impl_->statement(kDelete));
+  s->bind(1, source.value());
+  s->bind(2, direction.index());
+  s->run();
+  return sqlite3_changes(impl_->db->get()) == 1;
 }
 
 }  // namespace hapstate

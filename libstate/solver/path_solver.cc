@@ -111,6 +111,18 @@ Eigen::Vector3d PathSolver::force_felt() const {
   return felt;
 }
 
+Eigen::VectorXd PathSolver::probe_reactions() const {
+  Eigen::VectorXd f;
+  assembler_->energy_and_force(u_, &f);
+  int count = 0;
+  for (int d = 0; d < num_dofs(); ++d) count += probe_dof_component_[d] >= 0 ? 1 : 0;
+  Eigen::VectorXd h(count);
+  int k = 0;
+  for (int d = 0; d < num_dofs(); ++d)
+    if (probe_dof_component_[d] >= 0) h[k++] = f[d];
+  return h;
+}
+
 void PathSolver::assemble(const Eigen::VectorXd& u, bool project_psd, double* energy) {
   const auto start = Clock::now();
   *energy = assembler_->energy_force_tangent(u, &f_, &k_values_, project_psd);

@@ -69,6 +69,10 @@ class PathSolver {
   void set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t);
   // Force felt by the user [N] at the current state.
   Eigen::Vector3d force_felt() const;
+  // Reactions h at the probe DOFs [N]: the internal force the body resists the probe with, one
+  // value per probe DOF in ascending DOF order (force_felt() is minus their per-component sum).
+  // One force assembly.
+  Eigen::VectorXd probe_reactions() const;
   // d force_felt / d probe position [N per mesh unit] at the current state (one extra
   // assembly and factorisation; the reduced-stiffness Schur complement on the probe DOFs).
   Eigen::Matrix3d haptic_stiffness();

@@ -1,0 +1,95 @@
+#include "statespace/expand_batch.h"
+
+#include "util/error.h"
+
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+namespace hapstate {
+
+ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
+                                  int num_probe_dofs) {
+  ConfigVectors v;
+  if (!c.blob) {
+    v.u.assign(num_dofs, 0.0);
+    v.t.assign(num_probe_dofs, 0.0);
+    v.h.assign(num_probe_dofs, 0.0);
+    return v;
+  }
+  v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
+  v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
+  if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_probe_dofs) {
+    throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
+                     ": vectors of configuration " + std::to_string(c.id.value()) + " ('" +
+                     c.blob->name + "') have " + std::to_string(v.u.size()) + " / " +
+                     std::to_string(v.h.size()) + " values, the problem needs " +
+                     std::to_string(num_dofs) + " / " + std::to_string(num_probe_dofs));
+  }
+  return v;
+}
+
+TransitionSolver::TransitionSolver(const Problem& problem, const ProbeModel& probe,
+                                   const BlobStore& blobs, int threads)
+    : problem_(problem), probe_(probe), blobs_(blobs), threads_(std::max(1, threads)) {
+  for (DofRole r : problem.constraints.role) num_probe_dofs_ += r == DofRole::kProbe ? 1 : 0;
+  solvers_.resize(threads_);
+}
+
+TransitionSolver::~TransitionSolver() = default;
+
+TransitionSolve TransitionSolver::solve_one(PathSolver& solver, const TransitionTask& task) {
+  TransitionSolve out;
+  if (!task.target) return out;
+  out.solved = true;
+  const ConfigVectors source =
+      load_config_vectors(blobs_, task.source, solver.num_dofs(), num_probe_dofs_);
+  probe_.set_state(solver, source.u, task.from);
+  out.move = probe_.move_to(solver, task.to);
+  if (!out.move.ok) return out;
+  const Eigen::VectorXd& u_m = solver.state_m();
+  out.vectors.u.resize(u_m.size());
+  for (Eigen::Index k = 0; k < u_m.size(); ++k) out.vectors.u[k] = u_m[k] / problem_.unit;
+  out.vectors.t = probe_.load_at(task.to).values;
+  const Eigen::VectorXd h = solver.probe_reactions();
+  out.vectors.h.assign(h.data(), h.data() + h.size());
+  const Eigen::Vector3d f = solver.force_felt();
+  out.force = {f.x(), f.y(), f.z()};
+  const Eigen::Matrix3d k = solver.haptic_stiffness();
+  for (int r = 0; r < 3; ++r)
+    for (int s = 0; s < 3; ++s) out.stiffness[3 * r + s] = std::isfinite(k(r, s)) ? k(r, s) : 0.0;
+  return out;
+}
+
+std::vector<TransitionSolve> TransitionSolver::solve(const std::vector<TransitionTask>& tasks) {
+  std::vector<TransitionSolve> results(tasks.size());
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto work = [&](int worker) {
+    try {
+      if (!solvers_[worker]) solvers_[worker] = std::make_unique<PathSolver>(problem_);
+      for (std::size_t k = next++; k < tasks.size(); k = next++) {
+        results[k] = solve_one(*solvers_[worker], tasks[k]);
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+      next = tasks.size();
+    }
+  };
+  const int workers = static_cast<int>(std::min<std::size_t>(threads_, std::max<std::size_t>(1, tasks.size())));
+  if (workers <= 1) {
+    work(0);
+  } else {
+    std::vector<std::thread> pool;
+    for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
+    for (auto& t : pool) t.join();
+  }
+  if (error) std::rethrow_exception(error);
+  return results;
+}
+
+}  // namespace hapstate

@@ -1,0 +1,404 @@
+#include "statespace/expand_stage.h"
+
+#include "blobs/blob_store.h"
+#include "blobs/segment_writer.h"
+#include "catalogue/transaction.h"
+#include "statespace/expand_batch.h"
+#include "statespace/level_match.h"
+#include "statespace/probe_model.h"
+#include "statespace/stage_context.h"
+#include "statespace/stage_record.h"
+#include "util/error.h"
+#include "util/progress.h"
+
+#include <algorithm>
+#include <initializer_list>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+namespace hapstate {
+namespace {
+
+using SteadyClock = std::chrono::steady_clock;
+
+double norm3(const std::array<double, 3>& f) { return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); }
+
+struct GridIndexOf {
+  std::map<GridIndex, Checkpoint> by_ijk;
+  std::unordered_map<CheckpointId, GridIndex> ijk_of;
+};
+
+// Everything the batches share.
+class Expander {
+ public:
+  Expander(StageContext& ctx, const ExpandOptions& options)
+      : ctx_(ctx),
+        options_(options),
+        blobs_(ctx.dir.blobs()),
+        probe_(make_probe_model(ctx.problem, ctx.scene.probe.mode)),
+        sketch_(ctx.problem),
+        tolerances_(level_tolerances(ctx.scene)),
+        max_force_(ctx.scene.probe.max_force) {
+    for (DofRole r : ctx.problem.constraints.role) num_probe_dofs_ += r == DofRole::kProbe ? 1 : 0;
+    num_probe_nodes_ = std::max<int>(1, static_cast<int>(ctx.problem.constraints.probe_nodes.size()));
+    num_dofs_ = 3 * ctx.problem.mesh.num_nodes();
+    for (const Checkpoint& c : ctx.catalogue.read_all_checkpoints()) {
+      grid_.by_ijk.emplace(c.ijk, c);
+      grid_.ijk_of.emplace(c.id, c.ijk);
+    }
+  }
+
+  BlobStore& blobs() { return blobs_; }
+  const LevelTolerances& tolerances() const { return tolerances_; }
+
+  // Throws InputError naming the configuration if a referenced segment or vector is unusable.
+  void validate_blobs() {
+    Catalogue& cat = ctx_.catalogue;
+    for (SegmentId s : cat.referenced_segments()) {
+      try {
+        blobs_.provenance(s);
+      } catch (const InputError& e) {
+        throw InputError(std::string(e.what()) + " (referenced by " + cat.file().string() +
+                         "; the state directory is damaged)");
+      }
+    }
+    for (const Configuration& c : cat.read_all_configurations()) {
+      if (!c.blob || c.status == ConfigStatus::kMerged) continue;
+      for (const char* v : {"/u", "/t", "/h"}) {
+        if (!blobs_.contains(c.blob->segment, c.blob->name + v)) {
+          throw InputError((blobs_.directory() / segment_file_name(c.blob->segment)).string() +
+                           ": vector '" + c.blob->name + v + "' of configuration " +
+                           std::to_string(c.id.value()) + " is missing (the state directory is "
+                           "damaged)");
+        }
+      }
+    }
+  }
+
+  // Configurations whose expandable flag disagrees with max_force and the workspace.
+  std::vector<std::pair<ConfigId, bool>> expandable_changes() {
+    std::vector<std::pair<ConfigId, bool>> out;
+    for (const Configuration& c : ctx_.catalogue.read_all_configurations()) {
+      if (c.status != ConfigStatus::kOpen) continue;
+      const bool want = is_expandable(c.checkpoint, c.force);
+      if (want != c.expandable) out.emplace_back(c.id, want);
+    }
+    return out;
+  }
+
+  bool is_expandable(CheckpointId checkpoint, const std::array<double, 3>& force) const {
+    const auto it = grid_.ijk_of.find(checkpoint);
+    if (it == grid_.ijk_of.end()) return false;
+    return grid_.by_ijk.at(it->second).classification == CheckpointClass::kWorkspace &&
+           norm3(force) <= max_force_;
+  }
+
+  // The lowest wave with open expandable configurations, if any.
+  std::optional<int> next_wave() {
+    const auto max_wave = ctx_.catalogue.max_wave();
+    if (!max_wave) return std::nullopt;
+    for (int w = 0; w <= *max_wave; ++w)
+      if (!ctx_.catalogue.frontier(w).empty()) return w;
+    return std::nullopt;
+  }
+
+  // Undecided (source, direction) pairs of wave w, canonical order; sources with nothing left
+  // undecided are returned in `complete`.
+  std::vector<TransitionTask> tasks_of_wave(int w, std::vector<ConfigId>* complete) {
+    std::vector<TransitionTask> tasks;
+    for (const Configuration& c : ctx_.catalogue.frontier(w)) {
+      bool decided[Direction::kCount] = {};
+      int count = 0;
+      for (const Transition& t : ctx_.catalogue.transitions_of(c.id)) {
+        decided[t.direction.index()] = true;
+        ++count;
+      }
+      decided_before_[c.id] = count;
+      if (count == Direction::kCount) {
+        complete->push_back(c.id);
+        continue;
+      }
+      const GridIndex ijk = grid_.ijk_of.at(c.checkpoint);
+      for (int d = 0; d < Direction::kCount; ++d) {
+        if (decided[d]) continue;
+        TransitionTask task;
+        task.source = c;
+        task.direction = Direction(d);
+        const auto off = task.direction.offset();
+        const GridIndex to{ijk[0] + off[0], ijk[1] + off[1], ijk[2] + off[2]};
+        task.from = ctx_.grid.position(ijk);
+        task.to = ctx_.grid.position(to);
+        const auto it = grid_.by_ijk.find(to);
+        if (it != grid_.by_ijk.end() && it->second.classification == CheckpointClass::kWorkspace)
+          task.target = it->second.id;
+        tasks.push_back(std::move(task));
+      }
+    }
+    return tasks;
+  }
+
+  // Decides and stores one solved batch (canonical order), then commits it.
+  void commit_batch(const std::vector<TransitionTask>& tasks,
+                    const std::vector<TransitionSolve>& solves, ExpandReport* report) {
+    Catalogue& cat = ctx_.catalogue;
+    struct NewConfig {
+      Configuration config;
+      const ConfigVectors* vectors;
+    };
+    std::vector<NewConfig> fresh;
+    std::vector<Transition> transitions;
+    std::map<ConfigId, int> decided;
+    ConfigId next_id(std::max<std::int64_t>(cat.max_config_id().value(), 0) + 1);
+    const SegmentId segment = blobs_.next_segment_id();
+
+    for (std::size_t k = 0; k < tasks.size(); ++k) {
+      const TransitionTask& task = tasks[k];
+      const TransitionSolve& solve = solves[k];
+      Transition t;
+      t.source = task.source.id;
+      t.direction = task.direction;
+      ++decided[task.source.id];
+      ++report->decided;
+      if (!task.target) {
+        t.outcome = TransitionOutcome::kOutsideGrid;
+        ++report->outside;
+        transitions.push_back(t);
+        continue;
+      }
+      ++report->solved;
+      t.substeps = solve.move.substeps;
+      t.newton_iterations = solve.move.iterations;
+      t.final_residual = std::isfinite(solve.move.residual) ? solve.move.residual : 0.0;
+      t.wall_ms = solve.move.wall_ms;
+      if (!solve.move.ok) {
+        t.outcome = TransitionOutcome::kFailed;
+        t.failure_reason = std::string(failure_name(solve.move.failure)) + ": " + solve.move.reason;
+        ++report->failed;
+        transitions.push_back(t);
+        continue;
+      }
+      t.outcome = TransitionOutcome::kReached;
+      // Compare with every level at the target, stored or new in this batch.
+      const std::vector<double> summary = sketch_.summary(solve.vectors.u);
+      double best = 2.0;
+      ConfigId best_id;
+      auto consider = [&](const Configuration& level, const ConfigVectors* in_memory) {
+        if (level.status == ConfigStatus::kMerged) return;
+        if (level_distance_bound(summary, solve.force, level.summary, level.force, tolerances_,
+                                 num_probe_nodes_) > 1.0)
+          return;
+        const ConfigVectors& v = in_memory ? *in_memory : cached_vectors(level);
+        const double d = level_distance(solve.vectors, v, tolerances_);
+        if (d <= 1.0 && d < best) {
+          best = d;
+          best_id = level.id;
+        }
+      };
+      for (const Configuration& level : cat.configurations_at(*task.target)) consider(level, nullptr);
+      int new_here = 0;
+      for (const NewConfig& n : fresh) {
+        if (n.config.checkpoint != *task.target) continue;
+        ++new_here;
+        consider(n.config, n.vectors);
+      }
+      if (best_id.valid()) {
+        t.target = best_id;
+        ++report->reused_levels;
+      } else {
+        Configuration c;
+        c.id = next_id;
+        next_id = ConfigId(next_id.value() + 1);
+        c.checkpoint = *task.target;
+        c.level = Level(cat.next_level(*task.target).value() + new_here);
+        c.wave = task.source.wave + 1;
+        c.force = solve.force;
+        c.stiffness = solve.stiffness;
+        c.expandable = is_expandable(c.checkpoint, c.force);
+        c.status = ConfigStatus::kOpen;
+        c.blob = BlobRef{segment, "c" + std::to_string(c.id.value())};
+        c.summary = summary;
+        t.target = c.id;
+        fresh.push_back({c, &solve.vectors});
+        ++report->new_configurations;
+      }
+      transitions.push_back(t);
+    }
+
+    // Vectors first, durable, then the rows that reference them.
+    if (!fresh.empty()) {
+      SegmentWriter writer(blobs_.directory(), segment,
+                           SegmentProvenance{ctx_.scene_record.hash.hex(), "", "expand"});
+      for (const NewConfig& n : fresh) {
+        writer.write(n.config.blob->name + "/u", n.vectors->u);
+        writer.write(n.config.blob->name + "/t", n.vectors->t);
+        writer.write(n.config.blob->name + "/h", n.vectors->h);
+      }
+      writer.close();
+    }
+    Transaction tx(cat);
+    for (const NewConfig& n : fresh) cat.insert_configuration(n.config);
+    for (const Transition& t : transitions) cat.insert_transition(t);
+    for (const auto& [source, count] : decided) {
+      if (decided_before_[source] + count == Direction::kCount) {
+        cat.update_configuration_status(source, ConfigStatus::kExpanded);
+      }
+      decided_before_[source] += count;
+    }
+    tx.commit();
+  }
+
+ private:
+  const ConfigVectors& cached_vectors(const Configuration& c) {
+    auto it = cache_.find(c.id);
+    if (it != cache_.end()) return it->second;
+    if (cache_.size() >= kMaxCached) cache_.clear();
+    return cache_.emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, num_probe_dofs_))
+        .first->second;
+  }
+
+  static constexpr std::size_t kMaxCached = 4096;
+
+  StageContext& ctx_;
+  const ExpandOptions& options_;
+  BlobStore blobs_;
+  std::unique_ptr<ProbeModel> probe_;
+  LevelSketch sketch_;
+  LevelTolerances tolerances_;
+  double max_force_;
+  int num_probe_dofs_ = 0;
+  int num_probe_nodes_ = 1;
+  int num_dofs_ = 0;
+  GridIndexOf grid_;
+  std::unordered_map<ConfigId, ConfigVectors> cache_;
+  std::map<ConfigId, int> decided_before_;
+
+ public:
+  const ProbeModel& probe() const { return *probe_; }
+};
+
+std::string parameters_of(const ExpandOptions& o, const LevelTolerances& tol, double max_force) {
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "threads=%d batch=%d max_transitions=%s max_seconds=%s max_force=%.9g "
+                "displacement_tolerance=%.9g force_tolerance=%.9g",
+                o.threads, o.batch_size,
+                o.max_transitions ? std::to_string(*o.max_transitions).c_str() : "none",
+                o.max_seconds ? std::to_string(*o.max_seconds).c_str() : "none", max_force,
+                tol.displacement, tol.force);
+  return buf;
+}
+
+}  // namespace
+
+ExpandReport run_expand(const ExpandOptions& options) {
+  if (options.threads < 1) throw InputError("--threads must be >= 1");
+  if (options.batch_size < 1) throw InputError("--batch must be >= 1");
+  const auto start = SteadyClock::now();
+  StageContext ctx = open_stage_context(options.state);
+  Catalogue& cat = ctx.catalogue;
+  const StageRun grid_run = require_stage_run(cat, ctx.dir, "grid");
+  if (run_input(grid_run, "grid") != ctx.grid.hash() ||
+      run_input(grid_run, "problem") != ctx.problem_hash) {
+    throw InputError(ctx.dir.root.string() + ": the scene's grid changed since hapstate-grid ran "
+                     "(re-imported with an enlarged workspace?): run hapstate-grid first");
+  }
+  Expander expander(ctx, options);
+  expander.validate_blobs();
+
+  ExpandReport report;
+  const auto changes = expander.expandable_changes();
+  const NamedHashes inputs = {{"grid", ctx.grid.hash()},
+                              {"problem", ctx.problem_hash},
+                              {"scene", ctx.scene_record.hash}};
+  StageRun run = make_stage_run("expand", inputs,
+                                parameters_of(options, expander.tolerances(), ctx.scene.probe.max_force));
+
+  // The device limit may have changed since the last run: expandable follows max_force.
+  if (!changes.empty()) {
+    Transaction tx(cat);
+    for (const auto& [id, flag] : changes) cat.update_configuration_expandable(id, flag);
+    tx.commit();
+    report.expandable_changed = static_cast<long long>(changes.size());
+  }
+  if (!expander.next_wave()) {
+    run.outcome = StageOutcome::kUnchanged;
+    run.ended = now_ms();
+    run.message = "nothing to do";
+    cat.insert_stage_run(run);
+    report.outcome = StageOutcome::kUnchanged;
+    report.message = "nothing to do: every expandable configuration is fully expanded (" +
+                     std::to_string(cat.num_configurations()) + " configurations, " +
+                     std::to_string(cat.num_transitions()) + " transitions)";
+    return report;
+  }
+
+  // Resume: drop segments no row references (a crash between a segment's close and its commit).
+  report.garbage_segments =
+      expander.blobs().remove_unreferenced_segments(cat.referenced_segments()).size();
+  const StageRunId run_id = cat.insert_stage_run(run);
+
+  try {
+    TransitionSolver solver(ctx.problem, expander.probe(), expander.blobs(), options.threads);
+    bool stopped = false;
+    auto limit_reached = [&] {
+      if (options.max_transitions && report.decided >= *options.max_transitions) return true;
+      if (options.max_seconds &&
+          std::chrono::duration<double>(SteadyClock::now() - start).count() >= *options.max_seconds)
+        return true;
+      return false;
+    };
+    while (!stopped) {
+      const std::optional<int> wave = expander.next_wave();
+      if (!wave) break;
+      std::vector<ConfigId> complete;
+      const std::vector<TransitionTask> tasks = expander.tasks_of_wave(*wave, &complete);
+      if (!complete.empty()) {
+        Transaction tx(cat);
+        for (ConfigId id : complete) cat.update_configuration_status(id, ConfigStatus::kExpanded);
+        tx.commit();
+      }
+      Progress progress("hapstate-expand: wave " + std::to_string(*wave), 
+                        static_cast<long long>(tasks.size()), options.progress);
+      long long done = 0, failures = 0;
+      for (std::size_t b = 0; b < tasks.size(); b += options.batch_size) {
+        if (limit_reached()) {
+          stopped = true;
+          break;
+        }
+        const std::size_t e = std::min(tasks.size(), b + options.batch_size);
+        const std::vector<TransitionTask> batch(tasks.begin() + b, tasks.begin() + e);
+        const std::vector<TransitionSolve> solves = solver.solve(batch);
+        const long long failed_before = report.failed;
+        expander.commit_batch(batch, solves, &report);
+        done += static_cast<long long>(batch.size());
+        failures += report.failed - failed_before;
+        progress.update(done, failures);
+      }
+      if (options.progress) progress.finish();
+    }
+    report.outcome = stopped ? StageOutcome::kPartial : StageOutcome::kOk;
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "%s: %lld transitions decided (%lld solved, %lld failed, %lld outside the "
+                  "workspace), %lld new configurations, %lld reached an existing level; now %lld "
+                  "configurations, %lld transitions",
+                  stopped ? "partial (a limit was reached; run again to continue)" : "complete",
+                  report.decided, report.solved, report.failed, report.outside,
+                  report.new_configurations, report.reused_levels,
+                  static_cast<long long>(cat.num_configurations()),
+                  static_cast<long long>(cat.num_transitions()));
+    report.message = buf;
+    cat.update_stage_run_end(run_id, report.outcome, now_ms(), report.message);
+  } catch (const std::exception& e) {
+    try {
+      cat.update_stage_run_end(run_id, StageOutcome::kFailed, now_ms(), e.what());
+    } catch (...) {
+    }
+    throw;
+  }
+  return report;
+}
+
+}  // namespace hapstate

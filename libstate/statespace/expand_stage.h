@@ -1,0 +1,49 @@
+// The expand stage (hapstate-expand): breadth-first waves of transitions from the zero
+// configuration (DESIGN.md section 3, docs/state-space.md).
+#pragma once
+
+#include "catalogue/records.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace hapstate {
+
+struct ExpandOptions {
+  std::filesystem::path state;
+  int threads = 1;                      // worker threads, one PathSolver each
+  int batch_size = 32;                  // transitions per batch (one segment, one transaction)
+  std::optional<long long> max_transitions;  // stop at the first batch boundary at or past it
+  std::optional<double> max_seconds;         // stop at the first batch boundary past it
+  std::FILE* progress = stderr;         // progress line; nullptr: none
+};
+
+struct ExpandReport {
+  StageOutcome outcome = StageOutcome::kOk;  // kOk (nothing undecided left), kPartial, kUnchanged
+  long long decided = 0;          // transitions decided in this run
+  long long solved = 0;           // of which solved (reached or failed)
+  long long failed = 0;
+  long long outside = 0;
+  long long new_configurations = 0;
+  long long reused_levels = 0;    // reached an existing level
+  long long expandable_changed = 0;  // configurations whose expandable flag changed (F_max)
+  std::size_t garbage_segments = 0;  // unreferenced segments removed at start
+  std::string message;
+};
+
+// Runs the expansion until every expandable configuration has all 26 directions decided, or
+// a limit is reached (then outcome kPartial). Batches of `batch_size` undecided (source,
+// direction) pairs, taken in canonical order (wave, source id, direction), are solved in
+// parallel and then decided and stored in that order: new vectors into a new segment that is
+// closed (fsynced) before the one catalogue transaction referencing it commits. So the
+// catalogue does not depend on the thread count, nor on where a run was killed and resumed.
+// Before any change: validates the state directory (imported, grid up to date, every
+// referenced segment and vector readable) and throws InputError otherwise. Then removes
+// unreferenced segments (left by a crash), updates expandable flags to the scene's max_force,
+// and records an "expand" stage run. Nothing undecided: records "unchanged" and returns.
+ExpandReport run_expand(const ExpandOptions& options);
+
+}  // namespace hapstate

@@ -1,0 +1,47 @@
+// The check-point grid of a scene (docs/state-space.md): P_ijk = origin + (i, j, k) * spacing
+// with origin = the probe's rest position, so the rest position is check-point (0, 0, 0) and
+// indices may be negative. The check-points are those inside the workspace box (closed, with a
+// tolerance of 1e-9 spacings). Enlarging the workspace keeps every index and position.
+#pragma once
+
+#include "catalogue/hash.h"
+#include "scene/scene.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+
+namespace hapstate {
+
+using GridIndex = std::array<int, 3>;
+
+struct GridSpec {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();   // probe rest position, mesh units
+  Eigen::Vector3d spacing = Eigen::Vector3d::Ones();  // per axis, mesh units, > 0
+  Box workspace;                                      // mesh units
+  GridIndex lo{}, hi{};                               // inclusive index range per axis
+
+  // The position of check-point ijk (the one formula every stage uses).
+  Eigen::Vector3d position(const GridIndex& ijk) const;
+  // Whether p lies in the workspace box (closed, tolerance 1e-9 spacings).
+  bool in_workspace(const Eigen::Vector3d& p) const;
+  // Whether ijk is within [lo, hi].
+  bool contains(const GridIndex& ijk) const;
+  std::int64_t num_checkpoints() const;
+  // Hash of origin, spacing and workspace (what the grid stage depends on).
+  ContentHash hash() const;
+};
+
+// Spacing per axis: grid.spacing, or box extent / (dims - 1).
+Eigen::Vector3d grid_spacing(const SceneGrid& grid);
+
+// The workspace: grid.box, or 4 spacings each way around `probe_rest`.
+Box grid_workspace(const SceneGrid& grid, const Eigen::Vector3d& probe_rest);
+
+// Resolves the grid of a scene around the probe rest position. Throws InputError (naming
+// `scene_label`) if the rest position lies outside grid.box.
+GridSpec resolve_grid(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
+                      const std::string& scene_label);
+
+}  // namespace hapstate

@@ -1,0 +1,151 @@
+#include "statespace/grid_stage.h"
+
+#include "catalogue/transaction.h"
+#include "solver/path_solver.h"
+#include "statespace/level_match.h"
+#include "statespace/probe_model.h"
+#include "statespace/stage_context.h"
+#include "statespace/stage_record.h"
+#include "util/error.h"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+namespace hapstate {
+namespace {
+
+std::string ijk_text(const GridIndex& ijk) {
+  return "(" + std::to_string(ijk[0]) + ", " + std::to_string(ijk[1]) + ", " +
+         std::to_string(ijk[2]) + ")";
+}
+
+Configuration zero_configuration(const StageContext& ctx, CheckpointId checkpoint) {
+  PathSolver solver(ctx.problem);
+  const Eigen::Matrix3d k = solver.haptic_stiffness();
+  Configuration c;
+  c.checkpoint = checkpoint;
+  c.level = Level(0);
+  c.wave = 0;
+  for (int r = 0; r < 3; ++r)
+    for (int s = 0; s < 3; ++s) c.stiffness[3 * r + s] = std::isfinite(k(r, s)) ? k(r, s) : 0.0;
+  c.expandable = 0.0 <= ctx.scene.probe.max_force;
+  c.status = ConfigStatus::kOpen;
+  c.summary.assign(LevelSketch(ctx.problem).summary_size(), 0.0);
+  return c;
+}
+
+}  // namespace
+
+GridReport run_grid(const GridOptions& options) {
+  StageContext ctx = open_stage_context(options.state);
+  Catalogue& cat = ctx.catalogue;
+  const GridSpec& grid = ctx.grid;
+  const NamedHashes inputs = {{"grid", grid.hash()},
+                              {"problem", ctx.problem_hash},
+                              {"scene", ctx.scene_record.hash}};
+  char params[256];
+  std::snprintf(params, sizeof params,
+                "spacing=(%.9g, %.9g, %.9g) workspace=[(%.9g, %.9g, %.9g), (%.9g, %.9g, %.9g)]",
+                grid.spacing.x(), grid.spacing.y(), grid.spacing.z(), grid.workspace.min.x(),
+                grid.workspace.min.y(), grid.workspace.min.z(), grid.workspace.max.x(),
+                grid.workspace.max.y(), grid.workspace.max.z());
+  StageRun run = make_stage_run("grid", inputs, params);
+  GridReport report;
+
+  // Validate the stored check-points against the grid before changing anything.
+  std::map<GridIndex, Checkpoint> existing;
+  for (const Checkpoint& c : cat.read_all_checkpoints()) {
+    const Eigen::Vector3d want = grid.position(c.ijk);
+    const Eigen::Vector3d have(c.position[0], c.position[1], c.position[2]);
+    if ((want - have).cwiseAbs().maxCoeff() > 1e-9 * grid.spacing.maxCoeff()) {
+      throw InputError(ctx.dir.catalogue().string() + ": check-point " + ijk_text(c.ijk) +
+                       " is stored at a position the scene's grid does not give it (the grid "
+                       "spacing or the probe's rest position changed): re-import with --fresh");
+    }
+    existing.emplace(c.ijk, c);
+  }
+  const auto last = cat.last_successful_stage_run("grid");
+  if (last && same_inputs(*last, inputs, {"grid", "problem"}) && !existing.empty()) {
+    run.outcome = StageOutcome::kUnchanged;
+    run.ended = now_ms();
+    run.message = "unchanged";
+    cat.insert_stage_run(run);
+    report.unchanged = true;
+    report.checkpoints_total = static_cast<std::int64_t>(existing.size());
+    report.message = "unchanged: the grid is up to date (" + std::to_string(existing.size()) +
+                     " check-points), nothing to do";
+    return report;
+  }
+
+  Transaction tx(cat);
+  std::map<GridIndex, CheckpointId> workspace_ids;
+  for (int i = grid.lo[0]; i <= grid.hi[0]; ++i)
+    for (int j = grid.lo[1]; j <= grid.hi[1]; ++j)
+      for (int k = grid.lo[2]; k <= grid.hi[2]; ++k) {
+        const GridIndex ijk{i, j, k};
+        auto it = existing.find(ijk);
+        if (it != existing.end()) {
+          if (it->second.classification == CheckpointClass::kWorkspace)
+            workspace_ids.emplace(ijk, it->second.id);
+          continue;
+        }
+        Checkpoint c;
+        c.ijk = ijk;
+        const Eigen::Vector3d p = grid.position(ijk);
+        c.position = {p.x(), p.y(), p.z()};
+        c.classification = grid.in_workspace(p) ? CheckpointClass::kWorkspace
+                                                : CheckpointClass::kOutsideWorkspace;
+        c.id = cat.insert_checkpoint(c);
+        if (c.classification == CheckpointClass::kWorkspace) workspace_ids.emplace(ijk, c.id);
+        ++report.checkpoints_added;
+      }
+  for (const auto& [ijk, c] : existing)
+    if (c.classification == CheckpointClass::kWorkspace) workspace_ids.emplace(ijk, c.id);
+  report.checkpoints_total = cat.num_checkpoints();
+
+  // The zero configuration at the rest check-point.
+  const auto rest = workspace_ids.find(GridIndex{0, 0, 0});
+  if (rest == workspace_ids.end()) {
+    throw InputError(ctx.dir.root.string() + ": the rest check-point (0, 0, 0) is not in the "
+                     "workspace (internal inconsistency)");
+  }
+  if (cat.configurations_at(rest->second).empty()) {
+    cat.insert_configuration(zero_configuration(ctx, rest->second));
+    report.zero_configuration_added = true;
+  }
+
+  // Reopen decisions "outside the grid" whose neighbour is now a workspace check-point.
+  if (report.checkpoints_added > 0) {
+    std::map<CheckpointId, GridIndex> index_of;
+    for (const auto& [ijk, id] : workspace_ids) index_of.emplace(id, ijk);
+    for (const Transition& t : cat.read_all_transitions()) {
+      if (t.outcome != TransitionOutcome::kOutsideGrid) continue;
+      const Configuration source = cat.read_configuration(t.source);
+      const auto at = index_of.find(source.checkpoint);
+      if (at == index_of.end()) continue;
+      const auto off = t.direction.offset();
+      const GridIndex to{at->second[0] + off[0], at->second[1] + off[1], at->second[2] + off[2]};
+      if (!workspace_ids.count(to)) continue;
+      cat.delete_transition(t.source, t.direction);
+      if (source.status == ConfigStatus::kExpanded)
+        cat.update_configuration_status(source.id, ConfigStatus::kOpen);
+      ++report.transitions_reopened;
+    }
+  }
+  run.outcome = StageOutcome::kOk;
+  run.ended = now_ms();
+  report.message = std::to_string(report.checkpoints_added) + " check-points added (" +
+                   std::to_string(report.checkpoints_total) + " in all)" +
+                   (report.zero_configuration_added ? ", zero configuration at (0, 0, 0)" : "") +
+                   (report.transitions_reopened
+                        ? ", " + std::to_string(report.transitions_reopened) +
+                              " transitions reopened into the enlarged workspace"
+                        : "");
+  run.message = report.message;
+  cat.insert_stage_run(run);
+  tx.commit();
+  return report;
+}
+
+}  // namespace hapstate

@@ -1,0 +1,34 @@
+// The grid stage (hapstate-grid): check-points, their classification and the zero
+// configuration, from the imported scene.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace hapstate {
+
+struct GridOptions {
+  std::filesystem::path state;
+};
+
+struct GridReport {
+  bool unchanged = false;
+  std::int64_t checkpoints_added = 0;
+  std::int64_t checkpoints_total = 0;
+  bool zero_configuration_added = false;
+  std::int64_t transitions_reopened = 0;  // kOutsideGrid decisions now inside the workspace
+  std::string message;
+};
+
+// Creates the check-points of the scene's grid (docs/state-space.md) that do not exist yet, in
+// (i, j, k) order; the zero configuration at the rest check-point (0, 0, 0) if missing (u = 0,
+// force 0, level 0, wave 0, no blob; stiffness from the solver at rest); and, after the
+// workspace was enlarged, deletes the kOutsideGrid transitions whose neighbour is now a
+// workspace check-point and reopens their sources. Existing check-points keep ids and indices.
+// One transaction with an "grid" stage run. Skips ("unchanged") if the grid and the problem are
+// those of the last grid run. Throws InputError (nothing changed) if the directory is not
+// imported, or a stored check-point is not where the scene's grid puts it.
+GridReport run_grid(const GridOptions& options);
+
+}  // namespace hapstate

@@ -1,0 +1,205 @@
+#include "statespace/import_stage.h"
+
+#include "catalogue/catalogue.h"
+#include "catalogue/transaction.h"
+#include "scene/bind.h"
+#include "scene/scene.h"
+#include "statespace/grid_spec.h"
+#include "statespace/scene_identity.h"
+#include "statespace/stage_record.h"
+#include "statespace/state_dir.h"
+#include "statespace/stored_problem.h"
+#include "util/error.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstdio>
+
+namespace hapstate {
+namespace {
+
+namespace fs = std::filesystem;
+
+SceneRecord make_scene_record(const Scene& scene, const Problem& problem,
+                              const ContentHash& mesh_hash) {
+  SceneRecord r;
+  r.text = scene.text;
+  r.hash = content_hash(scene.text);
+  r.mesh_file = scene.mesh.file.string();
+  r.mesh_hash = mesh_hash;
+  const Mesh& mesh = problem.mesh;
+  r.mesh_nodes = mesh.num_nodes();
+  r.mesh_elements = mesh.num_tets();
+  r.mesh_surface_triangles = mesh.surface.cols();
+  if (mesh.num_nodes() > 0) {
+    const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(), hi = mesh.nodes.rowwise().maxCoeff();
+    for (int a = 0; a < 3; ++a) {
+      r.bbox_min[a] = lo[a];
+      r.bbox_max[a] = hi[a];
+    }
+  }
+  double volume = 0;
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    const Eigen::Vector3d a = mesh.nodes.col(mesh.tets(0, e));
+    volume += (mesh.nodes.col(mesh.tets(1, e)) - a)
+                  .cross(mesh.nodes.col(mesh.tets(2, e)) - a)
+                  .dot(mesh.nodes.col(mesh.tets(3, e)) - a) / 6.0;
+  }
+  r.volume = volume;
+  return r;
+}
+
+std::string parameters_of(const ImportOptions& o) {
+  return "scene=" + o.scene.string() + " fresh=" + (o.fresh ? "1" : "0");
+}
+
+// Imports into a directory without an imported scene (new, emptied, or left by a crash).
+void import_new(const StateDir& dir, const ImportOptions& options, const Scene& scene,
+                const Problem& problem, const ContentHash& mesh_hash, const NamedHashes& identity,
+                const std::string& message) {
+  fs::create_directories(dir.root);
+  fs::create_directories(dir.blobs());
+  // A problem segment without a scene row is left by a crash: replace it.
+  fs::remove_all(dir.problem());
+  write_stored_problem(dir, problem, content_hash(scene.text));
+  Catalogue catalogue(dir.catalogue(), OpenMode::kCreate);
+  Transaction tx(catalogue);
+  catalogue.write_scene(make_scene_record(scene, problem, mesh_hash));
+  StageRun run = make_stage_run("import", identity, parameters_of(options));
+  run.outcome = StageOutcome::kOk;
+  run.ended = now_ms();
+  run.message = message;
+  catalogue.insert_stage_run(run);
+  tx.commit();
+}
+
+std::string format_force(double f) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g N", f);
+  return buf;
+}
+
+}  // namespace
+
+ImportReport run_import(const ImportOptions& options) {
+  // 1. Validate everything before touching the state directory.
+  const Scene scene = load_scene(options.scene);
+  MeshReport mesh_report;
+  const Problem problem = build_problem(scene, &mesh_report);
+  const GridSpec grid = resolve_grid(scene.grid, problem.probe_rest, options.scene.string());
+  if (scene.probe.mode != ProbeMode::kGrab) {
+    throw InputError(options.scene.string() + ": probe.mode = \"contact\" is not supported by the "
+                     "state space yet (grab only)");
+  }
+  const ContentHash mesh_hash = content_hash_file(scene.mesh.file);
+  const NamedHashes identity = scene_identity(scene, problem, mesh_hash);
+  const StateDir dir{options.state};
+
+  ImportReport report;
+  report.warnings = mesh_report.warnings;
+  const std::string summary = std::to_string(problem.mesh.num_nodes()) + " nodes, " +
+                              std::to_string(problem.mesh.num_tets()) + " tets, " +
+                              std::to_string(grid.num_checkpoints()) + " check-points";
+
+  if (fs::exists(dir.root) && !fs::is_directory(dir.root)) {
+    throw InputError(dir.root.string() + ": exists and is not a directory");
+  }
+  const bool has_catalogue = fs::exists(dir.catalogue());
+  if (has_catalogue && fs::file_size(dir.catalogue()) > 0 &&
+      !is_hapstate_catalogue_file(dir.catalogue())) {
+    throw InputError(dir.catalogue().string() +
+                     ": not a hapstate catalogue: refusing to use or delete it (choose another "
+                     "--state directory)");
+  }
+
+  // 2. --fresh: start over.
+  if (options.fresh) {
+    const bool existed = has_catalogue;
+    remove_state_files(dir);
+    import_new(dir, options, scene, problem, mesh_hash, identity,
+               (existed ? "fresh state directory: " : "new state directory: ") + summary);
+    report.result = existed ? ImportResult::kRecreated : ImportResult::kCreated;
+    report.message = (existed ? "deleted the old state and imported: " : "imported: ") + summary;
+    return report;
+  }
+
+  // 3. No imported scene yet.
+  std::optional<StageRun> last;
+  if (has_catalogue) {
+    Catalogue catalogue(dir.catalogue(), OpenMode::kReadWrite);  // refuses future/foreign/corrupt
+    if (catalogue.read_scene()) last = catalogue.last_successful_stage_run("import");
+    if (catalogue.read_scene() && !last) {
+      throw InputError(dir.catalogue().string() + ": has a scene but no successful import run "
+                       "(damaged?): use --fresh to start over");
+    }
+  }
+  if (!last) {
+    import_new(dir, options, scene, problem, mesh_hash, identity, "new state directory: " + summary);
+    report.result = ImportResult::kCreated;
+    report.message = "imported: " + summary;
+    return report;
+  }
+
+  // 4. Compare with the recorded scene.
+  std::vector<std::string> refused, changed;
+  for (const auto& [name, hash] : identity) {
+    if (run_input(*last, name) == hash) continue;
+    (is_mutable_scene_part(name) ? changed : refused).push_back(name);
+  }
+  if (!refused.empty()) {
+    std::string what;
+    for (const auto& part : refused) what += (what.empty() ? "" : "; ") + describe_scene_part(part);
+    throw InputError(options.scene.string() + ": the state directory " + dir.root.string() +
+                     " was built from another scene; changed: " + what +
+                     ". A state directory belongs to one scene (only probe.max_force and an "
+                     "enlarged grid.box may change): import into another --state directory, or "
+                     "give --fresh to delete this one's configurations and start again");
+  }
+  Catalogue catalogue(dir.catalogue(), OpenMode::kReadWrite);
+  StageRun run = make_stage_run("import", identity, parameters_of(options));
+  run.ended = now_ms();
+  if (changed.empty()) {
+    run.outcome = StageOutcome::kUnchanged;
+    run.message = "unchanged";
+    catalogue.insert_stage_run(run);
+    report.result = ImportResult::kUnchanged;
+    report.message = "unchanged: the same scene was imported before, nothing to do";
+    return report;
+  }
+  // The workspace may only grow: every stored check-point must stay inside.
+  for (const Checkpoint& c : catalogue.read_all_checkpoints()) {
+    const Eigen::Vector3d p(c.position[0], c.position[1], c.position[2]);
+    if (c.classification == CheckpointClass::kWorkspace && !grid.in_workspace(p)) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "check-point (%d, %d, %d) at (%.9g, %.9g, %.9g)", c.ijk[0],
+                    c.ijk[1], c.ijk[2], p.x(), p.y(), p.z());
+      throw InputError(options.scene.string() + ": [grid] box: the new workspace no longer holds " +
+                       buf + " of the state directory " + dir.root.string() +
+                       ": the workspace may only be enlarged (give --fresh to start again)");
+    }
+  }
+  std::string what;
+  const SceneRecord old_scene = *catalogue.read_scene();
+  for (const auto& part : changed) {
+    if (part == "max_force") {
+      const Scene old = parse_scene(old_scene.text, dir.catalogue(), SceneParseOptions{false});
+      what += (what.empty() ? "" : "; ") + std::string("probe.max_force ") +
+              format_force(old.probe.max_force) + " -> " + format_force(scene.probe.max_force);
+    } else if (part == "workspace") {
+      what += (what.empty() ? "" : "; ") + std::string("workspace enlarged");
+    }
+  }
+  if (what.empty()) what = "scene text (nothing the state depends on)";
+  Transaction tx(catalogue);
+  catalogue.write_scene(make_scene_record(scene, problem, mesh_hash));
+  run.outcome = StageOutcome::kOk;
+  run.message = "updated: " + what;
+  catalogue.insert_stage_run(run);
+  tx.commit();
+  report.result = ImportResult::kUpdated;
+  report.message = "updated: " + what + " (every configuration kept)";
+  return report;
+}
+
+}  // namespace hapstate

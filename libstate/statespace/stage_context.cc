@@ -1,0 +1,26 @@
+#include "statespace/stage_context.h"
+
+#include "statespace/stored_problem.h"
+#include "util/error.h"
+
+namespace hapstate {
+
+StageContext open_stage_context(const std::filesystem::path& state) {
+  StateDir dir{state};
+  Catalogue catalogue = open_imported_catalogue(dir, OpenMode::kReadWrite);
+  SceneRecord record = *catalogue.read_scene();
+  const StageRun import = require_stage_run(catalogue, dir, "import");
+  const std::optional<ContentHash> expected = run_input(import, "problem");
+  if (!expected) {
+    throw InputError(dir.catalogue().string() + ": the import run records no problem hash "
+                     "(damaged?): re-import with --fresh");
+  }
+  const std::string label = dir.catalogue().string() + " (stored scene)";
+  Scene scene = parse_scene(record.text, dir.catalogue(), SceneParseOptions{false});
+  Problem problem = load_stored_problem(dir, scene, *expected);
+  GridSpec grid = resolve_grid(scene.grid, problem.probe_rest, label);
+  return StageContext{dir,   std::move(catalogue), std::move(record), std::move(scene),
+                      std::move(problem), *expected, grid};
+}
+
+}  // namespace hapstate

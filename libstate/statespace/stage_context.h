@@ -1,0 +1,28 @@
+// What the grid and expand stages load from an imported state directory: the stored scene,
+// the stored problem (verified against the import's record) and the resolved grid.
+#pragma once
+
+#include "catalogue/catalogue.h"
+#include "scene/problem.h"
+#include "scene/scene.h"
+#include "statespace/grid_spec.h"
+#include "statespace/state_dir.h"
+
+namespace hapstate {
+
+struct StageContext {
+  StateDir dir;
+  Catalogue catalogue;
+  SceneRecord scene_record;
+  Scene scene;            // parsed from the stored text (files not re-read)
+  Problem problem;        // from problem/ (mesh + constraints) and the stored scene
+  ContentHash problem_hash;
+  GridSpec grid;
+};
+
+// Opens the catalogue (read-write), re-parses the stored scene and loads the stored problem.
+// Throws InputError if the directory is not an imported state directory or anything stored
+// is inconsistent.
+StageContext open_stage_context(const std::filesystem::path& state);
+
+}  // namespace hapstate

@@ -1,0 +1,32 @@
+#include "statespace/stage_record.h"
+
+#include "statespace/state_dir.h"
+
+#include <algorithm>
+
+namespace hapstate {
+
+TimeMs now_ms() { return std::chrono::time_point_cast<std::chrono::milliseconds>(Clock::now()); }
+
+StageRun make_stage_run(const std::string& stage, NamedHashes inputs, const std::string& parameters) {
+  std::sort(inputs.begin(), inputs.end());
+  StageRun run;
+  run.stage = stage;
+  run.inputs = std::move(inputs);
+  run.parameters = parameters;
+  run.started = now_ms();
+  run.outcome = StageOutcome::kRunning;
+  return run;
+}
+
+bool same_inputs(const StageRun& a, const NamedHashes& b, const std::vector<std::string>& names) {
+  for (const auto& name : names) {
+    std::optional<ContentHash> hb;
+    for (const auto& [n, h] : b)
+      if (n == name) hb = h;
+    if (run_input(a, name) != hb) return false;
+  }
+  return true;
+}
+
+}  // namespace hapstate

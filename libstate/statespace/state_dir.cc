@@ -1,0 +1,63 @@
+#include "statespace/state_dir.h"
+
+#include "util/error.h"
+
+#include <array>
+#include <initializer_list>
+#include <cstring>
+#include <fstream>
+
+namespace hapstate {
+
+bool is_hapstate_catalogue_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::array<unsigned char, 100> header{};
+  if (!in.read(reinterpret_cast<char*>(header.data()), header.size())) return false;
+  if (std::memcmp(header.data(), "SQLite format 3", 16) != 0) return false;
+  const std::uint32_t id = (std::uint32_t{header[68]} << 24) | (std::uint32_t{header[69]} << 16) |
+                           (std::uint32_t{header[70]} << 8) | std::uint32_t{header[71]};
+  return id == static_cast<std::uint32_t>(Catalogue::kApplicationId);
+}
+
+Catalogue open_imported_catalogue(const StateDir& dir, OpenMode mode) {
+  if (!std::filesystem::is_directory(dir.root)) {
+    throw InputError(dir.root.string() + ": no such state directory (run hapstate-import first)");
+  }
+  if (!std::filesystem::exists(dir.catalogue())) {
+    throw InputError(dir.root.string() +
+                     ": not a state directory: no catalogue.sqlite (run hapstate-import first)");
+  }
+  Catalogue catalogue(dir.catalogue(), mode);
+  if (!catalogue.read_scene()) {
+    throw InputError(dir.catalogue().string() +
+                     ": no scene has been imported (run hapstate-import first)");
+  }
+  return catalogue;
+}
+
+void remove_state_files(const StateDir& dir) {
+  namespace fs = std::filesystem;
+  for (const char* name : {"catalogue.sqlite", "catalogue.sqlite-wal", "catalogue.sqlite-shm",
+                           "catalogue.sqlite-journal", "playback.bin"}) {
+    fs::remove(dir.root / name);
+  }
+  fs::remove_all(dir.blobs());
+  fs::remove_all(dir.problem());
+}
+
+StageRun require_stage_run(Catalogue& catalogue, const StateDir& dir, const std::string& stage) {
+  auto run = catalogue.last_successful_stage_run(stage);
+  if (!run) {
+    throw InputError(dir.root.string() + ": hapstate-" + stage +
+                     " has not run in this state directory yet: run it first");
+  }
+  return *run;
+}
+
+std::optional<ContentHash> run_input(const StageRun& run, const std::string& name) {
+  for (const auto& [n, h] : run.inputs)
+    if (n == name) return h;
+  return std::nullopt;
+}
+
+}  // namespace hapstate

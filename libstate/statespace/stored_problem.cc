@@ -1,0 +1,124 @@
+#include "statespace/stored_problem.h"
+
+#include "blobs/blob_store.h"
+#include "blobs/segment_writer.h"
+#include "scene/bind.h"
+#include "util/error.h"
+
+#include <cmath>
+#include <initializer_list>
+#include <vector>
+
+namespace hapstate {
+namespace {
+
+template <class Matrix>
+std::vector<double> flatten(const Matrix& m) {
+  std::vector<double> out(static_cast<std::size_t>(m.size()));
+  for (Eigen::Index k = 0; k < m.size(); ++k) out[k] = static_cast<double>(m.data()[k]);
+  return out;
+}
+
+struct ProblemVectors {
+  std::vector<double> nodes, tets, surface, role, probe_nodes, probe_components, rest;
+};
+
+ProblemVectors vectors_of(const Problem& p) {
+  ProblemVectors v;
+  v.nodes = flatten(p.mesh.nodes);
+  v.tets = flatten(p.mesh.tets);
+  v.surface = flatten(p.mesh.surface);
+  for (DofRole r : p.constraints.role) v.role.push_back(static_cast<double>(r));
+  for (int n : p.constraints.probe_nodes) v.probe_nodes.push_back(n);
+  for (bool b : p.constraints.probe_components) v.probe_components.push_back(b ? 1.0 : 0.0);
+  v.rest = {p.probe_rest.x(), p.probe_rest.y(), p.probe_rest.z()};
+  return v;
+}
+
+ContentHash hash_of(const ProblemVectors& v) {
+  ContentHasher h;
+  for (const auto* part : {&v.nodes, &v.tets, &v.surface, &v.role, &v.probe_nodes,
+                           &v.probe_components, &v.rest}) {
+    h.update(static_cast<std::int64_t>(part->size()));
+    h.update(std::span<const double>(*part));
+  }
+  return h.value();
+}
+
+// Integer ids stored as float64: each must be an integer in [0, limit).
+std::vector<int> to_ids(const std::vector<double>& v, double limit, const std::string& where) {
+  std::vector<int> out;
+  out.reserve(v.size());
+  for (double x : v) {
+    if (!(x >= 0 && x < limit) || std::floor(x) != x) {
+      throw InputError(where + ": value " + std::to_string(x) + " is not a valid id (corrupt?)");
+    }
+    out.push_back(static_cast<int>(x));
+  }
+  return out;
+}
+
+}  // namespace
+
+ContentHash problem_hash(const Problem& problem) { return hash_of(vectors_of(problem)); }
+
+void write_stored_problem(const StateDir& dir, const Problem& problem,
+                          const ContentHash& scene_hash) {
+  std::filesystem::create_directories(dir.problem());
+  const ProblemVectors v = vectors_of(problem);
+  SegmentWriter writer(dir.problem(), kProblemSegment,
+                       SegmentProvenance{scene_hash.hex(), "", "import"});
+  writer.write("mesh/nodes", v.nodes);
+  writer.write("mesh/tets", v.tets);
+  writer.write("mesh/surface", v.surface);
+  writer.write("constraints/role", v.role);
+  writer.write("constraints/probe_nodes", v.probe_nodes);
+  writer.write("constraints/probe_components", v.probe_components);
+  writer.write("probe/rest", v.rest);
+  writer.close();
+}
+
+Problem load_stored_problem(const StateDir& dir, const Scene& scene, const ContentHash& expected) {
+  const std::string where = (dir.problem() / segment_file_name(kProblemSegment)).string();
+  BlobStore store(dir.problem(), 1);
+  ProblemVectors v;
+  v.nodes = store.read(kProblemSegment, "mesh/nodes");
+  v.tets = store.read(kProblemSegment, "mesh/tets");
+  v.surface = store.read(kProblemSegment, "mesh/surface");
+  v.role = store.read(kProblemSegment, "constraints/role");
+  v.probe_nodes = store.read(kProblemSegment, "constraints/probe_nodes");
+  v.probe_components = store.read(kProblemSegment, "constraints/probe_components");
+  v.rest = store.read(kProblemSegment, "probe/rest");
+  if (hash_of(v) != expected) {
+    throw InputError(where + ": the stored mesh and constraints do not match the catalogue's "
+                     "record (hash " + hash_of(v).hex() + ", expected " + expected.hex() +
+                     "): the file was replaced or damaged; re-import with --fresh");
+  }
+  const std::size_t num_nodes = v.nodes.size() / 3;
+  if (v.nodes.size() % 3 || v.tets.size() % 4 || v.surface.size() % 3 ||
+      v.role.size() != v.nodes.size() || v.probe_components.size() != 3 || v.rest.size() != 3) {
+    throw InputError(where + ": inconsistent vector sizes (corrupt?)");
+  }
+  Problem p;
+  p.mesh.source = where;
+  p.mesh.nodes = Eigen::Map<const Eigen::Matrix3Xd>(v.nodes.data(), 3,
+                                                    static_cast<Eigen::Index>(num_nodes));
+  const auto tets = to_ids(v.tets, static_cast<double>(num_nodes), where + ": mesh/tets");
+  p.mesh.tets = Eigen::Map<const Tets>(tets.data(), 4, static_cast<Eigen::Index>(tets.size() / 4));
+  const auto tris = to_ids(v.surface, static_cast<double>(num_nodes), where + ": mesh/surface");
+  p.mesh.surface =
+      Eigen::Map<const Triangles>(tris.data(), 3, static_cast<Eigen::Index>(tris.size() / 3));
+  for (int r : to_ids(v.role, 3, where + ": constraints/role"))
+    p.constraints.role.push_back(static_cast<DofRole>(r));
+  p.constraints.probe_nodes =
+      to_ids(v.probe_nodes, static_cast<double>(num_nodes), where + ": constraints/probe_nodes");
+  for (int c = 0; c < 3; ++c) p.constraints.probe_components[c] = v.probe_components[c] != 0;
+  p.probe_rest = Eigen::Vector3d(v.rest[0], v.rest[1], v.rest[2]);
+  p.unit = scene.mesh.unit;
+  p.material = resolve_material(scene.material);
+  p.solver = scene.solver;
+  p.max_force = scene.probe.max_force;
+  return p;
+}
+
+}  // namespace hapstate

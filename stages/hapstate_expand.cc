@@ -1,0 +1,61 @@
+// hapstate-expand: breadth-first expansion of the state space (the long stage).
+#include "statespace/expand_stage.h"
+#include "statespace/math_threads.h"
+#include "util/main_guard.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+
+int main(int argc, char** argv) {
+  using namespace hapstate;
+  // One BLAS/OpenMP thread per worker: set before any BLAS call (docs/state-space.md).
+  limit_math_threads();
+  ExpandOptions o;
+  std::string state;
+  long long max_transitions = 0;
+  double max_seconds = 0;
+  bool quiet = false;
+  CLI::App app{
+      "hapstate-expand: compute transitions between neighbouring check-points in breadth-first "
+      "waves from the zero configuration until every configuration with |force| <= "
+      "probe.max_force has its 26 directions decided. Interrupt it at any time (even kill -9) "
+      "and run it again to resume; the result does not depend on --threads or on interruptions.\n"
+      "Exit codes: 0 complete, partial (a --max-* limit was reached) or nothing to do; 1 "
+      "internal error; 2 bad options or state directory (not imported, grid out of date, "
+      "missing or damaged segment, newer catalogue): nothing changed. Failed solves do not "
+      "change the exit code: they are recorded as transitions with outcome 'failed'."};
+  app.add_option("--state", state, "state directory (after hapstate-grid)")->required();
+  app.add_option("--threads", o.threads, "worker threads, one FEM solver each")
+      ->check(CLI::Range(1, 1024));
+  app.add_option("--batch", o.batch_size,
+                 "transitions per batch (one blob segment and one catalogue transaction each); "
+                 "part of the result's layout: keep it fixed to compare runs")
+      ->check(CLI::Range(1, 1000000));
+  auto* mt = app.add_option("--max-transitions", max_transitions,
+                            "stop at the first batch boundary after N transitions (exit 0, "
+                            "outcome partial)")
+                 ->check(CLI::Range(1LL, 1LL << 60));
+  auto* ms = app.add_option("--max-seconds", max_seconds,
+                            "stop at the first batch boundary after S seconds (exit 0, outcome "
+                            "partial)")
+                 ->check(CLI::PositiveNumber);
+  app.add_flag("-q,--quiet", quiet, "no progress line");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitBadInput;
+  }
+  return guarded_main("hapstate-expand", [&] {
+    o.state = state;
+    if (mt->count()) o.max_transitions = max_transitions;
+    if (ms->count()) o.max_seconds = max_seconds;
+    o.progress = quiet ? nullptr : stderr;
+    const ExpandReport r = run_expand(o);
+    if (r.garbage_segments)
+      std::fprintf(stderr, "hapstate-expand: removed %zu unreferenced segment(s) left by an "
+                   "interrupted run\n", r.garbage_segments);
+    std::printf("hapstate-expand: %s\n", r.message.c_str());
+    return kExitOk;
+  });
+}
