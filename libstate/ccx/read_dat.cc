@@ -1,6 +1,7 @@
 #include "ccx/read_dat.h"
 
 #include "util/error.h"
+#include "util/text.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -10,13 +11,6 @@
 
 namespace hapstate {
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
 
 // Fortran E format drops the 'E' of three-digit exponents ("1.234567-100").
 bool parse_real(const std::string& token, double* v) {

@@ -1,6 +1,7 @@
 #include "io/probe_path.h"
 
 #include "util/error.h"
+#include "util/text.h"
 
 #include <cmath>
 #include <fstream>
@@ -10,13 +11,6 @@
 
 namespace hapstate {
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
 
 std::vector<std::string> split_commas(const std::string& line) {
   std::vector<std::string> out;
