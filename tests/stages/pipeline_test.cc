@@ -1,0 +1,219 @@
+// import -> grid -> expand on the beam: termination, the F_max bound, the zero configuration,
+// skipping when nothing changed, thread-count independence, raising F_max and enlarging the
+// workspace.
+#include "beam_state.h"
+
+#include "catalogue/catalogue.h"
+#include "statespace/grid_spec.h"
+
+#include <cmath>
+#include <regex>
+
+namespace hapstate::test_util {
+namespace {
+
+constexpr double kMaxForce = 0.01;  // pipelines/beam/scene.toml
+constexpr int kBeamCheckpoints = 45;  // 5 x 3 x 3
+
+double norm(const std::array<double, 3>& f) { return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); }
+
+// One expanded beam (--threads 1) per test program, shared read-only by the tests.
+class Pipeline : public StageTest {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = new fs::path(fs::temp_directory_path() /
+                         ("hapstate_pipeline_test_" + std::to_string(::getpid())));
+    fs::remove_all(*root_);
+    fs::create_directories(*root_);
+    build_beam(*root_ / "reference", kBeamScene, 1, *root_);
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*root_);
+    delete root_;
+  }
+  static fs::path reference() { return *root_ / "reference"; }
+  fs::path copy_of_reference(const std::string& name) {
+    const fs::path to = dir_ / name;
+    fs::copy(reference(), to, fs::copy_options::recursive);
+    return to;
+  }
+
+  static fs::path* root_;
+};
+fs::path* Pipeline::root_ = nullptr;
+
+TEST_F(Pipeline, ExpansionTerminatesWithinTheForceLimit) {
+  const Snapshot s = snapshot(reference());
+  ASSERT_EQ(s.checkpoints.size(), static_cast<std::size_t>(kBeamCheckpoints));
+  std::map<ConfigId, int> decided;
+  for (const Transition& t : s.transitions) ++decided[t.source];
+  int expandable = 0, beyond_limit = 0;
+  for (const Configuration& c : s.configurations) {
+    const bool within = norm(c.force) <= kMaxForce;
+    EXPECT_EQ(c.expandable, within) << "configuration " << c.id.value();
+    if (c.expandable) {
+      ++expandable;
+      EXPECT_EQ(decided[c.id], 26) << "configuration " << c.id.value();
+      EXPECT_EQ(c.status, ConfigStatus::kExpanded);
+    } else {
+      ++beyond_limit;
+      EXPECT_EQ(decided[c.id], 0) << "configuration " << c.id.value() << " beyond F_max was expanded";
+      EXPECT_EQ(c.status, ConfigStatus::kOpen);
+    }
+  }
+  // The beam is elastic and path-independent: one level per reached check-point. The axial
+  // layers i = +-2 need more than F_max.
+  EXPECT_EQ(s.configurations.size(), 45u);
+  EXPECT_EQ(expandable, 27);
+  EXPECT_EQ(beyond_limit, 18);
+  for (const Configuration& c : s.configurations) EXPECT_EQ(c.level, Level(0));
+  EXPECT_EQ(s.transitions.size(), 27u * 26u);
+  int outside = 0, failed = 0;
+  for (const Transition& t : s.transitions) {
+    outside += t.outcome == TransitionOutcome::kOutsideGrid;
+    failed += t.outcome == TransitionOutcome::kFailed;
+  }
+  EXPECT_EQ(failed, 0);
+  EXPECT_EQ(outside, 288);  // neighbours beyond the 5 x 3 x 3 box
+}
+
+TEST_F(Pipeline, ZeroConfigurationAtTheRestCheckpoint) {
+  Catalogue cat(reference() / "catalogue.sqlite", OpenMode::kReadOnly);
+  const auto rest = cat.find_checkpoint({0, 0, 0});
+  ASSERT_TRUE(rest);
+  EXPECT_EQ(rest->position, (std::array<double, 3>{4.0, 0.5, 1.0}));
+  EXPECT_EQ(rest->classification, CheckpointClass::kWorkspace);
+  const auto at_rest = cat.configurations_at(rest->id);
+  ASSERT_FALSE(at_rest.empty());
+  const Configuration& zero = at_rest[0];
+  EXPECT_EQ(zero.id, ConfigId(1));
+  EXPECT_EQ(zero.level, Level(0));
+  EXPECT_EQ(zero.wave, 0);
+  EXPECT_EQ(zero.force, (std::array<double, 3>{0, 0, 0}));
+  EXPECT_FALSE(zero.blob.has_value());
+  EXPECT_TRUE(zero.expandable);
+  // The rest stiffness is that of the beam's tip: positive on the diagonal, axial the stiffest.
+  EXPECT_LT(zero.stiffness[0], 0.0);  // d(felt x)/dx: the user feels a restoring force
+  EXPECT_LT(zero.stiffness[4], 0.0);
+  EXPECT_LT(zero.stiffness[8], 0.0);
+  EXPECT_GT(std::abs(zero.stiffness[0]), 10 * std::abs(zero.stiffness[4]));
+  // Check-points: 5 x 3 x 3, indices relative to the rest position.
+  for (const Checkpoint& c : cat.read_all_checkpoints()) {
+    EXPECT_GE(c.ijk[0], -2);
+    EXPECT_LE(c.ijk[0], 2);
+    EXPECT_GE(c.ijk[1], -1);
+    EXPECT_LE(c.ijk[1], 1);
+    EXPECT_NEAR(c.position[0], 4.0 + 0.1 * c.ijk[0], 1e-12);
+    EXPECT_NEAR(c.position[2], 1.0 + 0.1 * c.ijk[2], 1e-12);
+  }
+}
+
+TEST_F(Pipeline, RerunningUnchangedStagesDoesNothing) {
+  const fs::path state = copy_of_reference("state");
+  const auto before = snapshot(state);
+  const StageResult i = import_stage(state, kBeamScene, dir_);
+  EXPECT_EQ(i.exit_code, 0) << i.err;
+  EXPECT_NE(i.out.find("unchanged"), std::string::npos) << i.out;
+  const StageResult g = grid_stage(state, dir_);
+  EXPECT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_NE(g.out.find("unchanged"), std::string::npos) << g.out;
+  const StageResult e = expand_stage(state, 1, dir_);
+  EXPECT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_NE(e.out.find("nothing to do"), std::string::npos) << e.out;
+  const auto after = snapshot(state);
+  expect_same_decisions(before, after);
+  Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+  EXPECT_EQ(cat.read_stage_runs("import").back().outcome, StageOutcome::kUnchanged);
+  EXPECT_EQ(cat.read_stage_runs("grid").back().outcome, StageOutcome::kUnchanged);
+  EXPECT_EQ(cat.read_stage_runs("expand").back().outcome, StageOutcome::kUnchanged);
+}
+
+TEST_F(Pipeline, ThreadCountDoesNotChangeTheCatalogue) {
+  const fs::path two = dir_ / "two";
+  build_beam(two, kBeamScene, 2, dir_);
+  const Snapshot a = snapshot(reference()), b = snapshot(two);
+  expect_same_decisions(a, b);
+  EXPECT_LE(max_vector_difference(reference(), two, a.configurations), 1e-12);
+}
+
+TEST_F(Pipeline, RaisingMaxForceExpandsFurtherAndRecomputesNothing) {
+  const fs::path state = copy_of_reference("state");
+  const Snapshot before = snapshot(state);
+  Catalogue(state / "catalogue.sqlite", OpenMode::kReadOnly);  // readable
+  std::vector<Transition> old_rows;
+  {
+    Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+    old_rows = cat.read_all_transitions();  // with wall times: a recomputed row would differ
+  }
+  const std::string scene =
+      beam_variant(dir_, "stronger.toml", {{"max_force = 0.01", "max_force = 0.05"}});
+  const StageResult i = import_stage(state, scene, dir_);
+  ASSERT_EQ(i.exit_code, 0) << i.err;
+  EXPECT_NE(i.out.find("probe.max_force 0.01 N -> 0.05 N"), std::string::npos) << i.out;
+  const StageResult g = grid_stage(state, dir_);
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  const StageResult e = expand_stage(state, 2, dir_);
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_NE(e.out.find("complete"), std::string::npos) << e.out;
+
+  Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+  const auto now = cat.read_all_transitions();
+  // Every old decision is still there, byte for byte (wall time included): nothing recomputed.
+  std::map<std::pair<std::int64_t, int>, Transition> by_key;
+  for (const Transition& t : now) by_key[{t.source.value(), t.direction.index()}] = t;
+  for (const Transition& t : old_rows) {
+    const auto it = by_key.find({t.source.value(), t.direction.index()});
+    ASSERT_NE(it, by_key.end());
+    EXPECT_EQ(it->second, t);
+  }
+  // The configurations that were beyond the old limit but within the new one were expanded.
+  const auto configs = cat.read_all_configurations();
+  int newly_expanded = 0;
+  for (const Configuration& c : configs) {
+    EXPECT_EQ(c.expandable, norm(c.force) <= 0.05);
+    if (c.expandable) EXPECT_EQ(c.status, ConfigStatus::kExpanded);
+  }
+  for (const Configuration& c : before.configurations)
+    if (!c.expandable && norm(c.force) <= 0.05) ++newly_expanded;
+  EXPECT_EQ(newly_expanded, 18);
+  EXPECT_EQ(now.size(), old_rows.size() + 18u * 26u);
+  EXPECT_EQ(configs.size(), before.configurations.size());  // no new check-point reachable
+}
+
+TEST_F(Pipeline, EnlargedWorkspaceAddsCheckpointsAndKeepsTheOldOnes) {
+  const fs::path state = copy_of_reference("state");
+  const Snapshot before = snapshot(state);
+  const std::string scene = beam_variant(
+      dir_, "wider.toml",
+      {{"box = [[3.8, 0.4, 0.9], [4.2, 0.6, 1.1]]", "box = [[3.8, 0.3, 0.9], [4.2, 0.7, 1.1]]"}});
+  const StageResult i = import_stage(state, scene, dir_);
+  ASSERT_EQ(i.exit_code, 0) << i.err;
+  EXPECT_NE(i.out.find("workspace enlarged"), std::string::npos) << i.out;
+  // The grid must follow before the expansion continues.
+  const StageResult early = expand_stage(state, 1, dir_);
+  EXPECT_EQ(early.exit_code, 2) << early.err;
+  EXPECT_NE(early.err.find("run hapstate-grid first"), std::string::npos) << early.err;
+  const StageResult g = grid_stage(state, dir_);
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_NE(g.out.find("30 check-points added (75 in all)"), std::string::npos) << g.out;
+  const StageResult e = expand_stage(state, 2, dir_);
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+
+  const Snapshot after = snapshot(state);
+  ASSERT_EQ(after.checkpoints.size(), 75u);
+  for (std::size_t k = 0; k < before.checkpoints.size(); ++k)
+    EXPECT_EQ(after.checkpoints[k], before.checkpoints[k]);  // same ids, indices, positions
+  for (std::size_t k = 0; k < before.configurations.size(); ++k) {
+    EXPECT_EQ(after.configurations[k].force, before.configurations[k].force);
+    EXPECT_EQ(after.configurations[k].blob, before.configurations[k].blob);
+  }
+  EXPECT_GT(after.configurations.size(), before.configurations.size());
+  // Every expandable configuration is complete again.
+  std::map<ConfigId, int> decided;
+  for (const Transition& t : after.transitions) ++decided[t.source];
+  for (const Configuration& c : after.configurations)
+    if (c.expandable) EXPECT_EQ(decided[c.id], 26) << c.id.value();
+}
+
+}  // namespace
+}  // namespace hapstate::test_util

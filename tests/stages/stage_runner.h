@@ -1,0 +1,173 @@
+// Helpers for tests that run the real stage executables on a state directory: running a
+// stage (fork/exec, output captured), snapshots of a catalogue for comparisons.
+#pragma once
+
+#include "blobs/blob_store.h"
+#include "catalogue/catalogue.h"
+
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace hapstate::test_util {
+
+namespace fs = std::filesystem;
+
+inline const std::string kBeamScene = HAPSTATE_SOURCE_DIR "/pipelines/beam/scene.toml";
+
+inline std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct StageResult {
+  int exit_code = -1;  // -1: killed by a signal
+  std::string out, err;
+};
+
+// Starts `exe args...` with stdout/stderr into files in `log_dir`; returns the pid.
+inline pid_t start_stage(const std::string& exe, const std::vector<std::string>& args,
+                         const fs::path& log_dir) {
+  const std::string out = (log_dir / "stdout.txt").string(), err = (log_dir / "stderr.txt").string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fo = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int fe = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fo, 1);
+    ::dup2(fe, 2);
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(exe.c_str()));
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(exe.c_str(), argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+inline StageResult wait_stage(pid_t pid, const fs::path& log_dir) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  StageResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(log_dir / "stdout.txt");
+  r.err = slurp(log_dir / "stderr.txt");
+  return r;
+}
+
+inline StageResult run_stage(const std::string& exe, const std::vector<std::string>& args,
+                             const fs::path& log_dir) {
+  return wait_stage(start_stage(exe, args, log_dir), log_dir);
+}
+
+// Everything a catalogue decided, for comparisons (stage runs and wall times excluded: they
+// differ between runs by nature).
+struct Snapshot {
+  std::vector<Checkpoint> checkpoints;
+  std::vector<Configuration> configurations;
+  std::vector<Transition> transitions;  // wall_ms zeroed
+  std::vector<std::string> segment_files;
+};
+
+inline Snapshot snapshot(const fs::path& state) {
+  Snapshot s;
+  Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+  s.checkpoints = cat.read_all_checkpoints();
+  s.configurations = cat.read_all_configurations();
+  s.transitions = cat.read_all_transitions();
+  for (auto& t : s.transitions) t.wall_ms = 0;
+  if (fs::exists(state / "blobs"))
+    for (const auto& e : fs::directory_iterator(state / "blobs"))
+      s.segment_files.push_back(e.path().filename().string());
+  std::sort(s.segment_files.begin(), s.segment_files.end());
+  return s;
+}
+
+// The largest |a - b| over the u, t and h vectors of corresponding configurations (which must
+// have the same blob layout), relative to the largest |u| / |h|.
+inline double max_vector_difference(const fs::path& a, const fs::path& b,
+                                    const std::vector<Configuration>& configs) {
+  BlobStore sa(a / "blobs"), sb(b / "blobs");
+  double worst = 0;
+  for (const Configuration& c : configs) {
+    if (!c.blob) continue;
+    for (const char* v : {"/u", "/t", "/h"}) {
+      const auto x = sa.read(c.blob->segment, c.blob->name + v);
+      const auto y = sb.read(c.blob->segment, c.blob->name + v);
+      EXPECT_EQ(x.size(), y.size());
+      double scale = 1e-300;
+      for (double e : x) scale = std::max(scale, std::abs(e));
+      for (std::size_t k = 0; k < std::min(x.size(), y.size()); ++k)
+        worst = std::max(worst, std::abs(x[k] - y[k]) / scale);
+    }
+  }
+  return worst;
+}
+
+// Exact comparison of everything but the vectors (and wall times).
+inline void expect_same_decisions(const Snapshot& a, const Snapshot& b) {
+  EXPECT_EQ(a.checkpoints, b.checkpoints);
+  ASSERT_EQ(a.configurations.size(), b.configurations.size());
+  for (std::size_t k = 0; k < a.configurations.size(); ++k) {
+    const Configuration& x = a.configurations[k];
+    const Configuration& y = b.configurations[k];
+    EXPECT_EQ(x.id, y.id);
+    EXPECT_EQ(x.checkpoint, y.checkpoint) << "configuration " << x.id.value();
+    EXPECT_EQ(x.level, y.level) << "configuration " << x.id.value();
+    EXPECT_EQ(x.wave, y.wave) << "configuration " << x.id.value();
+    EXPECT_EQ(x.expandable, y.expandable) << "configuration " << x.id.value();
+    EXPECT_EQ(x.status, y.status) << "configuration " << x.id.value();
+    EXPECT_EQ(x.blob, y.blob) << "configuration " << x.id.value();
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(x.force[c], y.force[c], 1e-12) << "configuration " << x.id.value();
+    for (int c = 0; c < 9; ++c)
+      EXPECT_NEAR(x.stiffness[c], y.stiffness[c], 1e-9 * (1 + std::abs(x.stiffness[c])));
+    ASSERT_EQ(x.summary.size(), y.summary.size());
+    for (std::size_t c = 0; c < x.summary.size(); ++c) EXPECT_NEAR(x.summary[c], y.summary[c], 1e-12);
+  }
+  ASSERT_EQ(a.transitions.size(), b.transitions.size());
+  for (std::size_t k = 0; k < a.transitions.size(); ++k) {
+    const Transition& x = a.transitions[k];
+    const Transition& y = b.transitions[k];
+    EXPECT_EQ(x.source, y.source);
+    EXPECT_EQ(x.direction, y.direction);
+    EXPECT_EQ(x.outcome, y.outcome) << "transition " << x.source.value() << "/" << x.direction.index();
+    EXPECT_EQ(x.target, y.target) << "transition " << x.source.value() << "/" << x.direction.index();
+    EXPECT_EQ(x.substeps, y.substeps);
+    EXPECT_EQ(x.newton_iterations, y.newton_iterations);
+    EXPECT_EQ(x.failure_reason, y.failure_reason);
+  }
+  EXPECT_EQ(a.segment_files, b.segment_files);
+}
+
+// A fresh directory per test, removed when the test passed.
+class StageTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> counter{0};
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("hapstate_stage_test_" + std::to_string(::getpid()) + "_" +
+                                        info->name() + "_" + std::to_string(counter++));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  fs::path dir_;
+};
+
+}  // namespace hapstate::test_util

@@ -1,0 +1,78 @@
+#include "statespace/grid_spec.h"
+
+#include "util/error.h"
+
+#include <gtest/gtest.h>
+
+namespace hapstate {
+namespace {
+
+SceneGrid spacing_grid(double h, std::optional<Box> box = std::nullopt) {
+  SceneGrid g;
+  g.spacing = Eigen::Vector3d::Constant(h);
+  g.box = box;
+  return g;
+}
+
+TEST(GridSpec, RestPositionIsCheckpointZero) {
+  const Eigen::Vector3d rest(4.0, 0.5, 1.0);
+  const GridSpec g = resolve_grid(spacing_grid(0.1, Box{{3.8, 0.4, 0.9}, {4.2, 0.6, 1.1}}), rest, "s");
+  EXPECT_EQ(g.position({0, 0, 0}), rest);
+  EXPECT_EQ(g.lo, (GridIndex{-2, -1, -1}));
+  EXPECT_EQ(g.hi, (GridIndex{2, 1, 1}));
+  EXPECT_EQ(g.num_checkpoints(), 45);
+  EXPECT_NEAR(g.position({2, -1, 1}).x(), 4.2, 1e-15);
+  EXPECT_NEAR(g.position({2, -1, 1}).y(), 0.4, 1e-15);
+  EXPECT_TRUE(g.in_workspace(g.position({2, 1, 1})));
+  EXPECT_FALSE(g.in_workspace(g.position({3, 1, 1})));
+}
+
+TEST(GridSpec, UnalignedBoxKeepsTheCheckpointsInside) {
+  // The box edges are not on the grid through the rest position: check-points stay inside.
+  const GridSpec g = resolve_grid(spacing_grid(0.25, Box{{-1.1, -0.3, -0.6}, {0.9, 0.3, 0.6}}),
+                                  Eigen::Vector3d::Zero(), "s");
+  EXPECT_EQ(g.lo, (GridIndex{-4, -1, -2}));
+  EXPECT_EQ(g.hi, (GridIndex{3, 1, 2}));
+}
+
+TEST(GridSpec, DefaultWorkspaceIsFourSpacingsEachWay) {
+  const GridSpec g = resolve_grid(spacing_grid(0.25), Eigen::Vector3d(1, 2, 3), "s");
+  EXPECT_EQ(g.lo, (GridIndex{-4, -4, -4}));
+  EXPECT_EQ(g.hi, (GridIndex{4, 4, 4}));
+  EXPECT_EQ(g.num_checkpoints(), 729);
+  EXPECT_EQ(g.workspace.min, Eigen::Vector3d(0, 1, 2));
+}
+
+TEST(GridSpec, DimsGiveTheSpacing) {
+  SceneGrid s;
+  s.dims = std::array<int, 3>{5, 3, 2};
+  s.box = Box{{0, 0, 0}, {2, 1, 1}};
+  const GridSpec g = resolve_grid(s, Eigen::Vector3d(1.0, 0.5, 0.0), "s");
+  EXPECT_EQ(g.spacing, Eigen::Vector3d(0.5, 0.5, 1.0));
+  EXPECT_EQ(g.num_checkpoints(), 5 * 3 * 2);
+}
+
+TEST(GridSpec, EnlargingTheWorkspaceKeepsPositionsAndHash) {
+  const Eigen::Vector3d rest(0.3, 0.1, 0.2);
+  const GridSpec small = resolve_grid(spacing_grid(0.1, Box{{0.1, 0.0, 0.0}, {0.5, 0.2, 0.4}}), rest, "s");
+  const GridSpec large = resolve_grid(spacing_grid(0.1, Box{{0.0, -0.1, 0.0}, {0.6, 0.3, 0.4}}), rest, "s");
+  for (int i = small.lo[0]; i <= small.hi[0]; ++i)
+    EXPECT_EQ(small.position({i, 1, 0}), large.position({i, 1, 0}));
+  EXPECT_LT(large.lo[0], small.lo[0]);
+  EXPECT_NE(small.hash(), large.hash());
+  EXPECT_EQ(small.hash(), resolve_grid(spacing_grid(0.1, small.workspace), rest, "s").hash());
+}
+
+TEST(GridSpec, RestOutsideTheBoxIsAnError) {
+  try {
+    resolve_grid(spacing_grid(0.1, Box{{0, 0, 0}, {1, 1, 1}}), Eigen::Vector3d(2, 0.5, 0.5), "scene.toml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.toml: [grid] box"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("does not contain the probe's rest position (2, 0.5, 0.5)"),
+              std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace hapstate
