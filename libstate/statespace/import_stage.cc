@@ -113,6 +113,9 @@ ImportReport run_import(const ImportOptions& options) {
                      "--state directory)");
   }
 
+  fs::create_directories(dir.root);
+  const StateDirLock lock(dir);
+
   // 2. --fresh: start over.
   if (options.fresh) {
     const bool existed = has_catalogue;

@@ -7,6 +7,8 @@ namespace hapstate {
 
 StageContext open_stage_context(const std::filesystem::path& state) {
   StateDir dir{state};
+  std::unique_ptr<StateDirLock> lock;
+  if (std::filesystem::exists(dir.catalogue())) lock = std::make_unique<StateDirLock>(dir);
   Catalogue catalogue = open_imported_catalogue(dir, OpenMode::kReadWrite);
   SceneRecord record = *catalogue.read_scene();
   const StageRun import = require_stage_run(catalogue, dir, "import");
@@ -19,8 +21,8 @@ StageContext open_stage_context(const std::filesystem::path& state) {
   Scene scene = parse_scene(record.text, dir.catalogue(), SceneParseOptions{false});
   Problem problem = load_stored_problem(dir, scene, *expected);
   GridSpec grid = resolve_grid(scene.grid, problem.probe_rest, label);
-  return StageContext{dir,   std::move(catalogue), std::move(record), std::move(scene),
-                      std::move(problem), *expected, grid};
+  return StageContext{dir,           std::move(lock),    std::move(catalogue), std::move(record),
+                      std::move(scene), std::move(problem), *expected,            grid};
 }
 
 }  // namespace hapstate

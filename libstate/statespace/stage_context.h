@@ -8,10 +8,13 @@
 #include "statespace/grid_spec.h"
 #include "statespace/state_dir.h"
 
+#include <memory>
+
 namespace hapstate {
 
 struct StageContext {
   StateDir dir;
+  std::unique_ptr<StateDirLock> lock;  // held for the whole stage
   Catalogue catalogue;
   SceneRecord scene_record;
   Scene scene;            // parsed from the stored text (files not re-read)
@@ -20,7 +23,8 @@ struct StageContext {
   GridSpec grid;
 };
 
-// Opens the catalogue (read-write), re-parses the stored scene and loads the stored problem.
+// Locks the directory (StateDirLock), opens the catalogue (read-write), re-parses the stored
+// scene and loads the stored problem.
 // Throws InputError if the directory is not an imported state directory or anything stored
 // is inconsistent.
 StageContext open_stage_context(const std::filesystem::path& state);

@@ -2,12 +2,40 @@
 
 #include "util/error.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <array>
+#include <cerrno>
 #include <initializer_list>
 #include <cstring>
 #include <fstream>
 
 namespace hapstate {
+
+StateDirLock::StateDirLock(const StateDir& dir) {
+  const std::filesystem::path file = dir.root / kFileName;
+  fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    throw InputError(file.string() + ": cannot create the state lock: " + std::strerror(errno));
+  }
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    ::close(fd_);
+    fd_ = -1;
+    if (error == EWOULDBLOCK) {
+      throw InputError(dir.root.string() + ": another hapstate stage is working in this state "
+                       "directory; wait until it has finished");
+    }
+    throw InputError(dir.root.string() + ": cannot lock the state directory: " +
+                     std::strerror(error));
+  }
+}
+
+StateDirLock::~StateDirLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
+}
 
 bool is_hapstate_catalogue_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);

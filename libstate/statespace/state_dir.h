@@ -21,6 +21,26 @@ struct StateDir {
   std::filesystem::path problem() const { return root / "problem"; }
 };
 
+// An exclusive lock on a state directory for one stage run: flock(2) on <root>/lock (the same
+// file and protocol as hapstate-compact's lock, so all writing stages exclude each other; the
+// lock dies with its process, even by kill -9; the file stays and is harmless). Stages that
+// write a state directory hold it, so two of them never work in one directory at once (the
+// expand stage's garbage collection would delete another run's uncommitted segment).
+class StateDirLock {
+ public:
+  static constexpr const char* kFileName = "lock";
+
+  // Locks dir.root (which must exist). Throws InputError "<dir>: another hapstate stage is
+  // working in this state directory ..." if another process holds it.
+  explicit StateDirLock(const StateDir& dir);
+  ~StateDirLock();
+  StateDirLock(const StateDirLock&) = delete;
+  StateDirLock& operator=(const StateDirLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 // Whether `file` starts like a hapstate catalogue: an SQLite header whose application_id is
 // Catalogue::kApplicationId. Reads 100 bytes; false for a missing or short file.
 bool is_hapstate_catalogue_file(const std::filesystem::path& file);

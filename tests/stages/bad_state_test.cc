@@ -127,6 +127,28 @@ TEST_F(BadState, StateDirectoryOfAnotherScene) {
   EXPECT_FALSE(fs::exists(state / "blobs" / "seg-000001.h5"));
 }
 
+TEST_F(BadState, OneStageAtATime) {
+  const fs::path state = copy_of_reference();
+  const fs::path logs = dir_ / "first";
+  fs::create_directories(logs);
+  const pid_t first = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), logs);
+  // Until the first run ends, a second stage in the same directory is refused (exit 2).
+  bool refused = false;
+  for (int attempt = 0; attempt < 50 && !refused; ++attempt) {
+    const StageResult second = grid_stage(state, dir_);
+    if (second.exit_code == 2) {
+      refused = true;
+      EXPECT_NE(second.err.find("another hapstate stage is working in this state directory"),
+                std::string::npos) << second.err;
+    }
+  }
+  const StageResult r = wait_stage(first, logs);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(refused);
+  // Afterwards the lock is free again.
+  EXPECT_EQ(grid_stage(state, dir_).exit_code, 0);
+}
+
 TEST_F(BadState, NotAStateDirectory) {
   const fs::path empty = dir_ / "empty";
   fs::create_directories(empty);
