@@ -3,8 +3,11 @@
 // workspace.
 #include "beam_state.h"
 
+#include "blobs/blob_store.h"
 #include "catalogue/catalogue.h"
+#include "statespace/expand_batch.h"
 #include "statespace/grid_spec.h"
+#include "statespace/level_match.h"
 
 #include <cmath>
 #include <regex>
@@ -213,6 +216,45 @@ TEST_F(Pipeline, EnlargedWorkspaceAddsCheckpointsAndKeepsTheOldOnes) {
   for (const Transition& t : after.transitions) ++decided[t.source];
   for (const Configuration& c : after.configurations)
     if (c.expandable) EXPECT_EQ(decided[c.id], 26) << c.id.value();
+}
+
+// With level tolerances far below the solver's accuracy, arrivals by different paths are stored
+// as distinct levels: many levels per check-point, decided in canonical order.
+TEST_F(Pipeline, ManyLevelsAreDistinctAndIndependentOfThreads) {
+  const std::string scene = beam_variant(
+      dir_, "levels.toml",
+      {{"[solver]", "[levels]\ndisplacement_tolerance = 1e-11\nforce_tolerance = 1e-9\n\n[solver]"}});
+  const fs::path one = dir_ / "one", two = dir_ / "two";
+  for (const auto& [state, threads] : {std::pair{one, 1}, std::pair{two, 2}}) {
+    ASSERT_EQ(import_stage(state, scene, dir_).exit_code, 0);
+    ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
+    const StageResult e = expand_stage(state, threads, dir_, {"--max-transitions", "400"});
+    ASSERT_EQ(e.exit_code, 0) << e.err;
+    EXPECT_NE(e.out.find("partial"), std::string::npos) << e.out;
+  }
+  const Snapshot a = snapshot(one), b = snapshot(two);
+  expect_same_decisions(a, b);
+  EXPECT_LE(max_vector_difference(one, two, a.configurations), 1e-12);
+  EXPECT_EQ(a.transitions.size(), 402u);  // batches of 8 within waves: 26 + 376 at the limit
+
+  // Levels at a check-point are 0..n-1 and pairwise farther apart than the tolerances.
+  std::map<CheckpointId, std::vector<Configuration>> at;
+  for (const Configuration& c : a.configurations) at[c.checkpoint].push_back(c);
+  std::size_t most = 0;
+  BlobStore blobs(one / "blobs");
+  const LevelTolerances tol{1e-11, 1e-9};
+  for (const auto& [checkpoint, levels] : at) {
+    most = std::max(most, levels.size());
+    std::vector<ConfigVectors> v;
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+      EXPECT_EQ(levels[l].level, Level(static_cast<std::int64_t>(l)));
+      v.push_back(load_config_vectors(blobs, levels[l], 3 * 81, 3));
+    }
+    for (std::size_t x = 0; x < v.size(); ++x)
+      for (std::size_t y = x + 1; y < v.size(); ++y)
+        EXPECT_GT(level_distance(v[x], v[y], tol), 1.0) << checkpoint.value() << ": " << x << ", " << y;
+  }
+  EXPECT_GE(most, 5u);
 }
 
 }  // namespace
