@@ -4,6 +4,7 @@
 #include "catalogue/catalogue.h"
 #include "catalogue/transaction.h"
 #include "maintenance/level_merge.h"
+#include "maintenance/state_lock.h"
 #include "scene/scene.h"
 #include "util/error.h"
 
@@ -63,8 +64,8 @@ std::string CompactReport::text() const {
   std::ostringstream s;
   if (nothing_to_do) s << "nothing to do: no duplicate level, no garbage, blobs already packed\n";
   s << (dry_run ? "would do: " : "") << counts_text(*this) << "\n";
-  s << "levels compared: " << compared_pairs << " pairs by vectors, " << force_rejections
-    << " told apart by force\n";
+  s << "levels compared: " << compared_pairs << " pairs by vectors, " << summary_rejections
+    << " told apart by summary, " << force_rejections << " by force\n";
   s << "segments: " << before.segments << " -> " << after.segments << "\n";
   s << "catalogue bytes: " << bytes_text(before.catalogue_bytes) << " -> "
     << bytes_text(after.catalogue_bytes) << "\n";
@@ -76,6 +77,8 @@ std::string CompactReport::text() const {
 CompactReport compact_state(const std::filesystem::path& state_dir, const CompactOptions& options,
                             std::FILE* log) {
   const StatePaths dir = locate_state(state_dir);
+  std::optional<StateLock> lock;
+  if (!options.dry_run) lock.emplace(dir.root);
   CompactReport report;
   report.dry_run = options.dry_run;
   report.before = measure_disk_use(dir);
@@ -114,6 +117,7 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     MergeSearchStats stats;
     const std::vector<LevelMerge> merges = find_level_merges(catalogue, blobs, tolerances, &stats);
     report.compared_pairs = stats.compared;
+    report.summary_rejections = stats.summary_rejections;
     report.force_rejections = stats.force_rejections;
     std::set<ConfigId> merged_ids;
     for (const LevelMerge& m : merges) merged_ids.insert(m.merged);

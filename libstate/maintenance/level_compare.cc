@@ -30,6 +30,14 @@ bool forces_prove_distinct(const Configuration& a, const Configuration& b, std::
   return std::sqrt(df2) > bound * (1 + 1e-12);
 }
 
+bool summaries_prove_distinct(const Configuration& a, const Configuration& b,
+                              const LevelTolerances& tolerances) {
+  if (a.summary.empty() || a.summary.size() != b.summary.size()) return false;
+  double ds = 0;
+  for (std::size_t i = 0; i < a.summary.size(); ++i) ds = std::max(ds, std::abs(a.summary[i] - b.summary[i]));
+  return ds > tolerances.displacement * (1 + 1e-12);
+}
+
 LevelVectors read_level_vectors(const BlobStore& blobs, const Configuration& c) {
   LevelVectors v;
   if (!c.blob) return v;

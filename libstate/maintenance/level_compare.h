@@ -26,6 +26,13 @@ double level_distance(std::span<const double> u, std::span<const double> h,
 bool forces_prove_distinct(const Configuration& a, const Configuration& b, std::size_t h_length,
                            const LevelTolerances& tolerances);
 
+// Cheap necessary condition from the stored summaries: the expand stage's summary is u at a
+// fixed set of sample nodes (statespace LevelSketch), so ||s - s'||_inf <= ||u - u'||_inf.
+// Returns true when the summaries alone prove two different levels. Summaries of different
+// lengths (or empty) prove nothing.
+bool summaries_prove_distinct(const Configuration& a, const Configuration& b,
+                              const LevelTolerances& tolerances);
+
 // Reads the vectors u and h of `c` ("<blob>/u", "<blob>/h"). A configuration without a blob is
 // the trivial zero state: empty vectors, compared as zeros of the other's length.
 struct LevelVectors {

@@ -51,6 +51,10 @@ std::vector<LevelMerge> find_level_merges(Catalogue& catalogue, const BlobStore&
       Candidate candidate{std::move(config), std::nullopt, std::nullopt};
       bool merged = false;
       for (Candidate& rep : representatives) {
+        if (summaries_prove_distinct(rep.config, candidate.config, tolerances)) {
+          ++s.summary_rejections;
+          continue;
+        }
         const std::size_t h_length =
             std::max(h_length_of(rep, blobs), h_length_of(candidate, blobs));
         if (forces_prove_distinct(rep.config, candidate.config, h_length, tolerances)) {

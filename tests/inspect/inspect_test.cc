@@ -179,9 +179,9 @@ TEST_F(Inspect, SqlReads) {
   const json j = inspect_json("sql " + quote("SELECT count(*) AS n, max(level) FROM configuration"));
   EXPECT_EQ(j["columns"], json::parse(R"j(["n","max(level)"])j"));
   EXPECT_EQ(j["rows"], json::parse("[[8,2]]"));
-  const json s = inspect_json("sql " + quote("SELECT summary, blob_name FROM configuration WHERE id = 1"));
-  EXPECT_EQ(s["rows"][0][0]["blob"], "9a9999999999b93f");  // 0.1 as little-endian float64
-  EXPECT_TRUE(s["rows"][0][1].is_null());
+  const json s = inspect_json("sql " + quote("SELECT x'0102ff' AS b, NULL AS n, 2.5 AS r, 'text' AS t"));
+  EXPECT_EQ(s["rows"], json::parse(R"([[{"blob":"0102ff"},null,2.5,"text"]])"));
+  EXPECT_EQ(inspect("sql " + quote("SELECT x'0102ff' AS b, NULL AS n")).out, "b\tn\nx'0102ff'\tNULL\n");
   EXPECT_EQ(inspect_json("sql " + quote("PRAGMA user_version"))["rows"], json::parse("[[1]]"));
 }
 

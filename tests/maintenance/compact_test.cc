@@ -5,6 +5,7 @@
 #include "maintenance/compact.h"
 #include "maintenance/level_compare.h"
 #include "maintenance/level_merge.h"
+#include "maintenance/state_lock.h"
 #include "scene/scene.h"
 #include "synthetic_state.h"
 #include "util/error.h"
@@ -67,6 +68,18 @@ TEST(LevelCompare, ForcesProveDistinctOnlyBeyondTheBound) {
   EXPECT_TRUE(forces_prove_distinct(a, b, 3, tol));
 }
 
+TEST(LevelCompare, SummariesProveDistinctOnlyBeyondTheTolerance) {
+  const LevelTolerances tol{0.01, 0.05};
+  Configuration a, b;
+  a.summary = {0.0, 0.0};
+  b.summary = {0.0, -0.0099};
+  EXPECT_FALSE(summaries_prove_distinct(a, b, tol));
+  b.summary = {0.0, -0.0101};
+  EXPECT_TRUE(summaries_prove_distinct(a, b, tol));
+  b.summary = {1.0};  // another layout: proves nothing
+  EXPECT_FALSE(summaries_prove_distinct(a, b, tol));
+}
+
 TEST(FindLevelMerges, FindsExactlyTheDuplicates) {
   TempDir dir("compact");
   test_util::write_synthetic_state(dir.path());
@@ -81,8 +94,9 @@ TEST(FindLevelMerges, FindsExactlyTheDuplicates) {
   EXPECT_EQ(merges[1].kept, ConfigId(6));
   EXPECT_EQ(merges[1].merged, ConfigId(8));
   EXPECT_NEAR(merges[1].distance, 0.99, 1e-9);
-  EXPECT_EQ(stats.compared, 4);          // c4-c3, c5-c3, c7-c6, c8-c6
-  EXPECT_EQ(stats.force_rejections, 1);  // c2-c1 (1 N apart)
+  EXPECT_EQ(stats.compared, 4);            // c4-c3, c5-c3, c7-c6, c8-c6
+  EXPECT_EQ(stats.summary_rejections, 1);  // c2-c1 (u up to 0.1 apart at the sample nodes)
+  EXPECT_EQ(stats.force_rejections, 0);
 }
 
 TEST(Compact, MergesRewritesRepacksAndShrinks) {
@@ -221,6 +235,24 @@ TEST(Compact, MissingStateOrSceneIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("no scene stored"), std::string::npos) << e.what();
   }
+}
+
+TEST(Compact, RefusedWhileTheStateIsLocked) {
+  TempDir dir("compact");
+  test_util::write_synthetic_state(dir.path());
+  {
+    StateLock held(dir.path());
+    try {
+      compact_state(dir.path(), {});
+      ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("another hapstate process"), std::string::npos) << e.what();
+    }
+    CompactOptions dry;
+    dry.dry_run = true;
+    EXPECT_EQ(compact_state(dir.path(), dry).merged_levels, 2);  // a dry run only reads
+  }
+  EXPECT_EQ(compact_state(dir.path(), {}).merged_levels, 2);
 }
 
 TEST(Compact, SmallSegmentCapGivesSeveralSegments) {

@@ -41,6 +41,15 @@ std::map<int, Vectors> make_vectors() {
   return v;
 }
 
+// u at the sample nodes 0, 90 and 180, as the expand stage's LevelSketch stores it.
+std::vector<double> summary_of(const std::vector<double>& u) {
+  std::vector<double> s;
+  for (int node : {0, 90, 180}) {
+    for (int a = 0; a < 3; ++a) s.push_back(u[3 * node + a]);
+  }
+  return s;
+}
+
 std::string scene_text() {
   return "[mesh]\nfile = \"" + liver_mesh().string() +
          "\"\nunit = 0.01\n\n[material]\nlaw = \"neohooke\"\nyoung = 5000.0\npoisson = 0.45\n\n"
@@ -124,7 +133,7 @@ void write_synthetic_state(const std::filesystem::path& dir) {
     }
     for (int a = 0; a < 9; ++a) c.stiffness[a] = a % 4 == 0 ? 10.0 + id : 0.5;
     c.expandable = true;
-    c.summary = {0.1 * id};
+    c.summary = summary_of(id == 1 ? std::vector<double>(3 * kLiverNodes, 0.0) : vectors.at(id).u);
     cat.insert_configuration(c);
   }
   const auto reached = [&](int source, int direction, int target) {
