@@ -1,5 +1,5 @@
 // Closedness, orientation and self-intersection checks for a triangle surface before it is
-// handed to Gmsh (whose failures name no face).
+// handed to Gmsh (whose failures name no face) or, if it self-intersects, carved (carve.h).
 #include "mesh/surface.h"
 
 #include "util/error.h"
@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <unordered_map>
 
 namespace hapstate {
@@ -75,7 +76,7 @@ class FaceGrid {
 
 }  // namespace
 
-void check_closed_surface(const TriangleSurface& s) {
+void check_surface_topology(const TriangleSurface& s) {
   // Each directed edge once, each undirected edge in exactly two faces.
   std::map<std::pair<int, int>, int> directed;  // (a,b) -> face
   for (std::size_t f = 0; f < s.faces.size(); ++f) {
@@ -99,20 +100,32 @@ void check_closed_surface(const TriangleSurface& s) {
                        ") (1-based vertices) belongs to only one face; a closed surface is required to fill it with tets");
     }
   }
+}
 
-  // Self-intersection: an edge crossing a face that shares none of its vertices.
+std::optional<SelfIntersection> find_self_intersection(const TriangleSurface& s) {
+  // Every undirected edge once as (a, b) with a < b, with the face using it in that direction
+  // (or, on an open surface, the one using it the other way).
+  std::map<std::pair<int, int>, int> edges;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (std::size_t f = 0; f < s.faces.size(); ++f) {
+      const auto& t = s.faces[f];
+      for (int k = 0; k < 3; ++k) {
+        if ((t[k] < t[(k + 1) % 3]) == (pass == 0)) edges.emplace(std::minmax(t[k], t[(k + 1) % 3]), static_cast<int>(f));
+      }
+    }
+  }
+  // An edge crossing a face that shares none of its vertices; grid-accelerated.
   FaceGrid grid(s);
   std::vector<int> seen(s.faces.size(), -1);
   int edge_index = 0;
-  for (const auto& [edge, f] : directed) {
-    if (edge.first > edge.second) continue;
+  std::optional<SelfIntersection> hit;
+  for (const auto& [edge, f] : edges) {
     ++edge_index;
     const Eigen::Vector3d p = point(s, edge.first);
     const Eigen::Vector3d q = point(s, edge.second);
-    std::string hit;
     grid.visit(p.cwiseMin(q), p.cwiseMax(q), [&](std::vector<int>& cell) {
       for (int g : cell) {
-        if (!hit.empty() || seen[static_cast<std::size_t>(g)] == edge_index) continue;
+        if (hit || seen[static_cast<std::size_t>(g)] == edge_index) continue;
         seen[static_cast<std::size_t>(g)] = edge_index;
         const auto& t = s.faces[static_cast<std::size_t>(g)];
         if (std::find(t.begin(), t.end(), edge.first) != t.end() || std::find(t.begin(), t.end(), edge.second) != t.end()) continue;
@@ -128,16 +141,39 @@ void check_closed_surface(const TriangleSurface& s) {
         const double s2 = (b - p).cross(c - p).dot(d);
         const double s3 = (c - p).cross(a - p).dot(d);
         if ((s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0)) {
-          const Eigen::Vector3d x = p + d * (dp / (dp - dq));
-          hit = face_where(s, static_cast<std::size_t>(g)) + ": self-intersecting surface: this face is crossed by the edge (" +
-                std::to_string(edge.first + 1) + ", " + std::to_string(edge.second + 1) + ") (1-based vertices; face at " +
-                face_where(s, static_cast<std::size_t>(f)) + ") near (" + std::to_string(x.x()) + ", " +
-                std::to_string(x.y()) + ", " + std::to_string(x.z()) + "); repair the surface before meshing";
+          SelfIntersection x;
+          x.point = p + d * (dp / (dp - dq));
+          x.face = face_where(s, static_cast<std::size_t>(g));
+          x.edge = {edge.first, edge.second};
+          x.edge_face = face_where(s, static_cast<std::size_t>(f));
+          hit = x;
         }
       }
     });
-    if (!hit.empty()) throw InputError(hit);
+    if (hit) return hit;
   }
+  return std::nullopt;
+}
+
+std::string SelfIntersection::near() const {
+  std::string out = "(";  // appended piece by piece: GCC 12 -O3 warns (-Wrestrict) on "(" + std::string
+  out += std::to_string(point.x());
+  out += ", ";
+  out += std::to_string(point.y());
+  out += ", ";
+  out += std::to_string(point.z());
+  out += ")";
+  return out;
+}
+
+std::string SelfIntersection::message() const {
+  return face + ": self-intersecting surface: this face is crossed by the edge (" + std::to_string(edge[0] + 1) + ", " +
+         std::to_string(edge[1] + 1) + ") (1-based vertices; face at " + edge_face + ") near " + near();
+}
+
+void check_closed_surface(const TriangleSurface& s) {
+  check_surface_topology(s);
+  if (const auto hit = find_self_intersection(s)) throw InputError(hit->message() + "; repair the surface before meshing");
 }
 
 }  // namespace hapstate

@@ -115,8 +115,7 @@ TriangleSurface parse_stl(std::string_view text, const std::string& source) {
 
 RawMesh read_surface(std::string_view text, const std::string& source, bool obj) {
   const TriangleSurface s = obj ? parse_obj(text, source) : parse_stl(text, source);
-  check_closed_surface(s);
-  return tetrahedralize_surface(s);
+  return fill_closed_surface(s);
 }
 
 }  // namespace hapstate

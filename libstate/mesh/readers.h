@@ -29,7 +29,7 @@ RawMesh read_medit(std::string_view text, const std::string& source);
 // TetGen .node + .ele pair; `file` may name either one.
 RawMesh read_tetgen(const std::filesystem::path& file);
 
-// Closed triangle surface (.stl ASCII/binary, .obj) tetrahedralised with Gmsh.
+// Closed triangle surface (.stl ASCII/binary, .obj) tetrahedralised (fill_closed_surface).
 RawMesh read_surface(std::string_view text, const std::string& source, bool obj);
 
 }  // namespace hapstate

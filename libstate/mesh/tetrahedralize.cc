@@ -1,13 +1,16 @@
-// Fills a closed triangle surface with tets through the Gmsh C++ API. Gmsh keeps global state,
-// so every use is serialised by one mutex and wrapped in initialize/finalize. (libgmsh 4.8
-// installs no signal handlers; terminal output is switched off.)
+// Fills a closed triangle surface with tets through the Gmsh C++ API, falling back to carving a
+// tet grid (carve.h) for self-intersecting surfaces. Gmsh keeps global state, so every use is
+// serialised by one mutex and wrapped in initialize/finalize. (libgmsh 4.8 installs no signal
+// handlers; terminal output is switched off.)
 #include "mesh/surface.h"
 
+#include "mesh/carve.h"
 #include "util/error.h"
 
 #include <gmsh.h>
 
 #include <mutex>
+#include <sstream>
 
 namespace hapstate {
 namespace {
@@ -88,6 +91,29 @@ RawMesh tetrahedralize_surface(const TriangleSurface& s) {
     throw InputError(failure + "unknown Gmsh error");
   }
   return mesh;
+}
+
+RawMesh fill_closed_surface(const TriangleSurface& s) {
+  check_surface_topology(s);  // holes and non-manifold edges stay errors: carving needs a closed surface
+  std::string why;
+  if (const auto hit = find_self_intersection(s)) {
+    why = "the surface self-intersects near " + hit->near() + " (" + hit->face + " is crossed by the edge (" +
+          std::to_string(hit->edge[0] + 1) + ", " + std::to_string(hit->edge[1] + 1) + "))";
+  } else {
+    try {
+      return tetrahedralize_surface(s);
+    } catch (const InputError& e) {
+      why = std::string("Gmsh could not fill the surface (") + e.what() + ")";
+    }
+  }
+  CarveResult carved = carve_surface(s);
+  std::ostringstream w;
+  w.precision(4);
+  w << s.source << ": " << why << "; the volume was carved on a grid of cell size h = " << carved.cell_size << " ("
+    << carved.tets << " tets, enclosed-volume ratio carved/surface = " << carved.carved_volume / carved.surface_volume
+    << "); its boundary is stair-stepped on the grid, not the input surface";
+  carved.mesh.warnings.insert(carved.mesh.warnings.begin(), w.str());
+  return std::move(carved.mesh);
 }
 
 }  // namespace hapstate
