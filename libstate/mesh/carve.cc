@@ -4,6 +4,8 @@
 #include "mesh/winding_number.h"
 #include "util/error.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -94,7 +96,7 @@ double carve_cell_size(const Eigen::Vector3d& extent, double volume, bool* cappe
   return h;
 }
 
-CarveResult carve_surface(const TriangleSurface& s) {
+CarveResult carve_surface(const TriangleSurface& s, bool snap) {
   CarveResult r;
   r.mesh.source = s.source;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300);
@@ -146,7 +148,14 @@ CarveResult carve_surface(const TriangleSurface& s) {
     r.mesh.tets.push_back(tet);
   }
   r.tets = static_cast<int>(r.mesh.tets.size());
-  r.carved_volume = r.tets * (grid.size.prod() / grid.num_cells()) / 6.0;
+  if (snap) r.snapped_nodes = snap_boundary_nodes(s, signed_volume > 0 ? 1.0 : -1.0, h, &r.mesh, &r.boundary_nodes);
+  for (const auto& t : r.mesh.tets) {
+    const auto p = [&](int k) {
+      const auto v = static_cast<std::size_t>(t[static_cast<std::size_t>(k)]);
+      return Eigen::Vector3d(r.mesh.xyz[3 * v], r.mesh.xyz[3 * v + 1], r.mesh.xyz[3 * v + 2]);
+    };
+    r.carved_volume += (p(1) - p(0)).dot((p(2) - p(0)).cross(p(3) - p(0))) / 6.0;
+  }
 
   if (r.dropped_pieces > 0) {
     std::ostringstream w;

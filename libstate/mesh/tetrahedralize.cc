@@ -111,7 +111,8 @@ RawMesh fill_closed_surface(const TriangleSurface& s) {
   w.precision(4);
   w << s.source << ": " << why << "; the volume was carved on a grid of cell size h = " << carved.cell_size << " ("
     << carved.tets << " tets, enclosed-volume ratio carved/surface = " << carved.carved_volume / carved.surface_volume
-    << "); its boundary is stair-stepped on the grid, not the input surface";
+    << "); " << carved.snapped_nodes << " of its " << carved.boundary_nodes
+    << " boundary nodes were moved onto the surface, the rest keep the grid's stair steps";
   carved.mesh.warnings.insert(carved.mesh.warnings.begin(), w.str());
   return std::move(carved.mesh);
 }

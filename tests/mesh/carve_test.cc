@@ -185,6 +185,23 @@ TEST(Carve, OverlappingCubesImportAsTheirUnion) {
   }
 }
 
+TEST(Carve, SnappingMovesMostBoundaryNodesOntoTheSurface) {
+  const TriangleSurface s = parse_obj(cubes_obj({{Eigen::Vector3d(0, 0, 0), 1.0}, {Eigen::Vector3d(0.5, 0.5, 0.5), 1.0}}), "cubes");
+  const CarveResult stairs = carve_surface(s, /*snap=*/false);
+  const CarveResult snapped = carve_surface(s);
+  EXPECT_EQ(stairs.snapped_nodes, 0);
+  EXPECT_EQ(stairs.tets, snapped.tets);  // same tets, only boundary nodes move
+  EXPECT_GT(snapped.boundary_nodes, 1000);
+  EXPECT_GT(snapped.snapped_nodes, 0.8 * snapped.boundary_nodes);
+  // Sharp cube edges and corners are cut by the snapped chords: a little volume is lost.
+  EXPECT_NEAR(stairs.carved_volume, kUnionVolume, 0.01 * kUnionVolume);
+  EXPECT_NEAR(snapped.carved_volume, kUnionVolume, 0.02 * kUnionVolume);
+  EXPECT_NEAR(snapped.surface_volume, 2.0, 1e-12);  // the overlap counts twice in the surface's own volume
+  std::cout << "stairs " << stairs.carved_volume << ", snapped " << snapped.carved_volume << " (" << snapped.snapped_nodes
+            << " of " << snapped.boundary_nodes << " nodes), repair +" << snapped.added_tets << " -" << snapped.removed_tets
+            << " tets\n";
+}
+
 TEST(Carve, OnlyTheLargestPieceIsKept) {
   MeshReport report;
   const Mesh m = load_mesh(test::write_file("cubes_and_island.obj",
