@@ -55,6 +55,9 @@ int main(int argc, char** argv) {
     if (r.garbage_segments)
       std::fprintf(stderr, "hapstate-expand: removed %zu unreferenced segment(s) left by an "
                    "interrupted run\n", r.garbage_segments);
+    if (r.interrupted_runs)
+      std::fprintf(stderr, "hapstate-expand: resuming after %d interrupted run(s)\n",
+                   r.interrupted_runs);
     std::printf("hapstate-expand: %s\n", r.message.c_str());
     return kExitOk;
   });

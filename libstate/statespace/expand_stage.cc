@@ -334,10 +334,23 @@ ExpandReport run_expand(const ExpandOptions& options) {
     return report;
   }
 
-  // Resume: drop segments no row references (a crash between a segment's close and its commit).
+  // Resume: drop segments no row references (a crash between a segment's close and its commit),
+  // and close the records of runs that died (we hold the directory's lock: they are not running).
   report.garbage_segments =
       expander.blobs().remove_unreferenced_segments(cat.referenced_segments()).size();
-  const StageRunId run_id = cat.insert_stage_run(run);
+  StageRunId run_id;
+  {
+    Transaction tx(cat);
+    for (const StageRun& old : cat.read_stage_runs("expand")) {
+      if (old.outcome != StageOutcome::kRunning) continue;
+      cat.update_stage_run_end(old.id, StageOutcome::kFailed, now_ms(),
+                               "interrupted: the process ended before finishing (killed?); "
+                               "resumed by a later run");
+      ++report.interrupted_runs;
+    }
+    run_id = cat.insert_stage_run(run);
+    tx.commit();
+  }
 
   try {
     TransitionSolver solver(ctx.problem, expander.probe(), expander.blobs(), options.threads);

@@ -31,6 +31,7 @@ struct ExpandReport {
   long long reused_levels = 0;    // reached an existing level
   long long expandable_changed = 0;  // configurations whose expandable flag changed (F_max)
   std::size_t garbage_segments = 0;  // unreferenced segments removed at start
+  int interrupted_runs = 0;          // earlier runs left "running" by a crash, now marked failed
   std::string message;
 };
 
@@ -42,7 +43,8 @@ struct ExpandReport {
 // catalogue does not depend on the thread count, nor on where a run was killed and resumed.
 // Before any change: validates the state directory (imported, grid up to date, every
 // referenced segment and vector readable) and throws InputError otherwise. Then removes
-// unreferenced segments (left by a crash), updates expandable flags to the scene's max_force,
+// unreferenced segments (left by a crash), marks expand runs a crash left "running" as failed
+// ("interrupted"), updates expandable flags to the scene's max_force,
 // and records an "expand" stage run. Nothing undecided: records "unchanged" and returns.
 ExpandReport run_expand(const ExpandOptions& options);
 

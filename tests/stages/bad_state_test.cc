@@ -6,6 +6,9 @@
 
 #include <sqlite3.h>
 
+#include <chrono>
+#include <thread>
+
 namespace hapstate::test_util {
 namespace {
 
@@ -132,16 +135,23 @@ TEST_F(BadState, OneStageAtATime) {
   const fs::path logs = dir_ / "first";
   fs::create_directories(logs);
   const pid_t first = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), logs);
-  // Until the first run ends, a second stage in the same directory is refused (exit 2).
-  bool refused = false;
-  for (int attempt = 0; attempt < 50 && !refused; ++attempt) {
-    const StageResult second = grid_stage(state, dir_);
-    if (second.exit_code == 2) {
-      refused = true;
-      EXPECT_NE(second.err.find("another hapstate stage is working in this state directory"),
-                std::string::npos) << second.err;
+  // Wait until the first run works (its stage run is recorded while it holds the lock).
+  bool running = false;
+  for (int attempt = 0; attempt < 500 && !running; ++attempt) {
+    {
+      Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+      for (const StageRun& run : cat.read_stage_runs("expand"))
+        running = running || run.outcome == StageOutcome::kRunning;
     }
+    if (!running) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
+  ASSERT_TRUE(running);
+  // Meanwhile a second stage in the same directory is refused (exit 2) and changes nothing.
+  const StageResult second = grid_stage(state, dir_);
+  EXPECT_EQ(second.exit_code, 2) << second.err;
+  EXPECT_NE(second.err.find("another hapstate stage is working in this state directory"),
+            std::string::npos) << second.err;
+  const bool refused = second.exit_code == 2;
   const StageResult r = wait_stage(first, logs);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(refused);

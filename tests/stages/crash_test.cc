@@ -45,6 +45,17 @@ TEST_F(Crash, KilledAndResumedRunEqualsAnUninterruptedOne) {
   EXPECT_EQ(cat.integrity_check(), "ok");
   BlobStore blobs(state / "blobs");
   EXPECT_TRUE(blobs.unreferenced_segments(cat.referenced_segments()).empty());
+  // The runs that died are recorded as interrupted; none is left "running".
+  int interrupted = 0;
+  for (const StageRun& run : cat.read_stage_runs("expand")) {
+    EXPECT_NE(run.outcome, StageOutcome::kRunning);
+    if (run.outcome == StageOutcome::kFailed) {
+      ++interrupted;
+      EXPECT_NE(run.message.find("interrupted"), std::string::npos) << run.message;
+    }
+  }
+  EXPECT_GE(interrupted, 1);
+  EXPECT_LE(interrupted, kills);
   std::printf("[ info ] %d kills, %d runs ended before the signal\n", kills, finished_early);
 }
 
