@@ -27,7 +27,8 @@ struct MeshReport {
 // file:line and what was expected for a malformed file.
 // Formats (by extension, checked against the header): .msh (Gmsh 1, 2.2, 4.1; ASCII/binary),
 // .vtk (legacy UNSTRUCTURED_GRID), .vtu (VTK XML), .mesh (Medit ASCII), .node/.ele (TetGen),
-// .stl/.obj (closed triangle surface, tetrahedralised with Gmsh). See docs/mesh-formats.md.
+// .stl/.obj (closed triangle surface, tetrahedralised with Gmsh, or carved out of a tet grid if
+// it crosses itself: fill_closed_surface). See docs/mesh-formats.md.
 Mesh load_mesh(const std::filesystem::path& file, MeshReport* report = nullptr);
 
 }  // namespace hapstate
