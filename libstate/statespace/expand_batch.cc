@@ -20,6 +20,7 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
     return v;
   }
   v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
+  v.t = blobs.read(c.blob->segment, c.blob->name + "/t");
   v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
   if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_probe_dofs) {
     throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +

@@ -249,6 +249,11 @@ TEST_F(Pipeline, ManyLevelsAreDistinctAndIndependentOfThreads) {
     for (std::size_t l = 0; l < levels.size(); ++l) {
       EXPECT_EQ(levels[l].level, Level(static_cast<std::int64_t>(l)));
       v.push_back(load_config_vectors(blobs, levels[l], 3 * 81, 3));
+      // One grabbed node: the force felt is minus its reactions h; t is the probe offset.
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(levels[l].force[c], -v.back().h[c], 1e-12);
+      const Checkpoint& p = a.checkpoints[checkpoint.value() - 1];
+      const double rest[3] = {4.0, 0.5, 1.0};
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(v.back().t[c], p.position[c] - rest[c], 1e-12);
     }
     for (std::size_t x = 0; x < v.size(); ++x)
       for (std::size_t y = x + 1; y < v.size(); ++y)
