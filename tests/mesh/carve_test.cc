@@ -135,6 +135,17 @@ TEST(Carve, LiverSmoothObjImportsByCarving) {
   EXPECT_EQ(report.degenerate, 0);
   EXPECT_EQ(report.unreferenced, 0);
   EXPECT_NEAR(test::tet_volume_sum(m) / surface_volume, 1.0, 0.10);
+  // Shape: snapping keeps det >= 0.2 h^3, so no tet comes near the degenerate threshold (1e-9).
+  double worst = 1e300;
+  for (int t = 0; t < m.num_tets(); ++t) {
+    double longest = 0;
+    for (int a = 0; a < 4; ++a) {
+      for (int b = a + 1; b < 4; ++b) longest = std::max(longest, (m.nodes.col(m.tets(a, t)) - m.nodes.col(m.tets(b, t))).norm());
+    }
+    worst = std::min(worst, 6 * test::signed_volume(m, t) / (longest * longest * longest));
+  }
+  std::cout << "worst det / l_max^3 = " << worst << "\n";
+  EXPECT_GT(worst, 3e-3);
   EXPECT_GE(m.num_tets(), 5000);
   EXPECT_LE(m.num_tets(), 20000);
   EXPECT_NE(warnings.find("liver-smooth.obj: the surface self-intersects near (-2.09"), std::string::npos) << warnings;
