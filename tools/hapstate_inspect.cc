@@ -25,7 +25,7 @@ struct Options {
 };
 
 int run(const Options& o, const CLI::App& app) {
-  const StatePaths dir = locate_state(o.state);
+  const StateDir dir = locate_state(o.state);
   InspectOutput out;
   if (app.got_subcommand("summary")) {
     out = inspect_summary(dir);

@@ -4,7 +4,6 @@
 #include "catalogue/catalogue.h"
 #include "catalogue/transaction.h"
 #include "maintenance/level_merge.h"
-#include "maintenance/state_lock.h"
 #include "scene/scene.h"
 #include "util/error.h"
 
@@ -21,10 +20,10 @@ void say(std::FILE* log, const std::string& line) {
   if (log != nullptr) std::fprintf(log, "hapstate-compact: %s\n", line.c_str());
 }
 
-Scene stored_scene(Catalogue& catalogue, const StatePaths& dir, ContentHash* hash) {
+Scene stored_scene(Catalogue& catalogue, const StateDir& dir, ContentHash* hash) {
   const std::optional<SceneRecord> record = catalogue.read_scene();
   if (!record) {
-    throw InputError(dir.catalogue.string() + ": no scene stored (run hapstate-import first)");
+    throw InputError(dir.catalogue().string() + ": no scene stored (run hapstate-import first)");
   }
   *hash = record->hash;
   SceneParseOptions options;
@@ -64,8 +63,8 @@ std::string CompactReport::text() const {
   std::ostringstream s;
   if (nothing_to_do) s << "nothing to do: no duplicate level, no garbage, blobs already packed\n";
   s << (dry_run ? "would do: " : "") << counts_text(*this) << "\n";
-  s << "levels compared: " << compared_pairs << " pairs by vectors, " << summary_rejections
-    << " told apart by summary, " << force_rejections << " by force\n";
+  s << "levels compared: " << compared_pairs << " pairs by vectors, " << bound_rejections
+    << " told apart by summary and force\n";
   s << "segments: " << before.segments << " -> " << after.segments << "\n";
   s << "catalogue bytes: " << bytes_text(before.catalogue_bytes) << " -> "
     << bytes_text(after.catalogue_bytes) << "\n";
@@ -76,9 +75,9 @@ std::string CompactReport::text() const {
 
 CompactReport compact_state(const std::filesystem::path& state_dir, const CompactOptions& options,
                             std::FILE* log) {
-  const StatePaths dir = locate_state(state_dir);
-  std::optional<StateLock> lock;
-  if (!options.dry_run) lock.emplace(dir.root);
+  const StateDir dir = locate_state(state_dir);
+  std::optional<StateDirLock> lock;
+  if (!options.dry_run) lock.emplace(dir);
   CompactReport report;
   report.dry_run = options.dry_run;
   report.before = measure_disk_use(dir);
@@ -87,9 +86,9 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     if (options.fault_point) options.fault_point(point);
   };
   std::optional<Catalogue> catalogue_slot;
-  catalogue_slot.emplace(dir.catalogue, options.dry_run ? OpenMode::kReadOnly : OpenMode::kReadWrite);
+  catalogue_slot.emplace(dir.catalogue(), options.dry_run ? OpenMode::kReadOnly : OpenMode::kReadWrite);
   Catalogue& catalogue = *catalogue_slot;
-  BlobStore blobs(dir.blobs);
+  BlobStore blobs(dir.blobs());
   ContentHash scene_hash;
   const Scene scene = stored_scene(catalogue, dir, &scene_hash);
   const LevelTolerances tolerances = level_tolerances(scene);
@@ -117,8 +116,7 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     MergeSearchStats stats;
     const std::vector<LevelMerge> merges = find_level_merges(catalogue, blobs, tolerances, &stats);
     report.compared_pairs = stats.compared;
-    report.summary_rejections = stats.summary_rejections;
-    report.force_rejections = stats.force_rejections;
+    report.bound_rejections = stats.bound_rejections;
     std::set<ConfigId> merged_ids;
     for (const LevelMerge& m : merges) merged_ids.insert(m.merged);
 

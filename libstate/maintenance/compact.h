@@ -30,8 +30,7 @@ struct CompactReport {
   std::int64_t retargeted_transitions = 0;
   std::int64_t moved_transitions = 0;
   std::int64_t compared_pairs = 0;       // level pairs whose vectors were compared
-  std::int64_t summary_rejections = 0;   // level pairs told apart by their u summaries alone
-  std::int64_t force_rejections = 0;     // level pairs told apart by force alone
+  std::int64_t bound_rejections = 0;     // level pairs told apart by summaries and forces
   std::int64_t garbage_segments = 0;     // unreferenced segments found at the start (removed)
   std::int64_t repacked_configurations = 0;
   std::int64_t new_segments = 0;
@@ -48,8 +47,8 @@ struct CompactReport {
 // a catalogue without a scene, a scene that does not parse, a missing or corrupt blob; the
 // state is then unchanged (or changed only by a completed, consistent step). Records a stage
 // run "compact" (outcome ok, or unchanged when there was nothing to do) unless dry_run.
-// Holds the StateLock of the directory (except for a dry run): a second compaction, or any
-// stage that takes the lock, is refused with an InputError while it runs.
+// Holds the StateDirLock of the directory (except for a dry run), like every writing stage:
+// while it runs, a stage or a second compaction on the same directory is refused.
 // `log` receives progress lines (nullptr: silent).
 CompactReport compact_state(const std::filesystem::path& state_dir, const CompactOptions& options,
                             std::FILE* log = nullptr);

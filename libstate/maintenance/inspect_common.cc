@@ -45,7 +45,7 @@ const char* stage_outcome_name(StageOutcome o) {
   return "unknown";
 }
 
-Catalogue open_read_only(const StatePaths& dir) { return Catalogue(dir.catalogue, OpenMode::kReadOnly); }
+Catalogue open_read_only(const StateDir& dir) { return Catalogue(dir.catalogue(), OpenMode::kReadOnly); }
 
 std::int64_t query_int(Catalogue& catalogue, const std::string& sql) {
   const QueryResult r = catalogue.query_read_only(sql);

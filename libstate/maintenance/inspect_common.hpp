@@ -21,7 +21,7 @@ const char* transition_outcome_name(TransitionOutcome o);  // "reached", "outsid
 const char* stage_outcome_name(StageOutcome o);        // as in the stage_run table
 
 // Opens the catalogue of `dir` read-only.
-Catalogue open_read_only(const StatePaths& dir);
+Catalogue open_read_only(const StateDir& dir);
 
 // First column of the first row of a query that returns one integer (0 if NULL / no row).
 std::int64_t query_int(Catalogue& catalogue, const std::string& sql);

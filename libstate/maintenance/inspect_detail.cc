@@ -35,9 +35,9 @@ std::string vec_text(const Json& v) {
   return s.str();
 }
 
-Configuration read_config(Catalogue& cat, ConfigId id, const StatePaths& dir) {
+Configuration read_config(Catalogue& cat, ConfigId id, const StateDir& dir) {
   if (!cat.exists_configuration(id)) {
-    throw InputError(dir.catalogue.string() + ": no configuration with id " + std::to_string(id.value()));
+    throw InputError(dir.catalogue().string() + ": no configuration with id " + std::to_string(id.value()));
   }
   return cat.read_configuration(id);
 }
@@ -73,25 +73,25 @@ InspectOutput checkpoint_output(Catalogue& cat, const Checkpoint& cp) {
 
 }  // namespace
 
-InspectOutput inspect_checkpoint(const StatePaths& dir, const std::array<int, 3>& ijk) {
+InspectOutput inspect_checkpoint(const StateDir& dir, const std::array<int, 3>& ijk) {
   Catalogue cat = open_read_only(dir);
   const auto cp = cat.find_checkpoint(ijk);
   if (!cp) {
-    throw InputError(dir.catalogue.string() + ": no check-point (" + std::to_string(ijk[0]) + ", " +
+    throw InputError(dir.catalogue().string() + ": no check-point (" + std::to_string(ijk[0]) + ", " +
                      std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
   }
   return checkpoint_output(cat, *cp);
 }
 
-InspectOutput inspect_checkpoint(const StatePaths& dir, CheckpointId id) {
+InspectOutput inspect_checkpoint(const StateDir& dir, CheckpointId id) {
   Catalogue cat = open_read_only(dir);
   if (!cat.exists_checkpoint(id)) {
-    throw InputError(dir.catalogue.string() + ": no check-point with id " + std::to_string(id.value()));
+    throw InputError(dir.catalogue().string() + ": no check-point with id " + std::to_string(id.value()));
   }
   return checkpoint_output(cat, cat.read_checkpoint(id));
 }
 
-InspectOutput inspect_config(const StatePaths& dir, ConfigId id) {
+InspectOutput inspect_config(const StateDir& dir, ConfigId id) {
   Catalogue cat = open_read_only(dir);
   const Configuration c = read_config(cat, id, dir);
   Json j;
@@ -108,7 +108,7 @@ InspectOutput inspect_config(const StatePaths& dir, ConfigId id) {
   j["status"] = config_status_name(c.status);
   if (c.blob) {
     Json vectors = Json::array();
-    BlobStore blobs(dir.blobs);
+    BlobStore blobs(dir.blobs());
     for (const std::string& v : blobs.list_vectors(c.blob->segment)) {
       if (v.rfind(c.blob->name + "/", 0) == 0) {
         vectors.push_back({{"name", v}, {"length", blobs.size_of(c.blob->segment, v)}});
@@ -116,7 +116,7 @@ InspectOutput inspect_config(const StatePaths& dir, ConfigId id) {
     }
     j["blob"] = {{"segment", c.blob->segment.value},
                  {"name", c.blob->name},
-                 {"file", (dir.blobs / segment_file_name(c.blob->segment)).string()},
+                 {"file", (dir.blobs() / segment_file_name(c.blob->segment)).string()},
                  {"vectors", vectors}};
   } else {
     j["blob"] = nullptr;
@@ -151,7 +151,7 @@ InspectOutput inspect_config(const StatePaths& dir, ConfigId id) {
   return {dump(j), s.str()};
 }
 
-InspectOutput inspect_transitions(const StatePaths& dir, ConfigId id) {
+InspectOutput inspect_transitions(const StateDir& dir, ConfigId id) {
   Catalogue cat = open_read_only(dir);
   const Configuration c = read_config(cat, id, dir);
   std::array<std::optional<Transition>, Direction::kCount> by_direction;

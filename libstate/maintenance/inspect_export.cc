@@ -18,14 +18,14 @@ using namespace inspect_detail;
 namespace {
 
 // The mesh stored by hapstate-import (problem/seg-000001.h5: mesh/nodes, mesh/tets), if any.
-std::optional<Mesh> stored_mesh(const StatePaths& dir) {
+std::optional<Mesh> stored_mesh(const StateDir& dir) {
   constexpr SegmentId kProblemSegment{1};
   std::error_code ec;
-  if (!std::filesystem::exists(dir.problem / segment_file_name(kProblemSegment), ec)) return std::nullopt;
-  BlobStore problem(dir.problem);
+  if (!std::filesystem::exists(dir.problem() / segment_file_name(kProblemSegment), ec)) return std::nullopt;
+  BlobStore problem(dir.problem());
   const std::vector<double> nodes = problem.read(kProblemSegment, "mesh/nodes");
   const std::vector<double> tets = problem.read(kProblemSegment, "mesh/tets");
-  const std::string where = (dir.problem / segment_file_name(kProblemSegment)).string();
+  const std::string where = (dir.problem() / segment_file_name(kProblemSegment)).string();
   if (nodes.size() % 3 != 0 || tets.size() % 4 != 0) {
     throw InputError(where + ": mesh/nodes or mesh/tets has a length not a multiple of 3 / 4");
   }
@@ -45,7 +45,7 @@ std::optional<Mesh> stored_mesh(const StatePaths& dir) {
 
 // The mesh file the configuration's displacements refer to: `given`, or the scene's mesh file
 // found beside the state directory. Checked against the stored content hash.
-std::filesystem::path find_mesh(const StatePaths& dir, const SceneRecord& scene,
+std::filesystem::path find_mesh(const StateDir& dir, const SceneRecord& scene,
                                 const std::optional<std::filesystem::path>& given) {
   std::vector<std::filesystem::path> candidates;
   if (given) {
@@ -85,15 +85,15 @@ std::filesystem::path find_mesh(const StatePaths& dir, const SceneRecord& scene,
 
 }  // namespace
 
-InspectOutput export_config_vtu(const StatePaths& dir, ConfigId id, const std::filesystem::path& vtu,
+InspectOutput export_config_vtu(const StateDir& dir, ConfigId id, const std::filesystem::path& vtu,
                                 const std::optional<std::filesystem::path>& mesh_file) {
   Catalogue cat = open_read_only(dir);
   if (!cat.exists_configuration(id)) {
-    throw InputError(dir.catalogue.string() + ": no configuration with id " + std::to_string(id.value()));
+    throw InputError(dir.catalogue().string() + ": no configuration with id " + std::to_string(id.value()));
   }
   const Configuration c = cat.read_configuration(id);
   const auto scene = cat.read_scene();
-  if (!scene) throw InputError(dir.catalogue.string() + ": no scene stored (run hapstate-import first)");
+  if (!scene) throw InputError(dir.catalogue().string() + ": no scene stored (run hapstate-import first)");
   std::optional<Mesh> stored = mesh_file ? std::nullopt : stored_mesh(dir);
   const std::filesystem::path mesh_path = stored ? std::filesystem::path(stored->source)
                                                  : find_mesh(dir, *scene, mesh_file);
@@ -101,10 +101,10 @@ InspectOutput export_config_vtu(const StatePaths& dir, ConfigId id, const std::f
 
   Eigen::Matrix3Xd u = Eigen::Matrix3Xd::Zero(3, mesh.num_nodes());
   if (c.blob) {
-    BlobStore blobs(dir.blobs);
+    BlobStore blobs(dir.blobs());
     const std::vector<double> values = blobs.read(c.blob->segment, c.blob->name + "/u");
     if (values.size() != 3 * static_cast<std::size_t>(mesh.num_nodes())) {
-      throw InputError((dir.blobs / segment_file_name(c.blob->segment)).string() + ": vector '" +
+      throw InputError((dir.blobs() / segment_file_name(c.blob->segment)).string() + ": vector '" +
                        c.blob->name + "/u' has " + std::to_string(values.size()) + " values, the mesh " +
                        mesh_path.string() + " has " + std::to_string(mesh.num_nodes()) + " nodes (x3)");
     }

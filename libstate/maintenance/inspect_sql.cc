@@ -47,7 +47,7 @@ std::string value_text(const QueryValue& v) {
 
 }  // namespace
 
-InspectOutput inspect_sql(const StatePaths& dir, std::string_view sql) {
+InspectOutput inspect_sql(const StateDir& dir, std::string_view sql) {
   Catalogue cat = open_read_only(dir);
   const QueryResult r = cat.query_read_only(sql);
   Json rows = Json::array();

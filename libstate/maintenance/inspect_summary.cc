@@ -22,7 +22,7 @@ std::string text_at(const std::vector<QueryValue>& row, std::size_t c) {
   return v != nullptr ? *v : "";
 }
 
-Json summary_json(const StatePaths& dir, Catalogue& cat) {
+Json summary_json(const StateDir& dir, Catalogue& cat) {
   Json j;
   j["state"] = dir.root.string();
   j["schema_version"] = cat.schema_version();
@@ -147,7 +147,7 @@ std::string summary_text(const Json& j) {
 
 }  // namespace
 
-InspectOutput inspect_summary(const StatePaths& dir) {
+InspectOutput inspect_summary(const StateDir& dir) {
   Catalogue cat = open_read_only(dir);
   const Json j = summary_json(dir, cat);
   return {dump(j), summary_text(j)};

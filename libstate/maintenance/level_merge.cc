@@ -14,11 +14,11 @@ namespace {
 // A configuration with its vectors read on first need.
 struct Candidate {
   Configuration config;
-  std::optional<LevelVectors> vectors;
+  std::optional<ConfigVectors> vectors;
   std::optional<std::size_t> h_length;
 };
 
-const LevelVectors& vectors_of(Candidate& c, const BlobStore& blobs) {
+const ConfigVectors& vectors_of(Candidate& c, const BlobStore& blobs) {
   if (!c.vectors) c.vectors = read_level_vectors(blobs, c.config);
   return *c.vectors;
 }
@@ -51,19 +51,15 @@ std::vector<LevelMerge> find_level_merges(Catalogue& catalogue, const BlobStore&
       Candidate candidate{std::move(config), std::nullopt, std::nullopt};
       bool merged = false;
       for (Candidate& rep : representatives) {
-        if (summaries_prove_distinct(rep.config, candidate.config, tolerances)) {
-          ++s.summary_rejections;
-          continue;
-        }
         const std::size_t h_length =
             std::max(h_length_of(rep, blobs), h_length_of(candidate, blobs));
-        if (forces_prove_distinct(rep.config, candidate.config, h_length, tolerances)) {
-          ++s.force_rejections;
+        if (compaction_distance_bound(rep.config, candidate.config, h_length, tolerances) > 1.0) {
+          ++s.bound_rejections;
           continue;
         }
         ++s.compared;
-        const double d = level_distance(vectors_of(rep, blobs), vectors_of(candidate, blobs),
-                                        tolerances);
+        const double d = compaction_level_distance(vectors_of(rep, blobs),
+                                                   vectors_of(candidate, blobs), tolerances);
         if (d <= 1.0) {
           merges.push_back({rep.config.id, candidate.config.id, d});
           merged = true;

@@ -24,8 +24,7 @@ struct LevelMerge {
 
 struct MergeSearchStats {
   std::int64_t compared = 0;          // pairs whose vectors were compared
-  std::int64_t summary_rejections = 0;  // pairs told apart by their u summaries (no blob read)
-  std::int64_t force_rejections = 0;    // pairs told apart by their forces alone (no blob read)
+  std::int64_t bound_rejections = 0;  // pairs told apart by summaries and forces (no vector read)
 };
 
 // Every duplicate among the live (not kMerged) configurations, deterministically: per

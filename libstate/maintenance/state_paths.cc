@@ -14,32 +14,32 @@ std::int64_t size_or_zero(const std::filesystem::path& file) {
 
 }  // namespace
 
-StatePaths locate_state(const std::filesystem::path& root) {
+StateDir locate_state(const std::filesystem::path& root) {
   std::error_code ec;
   if (!std::filesystem::is_directory(root, ec)) {
     throw InputError(root.string() + ": no such state directory");
   }
-  StatePaths dir{root, root / kCatalogueFileName, root / kBlobsDirName, root / kProblemDirName};
-  if (!std::filesystem::exists(dir.catalogue, ec)) {
-    throw InputError(root.string() + ": not a state directory (no " + kCatalogueFileName +
-                     "; the import stage creates it)");
+  const StateDir dir{root};
+  if (!std::filesystem::exists(dir.catalogue(), ec)) {
+    throw InputError(root.string() + ": not a state directory (no " +
+                     dir.catalogue().filename().string() + "; hapstate-import creates it)");
   }
   return dir;
 }
 
-DiskUse measure_disk_use(const StatePaths& dir) {
+DiskUse measure_disk_use(const StateDir& dir) {
   DiskUse use;
   for (const char* suffix : {"", "-wal", "-shm"}) {
-    use.catalogue_bytes += size_or_zero(dir.catalogue.string() + suffix);
+    use.catalogue_bytes += size_or_zero(dir.catalogue().string() + suffix);
   }
   std::error_code ec;
-  if (std::filesystem::is_directory(dir.problem, ec)) {
-    for (const auto& entry : std::filesystem::directory_iterator(dir.problem, ec)) {
+  if (std::filesystem::is_directory(dir.problem(), ec)) {
+    for (const auto& entry : std::filesystem::directory_iterator(dir.problem(), ec)) {
       if (entry.is_regular_file(ec)) use.problem_bytes += size_or_zero(entry.path());
     }
   }
-  if (!std::filesystem::is_directory(dir.blobs, ec)) return use;
-  for (const auto& entry : std::filesystem::directory_iterator(dir.blobs, ec)) {
+  if (!std::filesystem::is_directory(dir.blobs(), ec)) return use;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.blobs(), ec)) {
     if (!entry.is_regular_file(ec)) continue;
     if (!parse_segment_file_name(entry.path().filename().string())) continue;
     use.blob_bytes += size_or_zero(entry.path());

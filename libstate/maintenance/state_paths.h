@@ -1,27 +1,18 @@
-// The files of a state directory as the maintenance tools see them (docs/storage.md):
-// <dir>/catalogue.sqlite (+ -wal, -shm), <dir>/blobs/seg-NNNNNN.h5 (configuration vectors) and
-// <dir>/problem/ (the imported mesh and constraints, written once by hapstate-import).
+// Locating a state directory and measuring its files (docs/storage.md, docs/inspect.md):
+// <dir>/catalogue.sqlite (+ -wal, -shm), <dir>/blobs/seg-NNNNNN.h5 (configuration vectors),
+// <dir>/problem/ (the imported mesh and constraints). The layout is statespace/state_dir.h.
 #pragma once
+
+#include "statespace/state_dir.h"
 
 #include <cstdint>
 #include <filesystem>
 
 namespace hapstate {
 
-inline constexpr const char* kCatalogueFileName = "catalogue.sqlite";
-inline constexpr const char* kBlobsDirName = "blobs";
-inline constexpr const char* kProblemDirName = "problem";
-
-struct StatePaths {
-  std::filesystem::path root;
-  std::filesystem::path catalogue;  // root / catalogue.sqlite
-  std::filesystem::path blobs;      // root / blobs
-  std::filesystem::path problem;    // root / problem
-};
-
-// The paths of the state directory `root`. Throws InputError naming `root` if it is not a
-// directory or holds no catalogue.sqlite ("not a state directory").
-StatePaths locate_state(const std::filesystem::path& root);
+// The state directory `root`. Throws InputError naming `root` if it is not a directory
+// ("no such state directory") or holds no catalogue.sqlite ("not a state directory").
+StateDir locate_state(const std::filesystem::path& root);
 
 // Bytes on disk of a state directory.
 struct DiskUse {
@@ -33,6 +24,6 @@ struct DiskUse {
 };
 
 // Measures the files now present (missing files count 0).
-DiskUse measure_disk_use(const StatePaths& dir);
+DiskUse measure_disk_use(const StateDir& dir);
 
 }  // namespace hapstate

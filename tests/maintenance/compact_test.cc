@@ -5,7 +5,7 @@
 #include "maintenance/compact.h"
 #include "maintenance/level_compare.h"
 #include "maintenance/level_merge.h"
-#include "maintenance/state_lock.h"
+#include "statespace/state_dir.h"
 #include "scene/scene.h"
 #include "synthetic_state.h"
 #include "util/error.h"
@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace hapstate {
@@ -51,33 +52,29 @@ void expect_consistent(const std::filesystem::path& dir) {
   EXPECT_TRUE(blobs.unreferenced_segments(cat.referenced_segments()).empty());
 }
 
-TEST(LevelCompare, DistanceInToleranceUnits) {
+TEST(LevelCompare, DistanceInToleranceUnitsWithZeroStates) {
   const LevelTolerances tol{0.01, 0.05};
-  const std::vector<double> u = {0.0, 1.0}, h = {0.0, 0.0, 0.0};
-  EXPECT_DOUBLE_EQ(level_distance(u, h, std::vector<double>{0.005, 1.0}, h, tol), 0.5);
-  EXPECT_DOUBLE_EQ(level_distance(u, h, u, std::vector<double>{0.03, 0.04, 0.0}, tol), 1.0);
-  EXPECT_TRUE(std::isinf(level_distance(u, h, std::vector<double>{0.0}, h, tol)));
+  const ConfigVectors a{{0.0, 1.0}, {}, {0.0, 0.0, 0.0}};
+  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.005, 1.0}, {}, {0.0, 0.0, 0.0}}, tol), 0.5);
+  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.0, 1.0}, {}, {0.03, 0.04, 0.0}}, tol), 1.0);
+  EXPECT_TRUE(std::isinf(compaction_level_distance(a, {{0.0}, {}, {0.0, 0.0, 0.0}}, tol)));
+  // No blob: zeros of the other's length.
+  EXPECT_DOUBLE_EQ(compaction_level_distance({}, {{0.004, -0.002}, {}, {0.0, 0.0, 0.01}}, tol), 0.4);
 }
 
-TEST(LevelCompare, ForcesProveDistinctOnlyBeyondTheBound) {
-  const LevelTolerances tol{0.01, 0.05};
-  Configuration a, b;
-  b.force = {0.08, 0.0, 0.0};  // < sqrt(3) * 0.05 = 0.0866
-  EXPECT_FALSE(forces_prove_distinct(a, b, 3, tol));
-  b.force = {0.09, 0.0, 0.0};
-  EXPECT_TRUE(forces_prove_distinct(a, b, 3, tol));
-}
-
-TEST(LevelCompare, SummariesProveDistinctOnlyBeyondTheTolerance) {
+TEST(LevelCompare, BoundFromSummariesAndForces) {
   const LevelTolerances tol{0.01, 0.05};
   Configuration a, b;
   a.summary = {0.0, 0.0};
   b.summary = {0.0, -0.0099};
-  EXPECT_FALSE(summaries_prove_distinct(a, b, tol));
+  EXPECT_LE(compaction_distance_bound(a, b, 3, tol), 1.0);
   b.summary = {0.0, -0.0101};
-  EXPECT_TRUE(summaries_prove_distinct(a, b, tol));
-  b.summary = {1.0};  // another layout: proves nothing
-  EXPECT_FALSE(summaries_prove_distinct(a, b, tol));
+  EXPECT_GT(compaction_distance_bound(a, b, 3, tol), 1.0);
+  b.summary = a.summary;
+  b.force = {0.08, 0.0, 0.0};  // < sqrt(3) * 0.05 = 0.0866: h may still be within tolerance
+  EXPECT_LE(compaction_distance_bound(a, b, 3, tol), 1.0);
+  b.force = {0.09, 0.0, 0.0};
+  EXPECT_GT(compaction_distance_bound(a, b, 3, tol), 1.0);
 }
 
 TEST(FindLevelMerges, FindsExactlyTheDuplicates) {
@@ -94,9 +91,8 @@ TEST(FindLevelMerges, FindsExactlyTheDuplicates) {
   EXPECT_EQ(merges[1].kept, ConfigId(6));
   EXPECT_EQ(merges[1].merged, ConfigId(8));
   EXPECT_NEAR(merges[1].distance, 0.99, 1e-9);
-  EXPECT_EQ(stats.compared, 4);            // c4-c3, c5-c3, c7-c6, c8-c6
-  EXPECT_EQ(stats.summary_rejections, 1);  // c2-c1 (u up to 0.1 apart at the sample nodes)
-  EXPECT_EQ(stats.force_rejections, 0);
+  EXPECT_EQ(stats.compared, 4);          // c4-c3, c5-c3, c7-c6, c8-c6
+  EXPECT_EQ(stats.bound_rejections, 1);  // c2-c1 (1 N and up to 0.1 apart at the sample nodes)
 }
 
 TEST(Compact, MergesRewritesRepacksAndShrinks) {
@@ -241,12 +237,12 @@ TEST(Compact, RefusedWhileTheStateIsLocked) {
   TempDir dir("compact");
   test_util::write_synthetic_state(dir.path());
   {
-    StateLock held(dir.path());
+    StateDirLock held(StateDir{dir.path()});
     try {
       compact_state(dir.path(), {});
       ADD_FAILURE() << "no InputError";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("another hapstate process"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("another hapstate stage"), std::string::npos) << e.what();
     }
     CompactOptions dry;
     dry.dry_run = true;
