@@ -142,7 +142,6 @@ TEST_F(Pipeline, ThreadCountDoesNotChangeTheCatalogue) {
 TEST_F(Pipeline, RaisingMaxForceExpandsFurtherAndRecomputesNothing) {
   const fs::path state = copy_of_reference("state");
   const Snapshot before = snapshot(state);
-  Catalogue(state / "catalogue.sqlite", OpenMode::kReadOnly);  // readable
   std::vector<Transition> old_rows;
   {
     Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
@@ -174,7 +173,9 @@ TEST_F(Pipeline, RaisingMaxForceExpandsFurtherAndRecomputesNothing) {
   int newly_expanded = 0;
   for (const Configuration& c : configs) {
     EXPECT_EQ(c.expandable, norm(c.force) <= 0.05);
-    if (c.expandable) EXPECT_EQ(c.status, ConfigStatus::kExpanded);
+    if (c.expandable) {
+      EXPECT_EQ(c.status, ConfigStatus::kExpanded);
+    }
   }
   for (const Configuration& c : before.configurations)
     if (!c.expandable && norm(c.force) <= 0.05) ++newly_expanded;
@@ -215,7 +216,9 @@ TEST_F(Pipeline, EnlargedWorkspaceAddsCheckpointsAndKeepsTheOldOnes) {
   std::map<ConfigId, int> decided;
   for (const Transition& t : after.transitions) ++decided[t.source];
   for (const Configuration& c : after.configurations)
-    if (c.expandable) EXPECT_EQ(decided[c.id], 26) << c.id.value();
+    if (c.expandable) {
+      EXPECT_EQ(decided[c.id], 26) << c.id.value();
+    }
 }
 
 // With level tolerances far below the solver's accuracy, arrivals by different paths are stored
