@@ -39,6 +39,18 @@ std::string describe(const FixedSelector& selector) {
   return std::visit(visitor, selector.where);
 }
 
+// The nodes of physical group `name`; a missing group is reported (listing the known ones).
+std::vector<int> group_nodes(const Mesh& mesh, const std::string& name, int line,
+                             const std::string& label, Diagnostics& diagnostics) {
+  const auto group = mesh.groups.find(name);
+  if (group != mesh.groups.end()) return group->second;
+  std::string known;
+  for (const auto& [g, nodes] : mesh.groups) known += (known.empty() ? "" : ", ") + g;
+  diagnostics.add(line, label + ": " + mesh_name(mesh) + " has no physical group '" + name +
+                            "' (" + (known.empty() ? "it has none" : "groups: " + known) + ")");
+  return {};
+}
+
 // Nodes selected by one [[fixed]] table; problems go to `diagnostics`.
 std::vector<int> select_fixed(const FixedSelector& selector, const std::string& label,
                               const Mesh& mesh, Diagnostics& diagnostics) {
@@ -49,17 +61,8 @@ std::vector<int> select_fixed(const FixedSelector& selector, const std::string& 
   } else if (const auto* s = std::get_if<PlaneSelector>(&selector.where)) {
     ids = nodes_on_plane(mesh, *s);
   } else if (const auto* s = std::get_if<GroupSelector>(&selector.where)) {
-    const auto group = mesh.groups.find(s->name);
-    if (group == mesh.groups.end()) {
-      std::string known;
-      for (const auto& [name, nodes] : mesh.groups) known += (known.empty() ? "" : ", ") + name;
-      diagnostics.add(selector.line, label + ": " + mesh_name(mesh) +
-                                         " has no physical group '" + s->name + "' (" +
-                                         (known.empty() ? "it has none" : "groups: " + known) +
-                                         ")");
-      return {};
-    }
-    ids = group->second;
+    ids = group_nodes(mesh, s->name, selector.line, label, diagnostics);
+    if (ids.empty()) return {};
   } else if (const auto* s = std::get_if<NodesSelector>(&selector.where)) {
     ids = read_node_ids(s->file, mesh.num_nodes(), diagnostics);
   }
@@ -76,7 +79,10 @@ std::vector<int> select_grabbed(const SceneProbe& probe, const Mesh& mesh,
   const int problems_before = diagnostics.count();
   std::vector<int> ids;
   std::string what;
-  if (probe.nodes_file) {
+  if (probe.group) {
+    ids = group_nodes(mesh, *probe.group, probe.line, "probe", diagnostics);
+    what = "group '" + *probe.group + "' has no node";
+  } else if (probe.nodes_file) {
     ids = read_node_ids(*probe.nodes_file, mesh.num_nodes(), diagnostics);
     what = "nodes file " + probe.nodes_file->string() + " lists no node";
   } else if (probe.point && probe.radius) {

@@ -227,7 +227,7 @@ std::vector<FixedSelector> parse_fixed_list(const TableReader& root, const Conte
 }
 
 SceneProbe parse_probe(const TableReader& r, const Context& context) {
-  r.allow_only({"mode", "point", "radius", "nodes", "dofs", "max_force"});
+  r.allow_only({"mode", "point", "radius", "nodes", "group", "dofs", "max_force"});
   SceneProbe probe;
   probe.line = r.line();
   bool mode_ok = true;  // mode absent (grab) or valid
@@ -240,20 +240,26 @@ SceneProbe parse_probe(const TableReader& r, const Context& context) {
   probe.point = r.point("point");
   probe.radius = r.number("radius", positive());
   if (r.has("nodes")) probe.nodes_file = read_file_key(r, "nodes", context);
+  probe.group = r.string("group");
   if (auto dofs = r.dofs("dofs")) probe.dofs = *dofs;
   if (!r.has("max_force")) r.missing("max_force", "N, the device force limit");
   if (auto f = r.number("max_force", positive())) probe.max_force = *f;
 
   if (mode_ok && probe.mode == ProbeMode::kGrab) {
-    if (r.has("nodes") && (r.has("point") || r.has("radius"))) {
-      r.bad("nodes", "give either nodes or point (with an optional radius), not both");
-    } else if (!r.has("nodes") && !r.has("point")) {
-      r.missing("point", "grab needs point, point and radius, or nodes");
+    const int ways = int(r.has("nodes")) + int(r.has("group")) + int(r.has("point"));
+    if (ways > 1) {
+      r.bad(r.has("nodes") ? "nodes" : "group",
+            "give exactly one of point (with an optional radius), nodes or group");
+    } else if (ways == 0) {
+      r.missing("point", "grab needs point, point and radius, nodes, or group");
+    } else if (r.has("radius") && !r.has("point")) {
+      r.bad("radius", "a grab radius needs point (the patch centre)");
     }
   } else if (mode_ok && probe.mode == ProbeMode::kContact) {
     if (!r.has("point")) r.missing("point", "contact: the sphere centre at rest");
     if (!r.has("radius")) r.missing("radius", "contact: the sphere radius");
     if (r.has("nodes")) r.bad("nodes", "only allowed with mode = \"grab\"");
+    if (r.has("group")) r.bad("group", "only allowed with mode = \"grab\"");
     if (r.has("dofs")) r.bad("dofs", "only allowed with mode = \"grab\"");
   }
   return probe;

@@ -57,13 +57,14 @@ struct FixedSelector {
 
 enum class ProbeMode { kGrab, kContact };
 
-// [probe]. Grab: exactly one of `point` (nearest node), `point` + `radius` (surface patch) or
-// `nodes_file`. Contact: `point` (sphere centre at rest) and `radius` (sphere radius).
+// [probe]. Grab: exactly one of `point` (nearest node), `point` + `radius` (surface patch),
+// `nodes_file` or `group`. Contact: `point` (sphere centre at rest) and `radius` (sphere radius).
 struct SceneProbe {
   ProbeMode mode = ProbeMode::kGrab;
   std::optional<Eigen::Vector3d> point;
   std::optional<double> radius;                 // > 0
   std::optional<std::filesystem::path> nodes_file;
+  std::optional<std::string> group;             // grab: every node of this physical group
   DofMask dofs{true, true, true};               // grab: components that follow the probe
   double max_force = 0;                         // N, > 0
   int line = 0;                                 // line of the [probe] header

@@ -174,6 +174,16 @@ TEST_F(BindScene, GrabByNodeFile) {
   EXPECT_EQ(p.probe_rest, Eigen::Vector3d(1.5, 2, 2));
 }
 
+TEST_F(BindScene, GrabByGroup) {
+  Mesh mesh = cube_;
+  mesh.groups["tip"] = {25, 26};
+  const Problem p = bind_scene(scene(kFixX0, "group = \"tip\""), mesh);
+  EXPECT_EQ(p.constraints.probe_nodes, (std::vector<int>{25, 26}));
+  EXPECT_EQ(p.probe_rest, Eigen::Vector3d(1.5, 2, 2));
+  EXPECT_EQ(error_of([&] { bind_scene(scene(kFixX0, "group = \"nope\""), mesh); }),
+            at(10, "probe: the mesh has no physical group 'nope' (groups: tip)"));
+}
+
 TEST_F(BindScene, DofBothFixedAndGrabbedIsNamed) {
   dir_.write("grab.txt", "0 26\n");
   EXPECT_EQ(error_of([&] {

@@ -296,7 +296,7 @@ TEST_F(ParseScene, MissingRequiredKeysAndTables) {
   EXPECT_EQ(error(replace_once(kBase, "poisson = 0.45\n", "")),
             at(5, "missing key 'material.poisson' (young and poisson go together)"));
   EXPECT_EQ(error(replace_once(kBase, "point = [-2.0, 4.0, 1.0]\n", "")),
-            at(13, "missing key 'probe.point' (grab needs point, point and radius, or nodes)"));
+            at(13, "missing key 'probe.point' (grab needs point, point and radius, nodes, or group)"));
   EXPECT_EQ(error(replace_once(kBase, "spacing = 0.25\n", "")),
             at(17, "missing key 'grid.spacing' (or dims)"));
   EXPECT_EQ(error(replace_once(kBase, "spacing = 0.25", "dims = [3, 3, 3]")),
@@ -335,8 +335,11 @@ TEST_F(ParseScene, TwoAlternativesGiven) {
                                "[[fixed]]\ndofs = \"x\"\n")),
             at(10, "[[fixed]] table 'fixed[0]': give exactly one of box, plane, group, nodes"));
   EXPECT_EQ(error(replace_once(kBase, "max_force = 3.0", "max_force = 3.0\nnodes = \"grab.txt\"")),
-            at(16, "key 'probe.nodes' = \"grab.txt\": give either nodes or point (with an "
-                   "optional radius), not both"));
+            at(16, "key 'probe.nodes' = \"grab.txt\": give exactly one of point (with an "
+                   "optional radius), nodes or group"));
+  EXPECT_EQ(error(replace_once(kBase, "max_force = 3.0", "max_force = 3.0\ngroup = \"tip\"")),
+            at(16, "key 'probe.group' = \"tip\": give exactly one of point (with an "
+                   "optional radius), nodes or group"));
   EXPECT_EQ(error(replace_once(kBase, "spacing = 0.25",
                                "spacing = 0.25\ndims = [3, 3, 3]\nbox = [[0, 0, 0], [1, 1, 1]]")),
             at(19, "key 'grid.dims' = [3, 3, 3]: give either spacing or dims, not both"));
