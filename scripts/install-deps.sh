@@ -14,6 +14,7 @@ packages=(
   zlib1g-dev                 # zlib-compressed VTK XML (.vtu) meshes
   libtomlplusplus-dev        # scene files
   libcli11-dev               # command-line parsing
+  nlohmann-json3-dev         # JSON output of hapstate-inspect
   libgmsh-dev                # tetrahedralising closed STL/OBJ surfaces
   libgtest-dev libbenchmark-dev
   calculix-ccx               # the independent reference solver used by the tests
