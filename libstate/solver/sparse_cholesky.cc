@@ -29,6 +29,9 @@ SparseCholesky::SparseCholesky(const SymmetricPattern& pattern, Method method)
   s.common.print = 0;
   s.common.error_handler = nullptr;
   s.common.quick_return_if_not_posdef = 1;
+  // LL^T also in the simplicial method (its default LDL^T would accept an indefinite tangent and
+  // Newton would then head for saddle points); indefiniteness must reach the PSD fallback.
+  s.common.final_ll = 1;
   if (method == Method::kSimplicial) s.common.supernodal = CHOLMOD_SIMPLICIAL;
   if (method == Method::kSupernodal) s.common.supernodal = CHOLMOD_SUPERNODAL;
   s.col_ptr = pattern.col_ptr;

@@ -175,3 +175,32 @@ TEST(PathSolver, HapticStiffnessIsDerivativeOfFeltForce) {
 
 }  // namespace
 }  // namespace hapstate
+
+namespace hapstate {
+namespace {
+
+// St. Venant-Kirchhoff loses stability in strong compression (the uniaxial limit point is at
+// stretch 1/sqrt(3)): the free-DOF tangent turns indefinite and the solver must fall back to the
+// PSD-projected tangent for its search directions instead of failing or crashing.
+TEST(PathSolver, IndefiniteTangentFallsBackAndReportsOrConverges) {
+  // Confined compression: y and z held everywhere, so the axial tangent of the homogeneous
+  // state is (lambda + 2 mu)(3 s^2 - 1)/2, negative below the stretch s = 1/sqrt(3).
+  Problem problem = uniaxial_problem(Law::kStvk);
+  for (int n = 0; n < problem.mesh.num_nodes(); ++n)
+    for (int c : {1, 2}) problem.constraints.role[3 * n + c] = DofRole::kFixed;
+  problem.solver.substeps = 8;
+  PathSolver solver(problem);
+  const MoveResult r = solver.move_to(Eigen::Vector3d(-0.55, 0, 0));
+  std::printf("psd fallbacks %lld, ok %d, reason '%s'\n", solver.timings().psd_fallbacks, r.ok,
+              r.reason.c_str());
+  EXPECT_GT(solver.timings().psd_fallbacks, 0);
+  if (r.ok) {
+    EXPECT_LE(r.residual, 1e-6 * solver.force_felt().norm() + 1e-9);
+  } else {
+    EXPECT_NE(r.failure, SolveFailure::kNone);
+    EXPECT_FALSE(r.reason.empty());
+  }
+}
+
+}  // namespace
+}  // namespace hapstate
