@@ -41,6 +41,10 @@ int main(int argc, char** argv) {
                             "partial)")
                  ->check(CLI::PositiveNumber);
   app.add_flag("-q,--quiet", quiet, "no progress line");
+  bool timings = false;
+  app.add_flag("--timings", timings,
+               "print where the time went: parallel solves (assembly, factorisation, solve) "
+               "and storing (level comparison, segments, catalogue)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -59,6 +63,19 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "hapstate-expand: resuming after %d interrupted run(s)\n",
                    r.interrupted_runs);
     std::printf("hapstate-expand: %s\n", r.message.c_str());
+    if (timings && r.wall_s > 0) {
+      const SolverTimings& t = r.solver;
+      const double cpu = t.assembly + t.factorize + t.solve;
+      std::printf("hapstate-expand: timings: wall %.2f s = solves %.2f s (%.0f%%) + storing %.2f s "
+                  "(%.0f%%) + other %.2f s; in the solvers (summed over %d threads): assembly "
+                  "%.0f%%, factorisation %.0f%%, solve %.0f%% of %.2f s; %.1f transitions/s, "
+                  "%.1f ms per solved transition\n",
+                  r.wall_s, r.solve_wall_s, 100 * r.solve_wall_s / r.wall_s, r.store_wall_s,
+                  100 * r.store_wall_s / r.wall_s, r.wall_s - r.solve_wall_s - r.store_wall_s,
+                  o.threads, cpu > 0 ? 100 * t.assembly / cpu : 0,
+                  cpu > 0 ? 100 * t.factorize / cpu : 0, cpu > 0 ? 100 * t.solve / cpu : 0, cpu,
+                  r.decided / r.wall_s, r.solved ? 1e3 * r.wall_s / r.solved : 0.0);
+    }
     return kExitOk;
   });
 }

@@ -93,4 +93,20 @@ std::vector<TransitionSolve> TransitionSolver::solve(const std::vector<Transitio
   return results;
 }
 
+SolverTimings TransitionSolver::timings() const {
+  SolverTimings sum;
+  for (const auto& solver : solvers_) {
+    if (!solver) continue;
+    const SolverTimings& t = solver->timings();
+    sum.assembly += t.assembly;
+    sum.factorize += t.factorize;
+    sum.solve += t.solve;
+    sum.analyze += t.analyze;
+    sum.assemblies += t.assemblies;
+    sum.factorizations += t.factorizations;
+    sum.psd_fallbacks += t.psd_fallbacks;
+  }
+  return sum;
+}
+
 }  // namespace hapstate

@@ -53,6 +53,9 @@ class TransitionSolver {
   // Solves every task that has a target, in parallel; result k belongs to task k. An exception
   // in a worker (e.g. an unreadable source blob) is rethrown here after all workers stopped.
   std::vector<TransitionSolve> solve(const std::vector<TransitionTask>& tasks);
+  // Time the workers' solvers spent in assembly / factorisation / solves, summed over workers
+  // (CPU-side seconds, not wall time).
+  SolverTimings timings() const;
 
  private:
   TransitionSolve solve_one(PathSolver& solver, const TransitionTask& task);

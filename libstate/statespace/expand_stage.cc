@@ -382,9 +382,14 @@ ExpandReport run_expand(const ExpandOptions& options) {
         }
         const std::size_t e = std::min(tasks.size(), b + options.batch_size);
         const std::vector<TransitionTask> batch(tasks.begin() + b, tasks.begin() + e);
+        const auto solve_start = SteadyClock::now();
         const std::vector<TransitionSolve> solves = solver.solve(batch);
+        const auto store_start = SteadyClock::now();
         const long long failed_before = report.failed;
         expander.commit_batch(batch, solves, &report);
+        report.solve_wall_s += std::chrono::duration<double>(store_start - solve_start).count();
+        report.store_wall_s +=
+            std::chrono::duration<double>(SteadyClock::now() - store_start).count();
         done += static_cast<long long>(batch.size());
         failures += report.failed - failed_before;
         progress.update(done, failures);
@@ -392,6 +397,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
       if (options.progress) progress.finish();
     }
     report.outcome = stopped ? StageOutcome::kPartial : StageOutcome::kOk;
+    report.solver = solver.timings();
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "%s: %lld transitions decided (%lld solved, %lld failed, %lld outside the "
@@ -411,6 +417,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
     }
     throw;
   }
+  report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();
   return report;
 }
 

@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include "solver/path_solver.h"
+
 #include <optional>
 #include <string>
 
@@ -33,6 +35,11 @@ struct ExpandReport {
   std::size_t garbage_segments = 0;  // unreferenced segments removed at start
   int interrupted_runs = 0;          // earlier runs left "running" by a crash, now marked failed
   std::string message;
+  // Where the time went (this run): wall time of the whole stage, of the parallel solves and of
+  // deciding + storing batches (level comparison, segment write + fsync, catalogue commit);
+  // `solver` sums the workers' assembly / factorisation / solve seconds.
+  double wall_s = 0, solve_wall_s = 0, store_wall_s = 0;
+  SolverTimings solver;
 };
 
 // Runs the expansion until every expandable configuration has all 26 directions decided, or
