@@ -19,6 +19,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   calculix-ccx               # the independent reference solver used by the tests
   python3 python3-matplotlib # plots and comparison scripts
+  python3-h5py               # the test that a foreign HDF5 reader decodes our blobs
 )
 
 missing=()

@@ -102,6 +102,8 @@ const H5Z_class2_t kZstdClass = {
 
 }  // namespace
 
+const void* zstd_filter_class() { return &kZstdClass; }
+
 void register_zstd_filter() {
   static std::once_flag once;
   std::call_once(once, [] {

@@ -19,4 +19,8 @@ inline constexpr int kDefaultZstdLevel = 3;
 // yourself only when you use the HDF5 C API directly on our files.
 void register_zstd_filter();
 
+// The filter's H5Z_class2_t (as const void*, so hdf5.h stays out of this header): what the
+// dynamically loadable plugin (blobs/h5z_zstd_plugin.cc, build/plugins/) hands to HDF5.
+const void* zstd_filter_class();
+
 }  // namespace hapstate
