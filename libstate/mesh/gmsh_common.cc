@@ -136,4 +136,26 @@ void skip_gmsh_section(TextCursor& cursor, std::string_view keyword) {
   cursor.skip_past(end);
 }
 
+void expect_gmsh_end_elements(TextCursor& cursor, long long count) {
+  const std::string_view end = cursor.token("$EndElements");
+  if (end != "$EndElements") {
+    cursor.fail_expected("'$EndElements' after " + std::to_string(count) +
+                             " elements (wrong element count?)",
+                         end);
+  }
+}
+
+void skip_other_gmsh_section(TextCursor& cursor, std::string_view token) {
+  if (token.size() > 1 && token.front() == '$') {
+    skip_gmsh_section(cursor, token);
+  } else {
+    cursor.fail_expected("a section keyword such as '$Nodes' or '$Elements'", token);
+  }
+}
+
+void expect_gmsh_sections_read(const TextCursor& cursor, bool have_nodes, bool have_elements) {
+  if (!have_nodes) cursor.fail("truncated file: no $Nodes section");
+  if (!have_elements) cursor.fail("truncated file: no $Elements section");
+}
+
 }  // namespace hapstate

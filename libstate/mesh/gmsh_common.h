@@ -60,4 +60,14 @@ bool read_gmsh_format_tail(TextCursor& c, int expected_size, bool* swap);
 // Skips an unknown section "$Name" (its keyword already read) to just past "$EndName".
 void skip_gmsh_section(TextCursor& cursor, std::string_view keyword);
 
+// Reads the "$EndElements" that must follow the `count` elements of an $Elements section.
+void expect_gmsh_end_elements(TextCursor& cursor, long long count);
+
+// A token that is no section the reader knows: skips "$Name ... $EndName", fails for a token
+// that is not a section keyword at all.
+void skip_other_gmsh_section(TextCursor& cursor, std::string_view token);
+
+// Fails with "truncated file" unless both $Nodes and $Elements were read.
+void expect_gmsh_sections_read(const TextCursor& cursor, bool have_nodes, bool have_elements);
+
 }  // namespace hapstate

@@ -109,18 +109,12 @@ RawMesh read_msh2(std::string_view text, const std::string& source, std::string*
           add_gmsh_element(&mesh, &groups, c, type, ids.data(), phys.data(), static_cast<int>(phys.size()));
         }
       }
-      const std::string_view end = c.token("$EndElements");
-      if (end != "$EndElements") {
-        c.fail_expected("'$EndElements' after " + std::to_string(m) + " elements (wrong element count?)", end);
-      }
-    } else if (section.size() > 1 && section.front() == '$') {
-      skip_gmsh_section(c, section);
+      expect_gmsh_end_elements(c, m);
     } else {
-      c.fail_expected("a section keyword such as '$Nodes' or '$Elements'", section);
+      skip_other_gmsh_section(c, section);
     }
   }
-  if (!have_nodes) c.fail("truncated file: no $Nodes section");
-  if (!have_elements) c.fail("truncated file: no $Elements section");
+  expect_gmsh_sections_read(c, have_nodes, have_elements);
   name_gmsh_groups(names, std::move(groups), &mesh);
   return mesh;
 }
