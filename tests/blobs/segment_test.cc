@@ -4,6 +4,8 @@
 #include "temp_dir.h"
 #include "util/error.h"
 
+#include "../common/expect_input_error.h"
+
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/wait.h>
@@ -24,17 +26,7 @@ std::vector<double> ramp(std::size_t n, double scale) {
   return v;
 }
 
-// Expects `f` to throw InputError whose message contains every one of `parts`.
-template <class F>
-void expect_input_error(F&& f, std::initializer_list<std::string> parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no InputError thrown";
-  } catch (const InputError& e) {
-    const std::string message = e.what();
-    for (const auto& part : parts) EXPECT_NE(message.find(part), std::string::npos) << message;
-  }
-}
+using test_util::expect_input_error;
 
 void write_segment(const std::filesystem::path& dir, SegmentId id, std::size_t n) {
   SegmentWriter writer(dir, id, {"abc", "", "test"});

@@ -4,6 +4,8 @@
 #include "util/error.h"
 #include "../blobs/temp_dir.h"
 
+#include "../common/expect_input_error.h"
+
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -13,16 +15,7 @@
 namespace hapstate {
 namespace {
 
-// Expects `f` to throw InputError whose message contains `part`.
-template <class F>
-void expect_input_error(F&& f, const std::string& part) {
-  try {
-    f();
-    ADD_FAILURE() << "no InputError thrown";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-  }
-}
+using test_util::expect_input_error;
 
 class CatalogueContract : public ::testing::TestWithParam<std::string> {
  protected:

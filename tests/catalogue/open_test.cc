@@ -5,6 +5,8 @@
 #include "util/error.h"
 #include "../blobs/temp_dir.h"
 
+#include "../common/expect_input_error.h"
+
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
@@ -17,15 +19,7 @@ namespace {
 
 using test_util::TempDir;
 
-template <class F>
-void expect_input_error(F&& f, const std::string& part) {
-  try {
-    f();
-    ADD_FAILURE() << "no InputError thrown";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-  }
-}
+using test_util::expect_input_error;
 
 std::string file_bytes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);

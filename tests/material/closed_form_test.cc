@@ -132,12 +132,7 @@ TEST_P(ClosedForm, SmallUniaxialStretchRecoversYoungAndPoisson) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllLaws, ClosedForm, ::testing::ValuesIn(test::all_cases()),
-                         [](const auto& info) {
-                           std::string s = info.param.label;
-                           for (char& c : s)
-                             if (c == '.') c = '_';
-                           return s;
-                         });
+                         test::CaseName());
 
 }  // namespace
 }  // namespace hapstate

@@ -61,12 +61,7 @@ TEST_P(Derivatives, StressAndTangentMatchFiniteDifferences) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllLaws, Derivatives, ::testing::ValuesIn(test::all_cases()),
-                         [](const auto& info) {
-                           std::string s = info.param.label;
-                           for (char& c : s)
-                             if (c == '.') c = '_';
-                           return s;
-                         });
+                         test::CaseName());
 
 }  // namespace
 }  // namespace hapstate

@@ -83,12 +83,7 @@ TEST_P(Invariance, InvertedElementsGiveInfiniteEnergyWithoutNan) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllLaws, Invariance, ::testing::ValuesIn(test::all_cases()),
-                         [](const auto& info) {
-                           std::string s = info.param.label;
-                           for (char& c : s)
-                             if (c == '.') c = '_';
-                           return s;
-                         });
+                         test::CaseName());
 
 Mat3 rotation_about_z(double theta) {
   return Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();

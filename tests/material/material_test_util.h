@@ -67,4 +67,15 @@ auto central_difference(const Fn& f, const Mat3& F, int i, int j, double h) {
   return (8.0 * (at(h) - at(-h)) - (at(2 * h) - at(-2 * h))) / (12.0 * h);
 }
 
+// GoogleTest parameter name of a Case: its label with '.' replaced by '_'.
+struct CaseName {
+  template <class Info>
+  std::string operator()(const Info& info) const {
+    std::string s = info.param.label;
+    for (char& c : s)
+      if (c == '.') c = '_';
+    return s;
+  }
+};
+
 }  // namespace hapstate::test
