@@ -4,7 +4,7 @@
 
 #include "blobs/segment.h"
 #include "catalogue/direction.h"
-#include "catalogue/hash.h"
+#include "util/hash.h"
 #include "catalogue/ids.h"
 
 #include <array>

@@ -1,6 +1,6 @@
 // hapstate-inspect export: a configuration's deformed mesh as VTU.
 #include "blobs/blob_store.h"
-#include "catalogue/hash.h"
+#include "util/hash.h"
 #include "io/vtu_writer.h"
 #include "maintenance/inspect_common.hpp"
 #include "mesh/load.h"

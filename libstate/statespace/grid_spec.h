@@ -4,7 +4,7 @@
 // tolerance of 1e-9 spacings). Enlarging the workspace keeps every index and position.
 #pragma once
 
-#include "catalogue/hash.h"
+#include "util/hash.h"
 #include "scene/scene.h"
 
 #include <Eigen/Core>

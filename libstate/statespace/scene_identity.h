@@ -4,7 +4,7 @@
 // every configuration: the import refuses it unless asked for a fresh state directory.
 #pragma once
 
-#include "catalogue/hash.h"
+#include "util/hash.h"
 #include "scene/problem.h"
 #include "scene/scene.h"
 

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "blobs/segment.h"
-#include "catalogue/hash.h"
+#include "util/hash.h"
 #include "scene/problem.h"
 #include "scene/scene.h"
 #include "statespace/state_dir.h"

@@ -1,6 +1,6 @@
 // Content hash (XXH64 reference values) and the direction numbering.
 #include "catalogue/direction.h"
-#include "catalogue/hash.h"
+#include "util/hash.h"
 #include "util/error.h"
 #include "../blobs/temp_dir.h"
 

@@ -1,4 +1,4 @@
-#include "catalogue/hash.h"
+#include "util/hash.h"
 
 #include "util/error.h"
 

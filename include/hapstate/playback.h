@@ -1,0 +1,157 @@
+// hapstate playback runtime: the public C++ interface (docs/playback.md). Link hapstate::playback
+// (no SQLite, HDF5 or solver needed). A C interface for other languages: hapstate/playback_c.h.
+//
+//   hapstate::PlaybackFile file("state/playback.hsp");      // mmap + O(1) checks
+//   hapstate::HapticCursor cursor(file, hapstate::Scheme::kHermite);
+//   haptic thread, 1 kHz:  Force f = cursor.force(p);       // no allocation, lock or syscall
+//   visual thread, 60 Hz:  cursor.snapshot(&s); file.deform(s, positions);
+//
+// Positions are in mesh units (the scene's), forces in N, stiffness in N per mesh unit.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+
+namespace hapstate {
+
+// Interpolation of the force over the 8 corners of the probe's grid cell.
+enum class Scheme {
+  kTrilinear = 0,  // the paper's: corner forces, trilinear weights
+  kHermite = 1,    // cubic Hermite per axis: corner forces and their stiffness (derivatives)
+};
+
+// Where a corner's data came from (docs/playback.md, "missing corners").
+enum class CornerSource : std::int8_t {
+  kStored = 0,     // a stored configuration
+  kExtended = 1,   // none stored or reachable: extended from the neighbouring corner's force
+                   // and stiffness (first-order Taylor), carried while the cursor stays near
+};
+
+// A read-only, memory-mapped playback file written by hapstate-index.
+class PlaybackFile {
+ public:
+  // Maps `file`. Checks in O(1): magic, version, header checksum, file size, section table
+  // (its checksum, every section inside the file, 64-byte aligned, of the size the header
+  // implies). Throws std::runtime_error naming the file and what is wrong.
+  explicit PlaybackFile(const std::filesystem::path& file);
+  ~PlaybackFile();
+  PlaybackFile(const PlaybackFile&) = delete;
+  PlaybackFile& operator=(const PlaybackFile&) = delete;
+
+  // Checks every section's checksum and the cross-references (indices in range, finite
+  // numbers). Throws std::runtime_error naming the file and the section on the first problem.
+  void verify() const;
+
+  const std::filesystem::path& path() const { return path_; }
+  std::int32_t num_configurations() const;
+  std::int32_t num_view_nodes() const;       // nodes whose displacements are stored
+  std::int32_t num_mesh_nodes() const;
+  bool view_is_all_nodes() const;            // view nodes = every mesh node, in mesh order
+  std::span<const std::int32_t> view_nodes() const;       // mesh node index per view node
+  std::span<const float> reference_positions() const;     // 3 per view node, mesh units
+  std::span<const std::int32_t> triangles() const;        // 3 view-node indices each
+  std::array<double, 3> rest_position() const;            // probe at rest, mesh units
+  std::array<double, 3> grid_origin() const;
+  std::array<double, 3> grid_spacing() const;
+  std::array<std::int32_t, 3> grid_lo() const;            // index of the first check-point
+  std::array<std::int32_t, 3> grid_dims() const;          // check-points per axis
+  double max_force() const;                               // the device limit F_max, N
+  // Documented bound on the change of the force between two probe positions:
+  // |f(p) - f(q)| <= force_change_bound() * |p - q| for any cursor (docs/playback.md).
+  double force_change_bound() const;
+
+  // Force and stiffness of configuration c (0 <= c < num_configurations()).
+  std::array<double, 3> force(std::int32_t c) const;
+  std::array<double, 9> stiffness(std::int32_t c) const;  // row-major d(force)/d(probe)
+  std::span<const float> displacements(std::int32_t c) const;  // 3 per view node, mesh units
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::filesystem::path path_;
+  Impl* impl_ = nullptr;
+};
+
+// What the visual thread needs of a cursor: the corner configurations of its cell and the
+// trilinear weights of the probe position.
+struct Snapshot {
+  std::uint64_t sequence = 0;          // force() calls so far (0: none yet)
+  std::array<double, 3> probe{};       // mesh units
+  std::array<double, 3> force{};       // N, as returned by force()
+  std::array<std::int32_t, 8> corner_configuration{};  // displacement source, -1: zero
+  std::array<double, 8> weight{};
+};
+
+// Result of one haptic query.
+struct Force {
+  std::array<double, 3> value{};  // N
+  bool inside_grid = true;        // false: the probe was outside the grid (extended force)
+};
+
+// The haptic cursor of one haptic thread (docs/playback.md). Keeps the configurations of the
+// 8 corners of the probe's cell, anchored at the rest configuration when created or reset,
+// and follows the stored transitions cell by cell as the probe moves. force() allocates
+// nothing, takes no lock and makes no system call. snapshot() may be called from one other
+// thread (the visual thread) at any time: a wait-free triple buffer.
+class HapticCursor {
+ public:
+  explicit HapticCursor(const PlaybackFile& file, Scheme scheme = Scheme::kHermite);
+
+  void reset();  // the probe at rest, every corner from the rest configuration
+  Force force(const std::array<double, 3>& probe);
+  void set_scheme(Scheme scheme) { scheme_ = scheme; }
+  Scheme scheme() const { return scheme_; }
+
+  // The configuration at the check-point nearest to the last probe position (-1 if that
+  // corner is extended), and that check-point's grid index.
+  std::int32_t anchor_configuration() const;
+  std::array<std::int32_t, 3> anchor_checkpoint() const;
+  CornerSource corner_source(int corner) const { return corners_[corner].source; }
+  // Cells entered since creation (a measure of the walk).
+  std::uint64_t cells_walked() const { return cells_walked_; }
+
+  void snapshot(Snapshot* out) const;  // the newest published state
+
+  struct Corner {
+    std::int32_t configuration = -1;   // stored configuration, -1 if extended
+    std::int32_t displacement = -1;    // configuration whose displacements are shown, -1: zero
+    CornerSource source = CornerSource::kExtended;
+    std::array<double, 3> force{};
+    std::array<double, 9> stiffness{};
+  };
+
+ private:
+  void enter_cell(const std::array<std::int32_t, 3>& base);
+  void resolve_corner(int corner, const std::array<Corner, 8>& old,
+                      const std::array<std::int32_t, 3>& old_base);
+  void walk_to(const std::array<double, 3>& q);
+  void publish(const std::array<double, 3>& probe, const Force& f,
+               const std::array<double, 3>& s);
+
+  const PlaybackFile& file_;
+  Scheme scheme_;
+  std::array<std::int32_t, 3> base_{};  // grid index of corner 0 of the current cell
+  std::array<Corner, 8> corners_{};     // corner c at base + ((c>>2)&1, (c>>1)&1, c&1)
+  std::array<double, 3> last_q_{};      // last probe position, grid units, clamped to the grid
+  std::uint64_t calls_ = 0;
+  std::uint64_t cells_walked_ = 0;
+
+  Snapshot slots_[3];                   // triple buffer: back (writer), middle, front (reader)
+  std::uint32_t back_ = 0;
+  mutable std::uint32_t front_ = 2;
+  mutable std::atomic<std::uint32_t> middle_{1};  // slot index | kFresh
+};
+
+// Vertex positions of the view nodes for a snapshot: reference + blended displacements
+// (trilinear weights of the snapshot's corners). `out` holds 3 * num_view_nodes() floats.
+void deform(const PlaybackFile& file, const Snapshot& snapshot, std::span<float> out);
+// The blended displacements only (3 per view node, mesh units).
+void displacements(const PlaybackFile& file, const Snapshot& snapshot, std::span<float> out);
+
+}  // namespace hapstate

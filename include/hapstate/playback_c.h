@@ -1,0 +1,57 @@
+/* hapstate playback runtime: C interface for haptic frameworks in C or other languages
+ * (docs/playback.md). Link hapstate::playback. Functions that can fail return 0 on success
+ * and -1 on failure, with the reason in the caller's buffer `error` (may be NULL).
+ *
+ *   hs_playback* file; char err[512];
+ *   if (hs_playback_open("state/playback.hsp", &file, err, sizeof err) != 0) { puts(err); ... }
+ *   hs_cursor* cursor = hs_cursor_create(file, HS_SCHEME_HERMITE);
+ *   haptic thread:  hs_cursor_force(cursor, p, f);          no allocation, lock or syscall
+ *   visual thread:  hs_cursor_snapshot(cursor, &s); hs_deform(file, &s, positions);
+ */
+#ifndef HAPSTATE_PLAYBACK_C_H
+#define HAPSTATE_PLAYBACK_C_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct hs_playback hs_playback;
+typedef struct hs_cursor hs_cursor;
+
+enum { HS_SCHEME_TRILINEAR = 0, HS_SCHEME_HERMITE = 1 };
+
+/* What the visual thread needs of a cursor (same layout as hapstate::Snapshot). */
+typedef struct hs_snapshot {
+  uint64_t sequence;
+  double probe[3];
+  double force[3];
+  int32_t corner_configuration[8];
+  double weight[8];
+} hs_snapshot;
+
+int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size);
+int hs_playback_verify(const hs_playback* file, char* error, size_t error_size);
+void hs_playback_close(hs_playback* file);
+int32_t hs_playback_num_view_nodes(const hs_playback* file);
+int32_t hs_playback_num_triangles(const hs_playback* file);
+const float* hs_playback_reference_positions(const hs_playback* file); /* 3 per view node */
+const int32_t* hs_playback_triangles(const hs_playback* file);         /* 3 per triangle */
+void hs_playback_rest_position(const hs_playback* file, double out[3]);
+
+hs_cursor* hs_cursor_create(const hs_playback* file, int scheme); /* NULL on a bad scheme */
+void hs_cursor_destroy(hs_cursor* cursor);
+void hs_cursor_reset(hs_cursor* cursor);
+/* Force (N) at probe position p (mesh units); returns 1 inside the grid, 0 outside. */
+int hs_cursor_force(hs_cursor* cursor, const double p[3], double force[3]);
+void hs_cursor_snapshot(const hs_cursor* cursor, hs_snapshot* out);
+/* positions: 3 * num_view_nodes floats. */
+void hs_deform(const hs_playback* file, const hs_snapshot* snapshot, float* positions);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

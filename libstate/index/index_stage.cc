@@ -1,0 +1,227 @@
+#include "index/index_stage.h"
+
+#include "blobs/blob_store.h"
+#include "hapstate/playback.h"
+#include "playback/file_impl.h"
+#include "playback/writer.h"
+#include "statespace/stage_context.h"
+#include "statespace/stage_record.h"
+#include "util/error.h"
+#include "util/progress.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <memory>
+
+namespace hapstate {
+namespace {
+
+struct Gathered {
+  playback::Content content;
+  std::vector<Configuration> configs;  // in file order
+  ContentHash fingerprint;             // of everything the file is built from
+};
+
+ContentHash fingerprint_of(const std::vector<Configuration>& configs,
+                           const std::vector<Transition>& transitions, const NamedHashes& inputs,
+                           ViewNodes view) {
+  ContentHasher h;
+  for (const auto& [name, hash] : inputs) h.update(name).update(static_cast<std::int64_t>(hash.value));
+  h.update(static_cast<std::int64_t>(view == ViewNodes::kAll));
+  for (const Configuration& c : configs) {
+    h.update(c.id.value()).update(c.checkpoint.value()).update(std::int64_t{c.level.value()});
+    h.update(std::span<const double>(c.force)).update(std::span<const double>(c.stiffness));
+    h.update(std::int64_t{static_cast<int>(c.status)});
+    h.update(c.blob ? c.blob->name : std::string("-"));
+    h.update(c.blob ? static_cast<std::int64_t>(c.blob->segment.value) : std::int64_t{-1});
+  }
+  for (const Transition& t : transitions) {
+    h.update(t.source.value()).update(std::int64_t{t.direction.index()});
+    h.update(std::int64_t{static_cast<int>(t.outcome)}).update(t.target.valid() ? t.target.value() : -1);
+  }
+  return h.value();
+}
+
+Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
+  Catalogue& cat = ctx.catalogue;
+  const GridSpec& grid = ctx.grid;
+  const std::string where = ctx.dir.root.string();
+  Gathered g;
+  playback::Meta& m = g.content.meta;
+  for (int a = 0; a < 3; ++a) {
+    m.origin[a] = grid.origin[a];
+    m.spacing[a] = grid.spacing[a];
+    m.rest_position[a] = ctx.problem.probe_rest[a];
+    m.lo[a] = grid.lo[a];
+    m.dims[a] = grid.hi[a] - grid.lo[a] + 1;
+    if (m.dims[a] < 2)
+      throw InputError(where + ": the workspace holds a single check-point along axis " +
+                       std::string(1, "xyz"[a]) + ": playback needs at least one grid cell");
+  }
+  m.max_force = ctx.scene.probe.max_force;
+  m.unit = ctx.problem.unit;
+  m.probe_mode = static_cast<std::int32_t>(ctx.scene.probe.mode == ProbeMode::kContact
+                                               ? playback::ProbeModeCode::kContact
+                                               : playback::ProbeModeCode::kGrab);
+  m.num_mesh_nodes = ctx.problem.mesh.num_nodes();
+  m.view_all_nodes = view == ViewNodes::kAll;
+  m.scene_hash = ctx.scene_record.hash.value;
+
+  // Grid points and the configurations at them, in (point, level) order.
+  const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
+  std::map<std::int64_t, std::int32_t> point_of_checkpoint;  // checkpoint id -> grid point
+  for (const Checkpoint& c : cat.read_all_checkpoints()) {
+    std::int32_t p = 0;
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) {
+      const int i = c.ijk[a] - m.lo[a];
+      inside = inside && i >= 0 && i < m.dims[a];
+      p = p * m.dims[a] + i;
+    }
+    if (inside) point_of_checkpoint.emplace(c.id.value(), p);
+  }
+  std::vector<std::pair<std::int32_t, Configuration>> ordered;
+  for (Configuration& c : cat.read_all_configurations()) {
+    if (c.status == ConfigStatus::kMerged) continue;
+    const auto p = point_of_checkpoint.find(c.checkpoint.value());
+    if (p == point_of_checkpoint.end()) continue;
+    ordered.emplace_back(p->second, std::move(c));
+  }
+  std::sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : a.second.level.value() < b.second.level.value();
+  });
+  if (ordered.empty()) throw InputError(where + ": no configurations: run hapstate-grid and hapstate-expand first");
+  playback::Content& c = g.content;
+  c.checkpoints.assign(2 * points, 0);
+  for (std::int64_t p = 0; p < points; ++p) c.checkpoints[2 * p] = -1;
+  std::map<std::int64_t, std::int32_t> index_of;  // configuration id -> file index
+  m.rest_configuration = -1;
+  for (std::size_t k = 0; k < ordered.size(); ++k) {
+    const auto& [p, conf] = ordered[k];
+    if (c.checkpoints[2 * p] < 0) c.checkpoints[2 * p] = static_cast<std::int32_t>(k);
+    ++c.checkpoints[2 * p + 1];
+    index_of.emplace(conf.id.value(), static_cast<std::int32_t>(k));
+    c.config_checkpoint.push_back(p);
+    c.config_level.push_back(conf.level.value());
+    c.force.insert(c.force.end(), conf.force.begin(), conf.force.end());
+    c.stiffness.insert(c.stiffness.end(), conf.stiffness.begin(), conf.stiffness.end());
+    if (!conf.blob && m.rest_configuration < 0) {
+      const Checkpoint cp = cat.read_checkpoint(conf.checkpoint);
+      if (cp.ijk == GridIndex{0, 0, 0} && conf.level.value() == 0)
+        m.rest_configuration = static_cast<std::int32_t>(k);
+    }
+    g.configs.push_back(conf);
+  }
+  if (m.rest_configuration < 0)
+    throw InputError(where + ": no zero configuration at the rest check-point (0, 0, 0): run hapstate-grid");
+
+  const std::vector<Transition> transitions = cat.read_all_transitions();
+  c.transitions.assign(26 * ordered.size(), playback::kUndecided);
+  for (const Transition& t : transitions) {
+    const auto s = index_of.find(t.source.value());
+    if (s == index_of.end()) continue;
+    std::int32_t code = playback::kFailed;
+    if (t.outcome == TransitionOutcome::kOutsideGrid) code = playback::kOutsideGrid;
+    if (t.outcome == TransitionOutcome::kReached) {
+      const auto target = index_of.find(t.target.value());
+      code = target == index_of.end() ? playback::kUndecided : target->second;
+    }
+    c.transitions[26 * s->second + t.direction.index()] = code;
+  }
+
+  // View nodes, their reference positions and the surface triangles.
+  const Mesh& mesh = ctx.problem.mesh;
+  std::vector<std::int32_t> view_of(mesh.num_nodes(), -1);
+  if (view == ViewNodes::kAll) {
+    for (int n = 0; n < mesh.num_nodes(); ++n) view_of[n] = n;
+  } else {
+    for (Eigen::Index t = 0; t < mesh.surface.cols(); ++t)
+      for (int r = 0; r < 3; ++r) view_of[mesh.surface(r, t)] = 0;
+    std::int32_t next = 0;
+    for (int n = 0; n < mesh.num_nodes(); ++n)
+      if (view_of[n] == 0) view_of[n] = next++;
+  }
+  for (int n = 0; n < mesh.num_nodes(); ++n) {
+    if (view_of[n] < 0) continue;
+    c.view_nodes.push_back(n);
+    for (int r = 0; r < 3; ++r) c.reference.push_back(static_cast<float>(mesh.nodes(r, n)));
+  }
+  for (Eigen::Index t = 0; t < mesh.surface.cols(); ++t)
+    for (int r = 0; r < 3; ++r) c.triangles.push_back(view_of[mesh.surface(r, t)]);
+  g.fingerprint = fingerprint_of(g.configs, transitions, inputs, view);
+  m.source_hash = g.fingerprint.value;
+  return g;
+}
+
+// Whether `file` opens as a playback file built from `fingerprint`.
+bool up_to_date(const std::filesystem::path& file, const ContentHash& fingerprint) {
+  if (!std::filesystem::exists(file)) return false;
+  try {
+    PlaybackFile f(file);
+    return f.impl().meta->source_hash == fingerprint.value;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+}  // namespace
+
+IndexReport run_index(const IndexOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  StageContext ctx = open_stage_context(options.state);
+  require_stage_run(ctx.catalogue, ctx.dir, "expand");
+  IndexReport report;
+  report.output = options.output.empty() ? ctx.dir.root / "playback.bin" : options.output;
+  const NamedHashes inputs = {{"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
+  Gathered g = gather(ctx, options.view, inputs);
+  report.configurations = static_cast<std::int64_t>(g.configs.size());
+  report.view_nodes = static_cast<std::int64_t>(g.content.view_nodes.size());
+  const std::string params = "output=" + report.output.string() +
+                             " nodes=" + (options.view == ViewNodes::kAll ? "all" : "surface");
+  StageRun run = make_stage_run("index", {{"configurations", g.fingerprint}, {"problem", ctx.problem_hash},
+                                          {"scene", ctx.scene_record.hash}}, params);
+  if (up_to_date(report.output, g.fingerprint)) {
+    report.unchanged = true;
+    report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
+    report.message = "unchanged: " + report.output.string() + " is up to date (" +
+                     std::to_string(report.configurations) + " configurations)";
+    run.outcome = StageOutcome::kUnchanged;
+  } else {
+    BlobStore blobs(ctx.dir.blobs());
+    const int num_nodes = ctx.problem.mesh.num_nodes();
+    const std::vector<std::int32_t> view_nodes = g.content.view_nodes;
+    const std::vector<Configuration>& configs = g.configs;
+    Progress progress("hapstate-index: displacements", static_cast<long long>(configs.size()));
+    g.content.displacements = [&](std::int32_t k, std::span<float> out) {
+      const Configuration& conf = configs[k];
+      if (conf.blob) {
+        const std::vector<float> u = blobs.read_float32(conf.blob->segment, conf.blob->name + "/u");
+        if (static_cast<int>(u.size()) != 3 * num_nodes)
+          throw InputError(ctx.dir.blobs().string() + ": configuration " + std::to_string(conf.id.value()) +
+                           " has " + std::to_string(u.size()) + " displacement values, the mesh needs " +
+                           std::to_string(3 * num_nodes));
+        for (std::size_t v = 0; v < view_nodes.size(); ++v)
+          for (int r = 0; r < 3; ++r) out[3 * v + r] = u[3 * std::size_t(view_nodes[v]) + r];
+      }
+      progress.update(k + 1);
+    };
+    playback::write_file(std::move(g.content), report.output);
+    progress.finish();
+    report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
+    run.outcome = StageOutcome::kOk;
+    char text[256];
+    std::snprintf(text, sizeof text, "%lld configurations, %lld view nodes, %.1f MB",
+                  static_cast<long long>(report.configurations),
+                  static_cast<long long>(report.view_nodes), report.bytes / 1e6);
+    report.message = "wrote " + report.output.string() + ": " + text;
+  }
+  run.ended = now_ms();
+  run.message = report.message;
+  ctx.catalogue.insert_stage_run(run);
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace hapstate

@@ -1,0 +1,35 @@
+// The index stage (hapstate-index): turns a state directory into one playback file
+// (docs/playback.md) for the runtime (include/hapstate/playback.h).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace hapstate {
+
+enum class ViewNodes { kSurface, kAll };
+
+struct IndexOptions {
+  std::filesystem::path state;
+  std::filesystem::path output;         // "" = <state>/playback.bin
+  ViewNodes view = ViewNodes::kSurface;  // whose displacements are stored
+};
+
+struct IndexReport {
+  bool unchanged = false;
+  std::filesystem::path output;
+  std::int64_t configurations = 0;
+  std::int64_t view_nodes = 0;
+  std::int64_t bytes = 0;
+  double seconds = 0;
+  std::string message;
+};
+
+// Writes the playback file atomically (an existing file stays intact until the new one is
+// complete) and records an "index" stage run. Skips ("unchanged") when the file exists, opens,
+// and was built from the same configurations, transitions, problem and options. Throws
+// InputError (nothing written) if the directory is not expanded or is inconsistent.
+IndexReport run_index(const IndexOptions& options);
+
+}  // namespace hapstate

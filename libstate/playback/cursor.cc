@@ -1,0 +1,290 @@
+// HapticCursor: the cell walk, corner resolution and the two interpolation schemes
+// (docs/playback.md). Nothing here allocates, locks or calls the system after construction.
+#include "playback/file_impl.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hapstate {
+namespace {
+
+constexpr std::uint32_t kFresh = 4;  // triple buffer: the middle slot holds an unread snapshot
+
+std::array<std::int32_t, 3> corner_offset(int c) { return {(c >> 2) & 1, (c >> 1) & 1, c & 1}; }
+
+// Direction index (catalogue/direction.h numbering) of grid offset (di, dj, dk).
+int direction_index(int di, int dj, int dk) {
+  const int c = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);
+  return c < 13 ? c : c - 1;
+}
+
+bool finite(const double* v, int n) {
+  for (int k = 0; k < n; ++k)
+    if (!std::isfinite(v[k])) return false;
+  return true;
+}
+
+}  // namespace
+
+HapticCursor::HapticCursor(const PlaybackFile& file, Scheme scheme) : file_(file), scheme_(scheme) {
+  reset();
+}
+
+void HapticCursor::reset() {
+  const PlaybackFile::Impl& f = file_.impl();
+  const playback::Meta& m = *f.meta;
+  const std::int32_t rest = m.rest_configuration;
+  // Grid index of the rest configuration's check-point.
+  std::int32_t g = f.config_checkpoint[rest];
+  const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
+  if (g < 0 || g >= points) g = 0;  // damaged file: any point keeps the cursor defined
+  const std::array<std::int32_t, 3> ijk{m.lo[0] + g / (m.dims[1] * m.dims[2]),
+                                        m.lo[1] + (g / m.dims[2]) % m.dims[1], m.lo[2] + g % m.dims[2]};
+  Corner root;
+  root.configuration = rest;
+  root.displacement = rest;
+  root.source = CornerSource::kStored;
+  for (int r = 0; r < 3; ++r) root.force[r] = f.force[3 * rest + r];
+  for (int r = 0; r < 9; ++r) root.stiffness[r] = f.stiffness[9 * rest + r];
+  if (!finite(root.force.data(), 3) || !finite(root.stiffness.data(), 9)) {
+    root.force = {};
+    root.stiffness = {};
+  }
+  // A one-corner "old cell" holding the rest corner, then resolve the cell around it.
+  std::array<Corner, 8> old{};
+  std::array<std::int32_t, 3> base{};
+  for (int a = 0; a < 3; ++a) base[a] = std::clamp(ijk[a], m.lo[a], m.lo[a] + m.dims[a] - 2);
+  int rest_corner = 0;
+  for (int a = 0; a < 3; ++a) rest_corner |= (ijk[a] - base[a]) << (2 - a);
+  for (int c = 0; c < 8; ++c) old[c].source = CornerSource::kExtended, old[c].configuration = -2;
+  old[rest_corner] = root;
+  base_ = base;
+  corners_ = old;
+  for (int c = 0; c < 8; ++c)
+    if (c != rest_corner) resolve_corner(c, old, base);
+  for (int a = 0; a < 3; ++a) last_q_[a] = ijk[a];
+  calls_ = 0;
+  cells_walked_ = 0;
+  Force zero;
+  std::array<double, 3> s{};
+  for (int a = 0; a < 3; ++a) s[a] = ijk[a] - base_[a];
+  std::array<double, 3> p{};
+  for (int a = 0; a < 3; ++a) p[a] = m.origin[a] + ijk[a] * m.spacing[a];
+  zero.value = root.force;
+  publish(p, zero, s);
+}
+
+// Fills corners_[c] of the cell at base_ from the corners of the previous cell `old` (at
+// old_base) that it shares: a stored transition from a shared stored corner (the straight
+// neighbour first), else an extension of the nearest shared corner. Shared corners were copied.
+void HapticCursor::resolve_corner(int c, const std::array<Corner, 8>& old,
+                                  const std::array<std::int32_t, 3>& old_base) {
+  const PlaybackFile::Impl& f = file_.impl();
+  const auto oc = corner_offset(c);
+  std::array<std::int32_t, 3> target{};
+  for (int a = 0; a < 3; ++a) target[a] = base_[a] + oc[a];
+  // Candidate sources: old corners that are grid neighbours of the target (all corners of two
+  // adjacent cells are), nearest first (taxicab), then by corner number.
+  int order[8];
+  int count = 0;
+  for (int dist = 1; dist <= 3; ++dist)
+    for (int k = 0; k < 8; ++k) {
+      if (old[k].configuration == -2) continue;  // not a corner of the old cell (reset)
+      const auto ok = corner_offset(k);
+      int t = 0;
+      bool neighbour = true;
+      for (int a = 0; a < 3; ++a) {
+        const int d = target[a] - (old_base[a] + ok[a]);
+        neighbour = neighbour && d >= -1 && d <= 1;
+        t += d < 0 ? -d : d;
+      }
+      if (neighbour && t == dist) order[count++] = k;
+    }
+  Corner& out = corners_[c];
+  for (int n = 0; n < count; ++n) {
+    const Corner& src = old[order[n]];
+    if (src.configuration < 0) continue;
+    const auto ok = corner_offset(order[n]);
+    const int d = direction_index(target[0] - old_base[0] - ok[0], target[1] - old_base[1] - ok[1],
+                                  target[2] - old_base[2] - ok[2]);
+    const std::int32_t t = f.transition(src.configuration, d);
+    if (t < 0) continue;
+    Corner r;
+    r.configuration = t;
+    r.displacement = t;
+    r.source = CornerSource::kStored;
+    for (int q = 0; q < 3; ++q) r.force[q] = f.force[3 * std::int64_t(t) + q];
+    for (int q = 0; q < 9; ++q) r.stiffness[q] = f.stiffness[9 * std::int64_t(t) + q];
+    if (!finite(r.force.data(), 3) || !finite(r.stiffness.data(), 9)) continue;
+    out = r;
+    return;
+  }
+  // Extended: first-order Taylor from the nearest shared corner, f + K (P - P_src).
+  const Corner& src = old[order[0]];
+  const auto ok = corner_offset(order[0]);
+  const double* h = f.meta->spacing;
+  Corner e;
+  e.configuration = -1;
+  e.displacement = src.displacement;
+  e.source = CornerSource::kExtended;
+  e.stiffness = src.stiffness;
+  for (int r = 0; r < 3; ++r) {
+    double v = src.force[r];
+    for (int a = 0; a < 3; ++a) v += src.stiffness[3 * r + a] * (target[a] - old_base[a] - ok[a]) * h[a];
+    e.force[r] = v;
+  }
+  out = e;
+}
+
+void HapticCursor::enter_cell(const std::array<std::int32_t, 3>& base) {
+  const std::array<Corner, 8> old = corners_;
+  const std::array<std::int32_t, 3> old_base = base_;
+  base_ = base;
+  bool shared[8];
+  for (int c = 0; c < 8; ++c) {
+    const auto oc = corner_offset(c);
+    int k = 0;
+    shared[c] = true;
+    for (int a = 0; a < 3; ++a) {
+      const int d = base[a] + oc[a] - old_base[a];
+      shared[c] = shared[c] && (d == 0 || d == 1);
+      k |= (d & 1) << (2 - a);
+    }
+    if (shared[c]) corners_[c] = old[k];
+  }
+  for (int c = 0; c < 8; ++c)
+    if (!shared[c]) resolve_corner(c, old, old_base);
+  ++cells_walked_;
+}
+
+// Moves the cell from the one holding last_q_ to the one holding q (both clamped to the
+// grid), one face at a time in the order the straight segment crosses them.
+void HapticCursor::walk_to(const std::array<double, 3>& q) {
+  const playback::Meta& m = *file_.impl().meta;
+  std::array<std::int32_t, 3> target{};
+  for (int a = 0; a < 3; ++a)
+    target[a] = std::clamp(static_cast<std::int32_t>(std::floor(q[a])), m.lo[a], m.lo[a] + m.dims[a] - 2);
+  const std::array<double, 3> q0 = last_q_;
+  while (base_ != target) {
+    int axis = -1;
+    double best = 2.0;
+    for (int a = 0; a < 3; ++a) {
+      if (base_[a] == target[a]) continue;
+      const int step = target[a] > base_[a] ? 1 : -1;
+      const double boundary = step > 0 ? base_[a] + 1 : base_[a];
+      const double dq = q[a] - q0[a];
+      const double t = dq != 0.0 ? (boundary - q0[a]) / dq : 0.0;
+      if (axis < 0 || t < best) axis = a, best = t;
+    }
+    std::array<std::int32_t, 3> next = base_;
+    next[axis] += target[axis] > base_[axis] ? 1 : -1;
+    enter_cell(next);
+  }
+}
+
+Force HapticCursor::force(const std::array<double, 3>& probe) {
+  const PlaybackFile::Impl& f = file_.impl();
+  const playback::Meta& m = *f.meta;
+  std::array<double, 3> q{}, p_clamped{};
+  Force out;
+  for (int a = 0; a < 3; ++a) {
+    double g = (probe[a] - m.origin[a]) / m.spacing[a];
+    if (!std::isfinite(g)) g = last_q_[a];  // a NaN probe keeps the last position
+    const double lo = m.lo[a], hi = m.lo[a] + m.dims[a] - 1;
+    if (g < lo || g > hi) out.inside_grid = false;
+    q[a] = std::clamp(g, lo, hi);
+    p_clamped[a] = m.origin[a] + q[a] * m.spacing[a];
+  }
+  walk_to(q);
+  last_q_ = q;
+
+  std::array<double, 3> s{};
+  for (int a = 0; a < 3; ++a) s[a] = std::clamp(q[a] - base_[a], 0.0, 1.0);
+  // Per-axis bases: value (V) and derivative (D, physical units) for the corner at 0 and at 1.
+  double lin[3][2], val[3][2], der[3][2];
+  for (int a = 0; a < 3; ++a) {
+    const double t = s[a], h = m.spacing[a];
+    lin[a][0] = 1.0 - t;
+    lin[a][1] = t;
+    val[a][1] = t * t * (3.0 - 2.0 * t);
+    val[a][0] = 1.0 - val[a][1];
+    der[a][0] = t * (1.0 - t) * (1.0 - t) * h;
+    der[a][1] = -t * t * (1.0 - t) * h;
+  }
+  std::array<double, 3> value{};
+  std::array<double, 9> k_blend{};
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    const Corner& cc = corners_[c];
+    const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
+    for (int r = 0; r < 9; ++r) k_blend[r] += w * cc.stiffness[r];
+    if (scheme_ == Scheme::kTrilinear) {
+      for (int r = 0; r < 3; ++r) value[r] += w * cc.force[r];
+      continue;
+    }
+    const double vx = val[0][o[0]], vy = val[1][o[1]], vz = val[2][o[2]];
+    const double dx = der[0][o[0]], dy = der[1][o[1]], dz = der[2][o[2]];
+    const double wv = vx * vy * vz, wx = dx * vy * vz, wy = vx * dy * vz, wz = vx * vy * dz;
+    // Cross derivatives, from the stiffness of the corners of the face each one lives on.
+    auto partner = [&](int axis) { return c ^ (4 >> axis); };
+    auto col = [&](int corner, int r, int axis) { return corners_[corner].stiffness[3 * r + axis]; };
+    auto sgn = [&](int axis) { return o[axis] ? 1.0 : -1.0; };
+    for (int r = 0; r < 3; ++r) {
+      double v = wv * cc.force[r] + wx * cc.stiffness[3 * r] + wy * cc.stiffness[3 * r + 1] +
+                 wz * cc.stiffness[3 * r + 2];
+      const int ax[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+      const double wc[3] = {dx * dy * vz, dx * vy * dz, vx * dy * dz};
+      for (int pair = 0; pair < 3; ++pair) {
+        const int a = ax[pair][0], b = ax[pair][1];
+        const double dab = sgn(b) * (col(c, r, a) - col(partner(b), r, a)) / m.spacing[b];
+        const double dba = sgn(a) * (col(c, r, b) - col(partner(a), r, b)) / m.spacing[a];
+        v += wc[pair] * 0.5 * (dab + dba);
+      }
+      value[r] += v;
+    }
+  }
+  if (!out.inside_grid) {
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < 3; ++a) value[r] += k_blend[3 * r + a] * (probe[a] - p_clamped[a]);
+  }
+  for (int r = 0; r < 3; ++r) out.value[r] = std::isfinite(value[r]) ? value[r] : 0.0;
+  ++calls_;
+  publish(probe, out, s);
+  return out;
+}
+
+void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
+                           const std::array<double, 3>& s) {
+  Snapshot& slot = slots_[back_];
+  slot.sequence = calls_;
+  slot.probe = probe;
+  slot.force = f.value;
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    slot.weight[c] = (o[0] ? s[0] : 1 - s[0]) * (o[1] ? s[1] : 1 - s[1]) * (o[2] ? s[2] : 1 - s[2]);
+    slot.corner_configuration[c] = corners_[c].displacement;
+  }
+  back_ = middle_.exchange(back_ | kFresh, std::memory_order_acq_rel) & 3u;
+}
+
+void HapticCursor::snapshot(Snapshot* out) const {
+  if (middle_.load(std::memory_order_acquire) & kFresh)
+    front_ = middle_.exchange(front_, std::memory_order_acq_rel) & 3u;
+  *out = slots_[front_];
+}
+
+std::int32_t HapticCursor::anchor_configuration() const {
+  int c = 0;
+  for (int a = 0; a < 3; ++a) c |= (last_q_[a] - base_[a] >= 0.5 ? 1 : 0) << (2 - a);
+  return corners_[c].configuration;
+}
+
+std::array<std::int32_t, 3> HapticCursor::anchor_checkpoint() const {
+  std::array<std::int32_t, 3> ijk{};
+  for (int a = 0; a < 3; ++a) ijk[a] = base_[a] + (last_q_[a] - base_[a] >= 0.5 ? 1 : 0);
+  return ijk;
+}
+
+static_assert(std::atomic<std::uint32_t>::is_always_lock_free);
+
+}  // namespace hapstate

@@ -1,0 +1,228 @@
+// PlaybackFile: mapping, O(1) validation at open, and verify().
+#include "playback/file_impl.h"
+
+#include "util/error.h"
+#include "util/hash.h"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+namespace hapstate {
+namespace {
+
+using playback::SectionEntry;
+using playback::SectionId;
+
+std::string section_name(SectionId id) {
+  switch (id) {
+    case SectionId::kMeta: return "meta";
+    case SectionId::kCheckpoints: return "checkpoints";
+    case SectionId::kConfigCheckpoint: return "configuration check-points";
+    case SectionId::kConfigLevel: return "configuration levels";
+    case SectionId::kForce: return "forces";
+    case SectionId::kStiffness: return "stiffness";
+    case SectionId::kTransitions: return "transitions";
+    case SectionId::kViewNodes: return "view nodes";
+    case SectionId::kReference: return "reference positions";
+    case SectionId::kTriangles: return "triangles";
+    case SectionId::kDisplacements: return "displacements";
+  }
+  return "section " + std::to_string(static_cast<std::uint32_t>(id));
+}
+
+}  // namespace
+
+PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), impl_(new Impl) {
+  auto fail = [&](const std::string& what) -> void {
+    if (impl_->base) ::munmap(const_cast<std::byte*>(impl_->base), impl_->size);
+    delete impl_;
+    impl_ = nullptr;
+    throw InputError(path_.string() + ": not a usable playback file: " + what);
+  };
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    const int e = errno;
+    delete impl_;
+    throw InputError(path_.string() + ": cannot open: " + std::strerror(e));
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || st.st_size < static_cast<off_t>(sizeof(playback::FileHeader))) {
+    ::close(fd);
+    fail("shorter than the 64-byte header (" + std::to_string(st.st_size) + " bytes)");
+  }
+  impl_->size = static_cast<std::size_t>(st.st_size);
+  void* m = ::mmap(nullptr, impl_->size, PROT_READ, MAP_SHARED, fd, 0);
+  ::close(fd);
+  if (m == MAP_FAILED) fail(std::string("cannot map: ") + std::strerror(errno));
+  Impl& f = *impl_;
+  f.base = static_cast<const std::byte*>(m);
+  f.header = reinterpret_cast<const playback::FileHeader*>(f.base);
+  const playback::FileHeader& h = *f.header;
+  if (std::memcmp(h.magic, playback::kMagic, sizeof(playback::kMagic)) != 0)
+    fail("bad magic at byte 0 (expected HAPSPLAY)");
+  if (h.version != playback::kVersion)
+    fail("format version " + std::to_string(h.version) + ", this build reads version " +
+         std::to_string(playback::kVersion) + " (run hapstate-index again)");
+  const auto header_bytes = std::as_bytes(std::span(&h, 1)).first(offsetof(playback::FileHeader, header_checksum));
+  if (content_hash(header_bytes).value != h.header_checksum) fail("header checksum mismatch");
+  if (h.file_size != f.size)
+    fail("truncated or extended: the header says " + std::to_string(h.file_size) +
+         " bytes, the file has " + std::to_string(f.size));
+  if (h.header_bytes != sizeof(playback::FileHeader) || h.section_entry_bytes != sizeof(SectionEntry) ||
+      h.section_count != playback::kSectionCount)
+    fail("unexpected header or section table layout");
+  const std::uint64_t table_bytes = std::uint64_t{h.section_count} * sizeof(SectionEntry);
+  if (h.section_table_offset % 8 != 0 || h.section_table_offset > f.size ||
+      table_bytes > f.size - h.section_table_offset)
+    fail("section table outside the file");
+  f.table = reinterpret_cast<const SectionEntry*>(f.base + h.section_table_offset);
+  if (content_hash(std::span(f.base + h.section_table_offset, table_bytes)).value !=
+      h.section_table_checksum)
+    fail("section table checksum mismatch");
+
+  const std::byte* data[playback::kSectionCount + 1] = {};
+  std::uint64_t bytes[playback::kSectionCount + 1] = {};
+  for (std::uint32_t s = 0; s < h.section_count; ++s) {
+    const SectionEntry& e = f.table[s];
+    if (e.id < 1 || e.id > playback::kSectionCount || data[e.id])
+      fail("section table entry " + std::to_string(s) + " has a bad or repeated id " + std::to_string(e.id));
+    const std::string name = section_name(static_cast<SectionId>(e.id));
+    if (e.offset % playback::kAlignment != 0) fail("section '" + name + "' is not 64-byte aligned");
+    if (e.offset > f.size || e.bytes > f.size - e.offset)
+      fail("section '" + name + "' (offset " + std::to_string(e.offset) + ", " +
+           std::to_string(e.bytes) + " bytes) runs past the end of the file");
+    data[e.id] = f.base + e.offset;
+    bytes[e.id] = e.bytes;
+  }
+  auto section = [&](SectionId id) { return data[static_cast<int>(id)]; };
+  if (bytes[static_cast<int>(SectionId::kMeta)] != sizeof(playback::Meta)) fail("meta section size");
+  f.meta = reinterpret_cast<const playback::Meta*>(section(SectionId::kMeta));
+  const SectionEntry* meta_entry = nullptr;
+  for (std::uint32_t s = 0; s < h.section_count; ++s)
+    if (f.table[s].id == static_cast<std::uint32_t>(SectionId::kMeta)) meta_entry = &f.table[s];
+  if (content_hash(std::span(section(SectionId::kMeta), sizeof(playback::Meta))).value != meta_entry->checksum)
+    fail("meta section checksum mismatch");
+  const playback::Meta& m2 = *f.meta;
+  for (int a = 0; a < 3; ++a)
+    if (m2.dims[a] < 2 || m2.dims[a] > (1 << 20) || !(m2.spacing[a] > 0) || !std::isfinite(m2.origin[a]))
+      fail("meta: bad grid (dims, spacing or origin) on axis " + std::to_string(a));
+  if (m2.num_configurations < 1 || m2.num_view_nodes < 0 || m2.num_triangles < 0 ||
+      m2.rest_configuration < 0 || m2.rest_configuration >= m2.num_configurations)
+    fail("meta: bad counts");
+  const std::uint64_t n = static_cast<std::uint64_t>(m2.num_configurations);
+  const std::uint64_t v = static_cast<std::uint64_t>(m2.num_view_nodes);
+  const std::uint64_t points = std::uint64_t(m2.dims[0]) * m2.dims[1] * m2.dims[2];
+  const std::pair<SectionId, std::uint64_t> expected[] = {
+      {SectionId::kCheckpoints, 8 * points},      {SectionId::kConfigCheckpoint, 4 * n},
+      {SectionId::kConfigLevel, 4 * n},           {SectionId::kForce, 24 * n},
+      {SectionId::kStiffness, 72 * n},            {SectionId::kTransitions, 104 * n},
+      {SectionId::kViewNodes, 4 * v},             {SectionId::kReference, 12 * v},
+      {SectionId::kTriangles, 12 * std::uint64_t(m2.num_triangles)},
+      {SectionId::kDisplacements, 12 * v * n}};
+  for (const auto& [id, size] : expected)
+    if (bytes[static_cast<int>(id)] != size)
+      fail("section '" + section_name(id) + "' has " + std::to_string(bytes[static_cast<int>(id)]) +
+           " bytes, the header implies " + std::to_string(size));
+  f.checkpoints = reinterpret_cast<const std::int32_t*>(section(SectionId::kCheckpoints));
+  f.config_checkpoint = reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigCheckpoint));
+  f.config_level = reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigLevel));
+  f.force = reinterpret_cast<const double*>(section(SectionId::kForce));
+  f.stiffness = reinterpret_cast<const double*>(section(SectionId::kStiffness));
+  f.transitions = reinterpret_cast<const std::int32_t*>(section(SectionId::kTransitions));
+  f.view_nodes = reinterpret_cast<const std::int32_t*>(section(SectionId::kViewNodes));
+  f.reference = reinterpret_cast<const float*>(section(SectionId::kReference));
+  f.triangles = reinterpret_cast<const std::int32_t*>(section(SectionId::kTriangles));
+  f.displacements = reinterpret_cast<const float*>(section(SectionId::kDisplacements));
+}
+
+PlaybackFile::~PlaybackFile() {
+  if (impl_ && impl_->base) ::munmap(const_cast<std::byte*>(impl_->base), impl_->size);
+  delete impl_;
+}
+
+void PlaybackFile::verify() const {
+  const Impl& f = *impl_;
+  auto fail = [&](const std::string& what) {
+    throw InputError(path_.string() + ": verification failed: " + what);
+  };
+  for (std::uint32_t s = 0; s < f.header->section_count; ++s) {
+    const playback::SectionEntry& e = f.table[s];
+    if (content_hash(std::span(f.base + e.offset, e.bytes)).value != e.checksum)
+      fail("section '" + section_name(static_cast<SectionId>(e.id)) + "' checksum mismatch (offset " +
+           std::to_string(e.offset) + ")");
+  }
+  const playback::Meta& m = *f.meta;
+  const std::int64_t n = m.num_configurations;
+  const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
+  for (std::int64_t g = 0; g < points; ++g) {
+    const std::int32_t first = f.checkpoints[2 * g], count = f.checkpoints[2 * g + 1];
+    if (count < 0 || (count > 0 && (first < 0 || first + std::int64_t(count) > n)))
+      fail("check-point " + std::to_string(g) + ": configuration range out of bounds");
+    for (std::int32_t c = first; count > 0 && c < first + count; ++c)
+      if (f.config_checkpoint[c] != g) fail("configuration " + std::to_string(c) + ": wrong check-point");
+  }
+  for (std::int64_t c = 0; c < n; ++c) {
+    for (int r = 0; r < 3; ++r)
+      if (!std::isfinite(f.force[3 * c + r])) fail("configuration " + std::to_string(c) + ": force not finite");
+    for (int r = 0; r < 9; ++r)
+      if (!std::isfinite(f.stiffness[9 * c + r]))
+        fail("configuration " + std::to_string(c) + ": stiffness not finite");
+    for (int d = 0; d < 26; ++d) {
+      const std::int32_t t = f.transitions[26 * c + d];
+      if (t < playback::kFailed || t >= n)
+        fail("configuration " + std::to_string(c) + ", direction " + std::to_string(d) +
+             ": transition target " + std::to_string(t) + " out of range");
+    }
+  }
+  for (std::int64_t k = 0; k < 3 * std::int64_t(m.num_triangles); ++k)
+    if (f.triangles[k] < 0 || f.triangles[k] >= m.num_view_nodes)
+      fail("triangle " + std::to_string(k / 3) + ": view node out of range");
+  for (std::int64_t k = 0; k < m.num_view_nodes; ++k)
+    if (f.view_nodes[k] < 0 || f.view_nodes[k] >= m.num_mesh_nodes)
+      fail("view node " + std::to_string(k) + ": mesh node out of range");
+}
+
+std::int32_t PlaybackFile::num_configurations() const { return impl_->meta->num_configurations; }
+std::int32_t PlaybackFile::num_view_nodes() const { return impl_->meta->num_view_nodes; }
+std::int32_t PlaybackFile::num_mesh_nodes() const { return impl_->meta->num_mesh_nodes; }
+bool PlaybackFile::view_is_all_nodes() const { return impl_->meta->view_all_nodes != 0; }
+std::span<const std::int32_t> PlaybackFile::view_nodes() const {
+  return {impl_->view_nodes, static_cast<std::size_t>(impl_->meta->num_view_nodes)};
+}
+std::span<const float> PlaybackFile::reference_positions() const {
+  return {impl_->reference, 3 * static_cast<std::size_t>(impl_->meta->num_view_nodes)};
+}
+std::span<const std::int32_t> PlaybackFile::triangles() const {
+  return {impl_->triangles, 3 * static_cast<std::size_t>(impl_->meta->num_triangles)};
+}
+static std::array<double, 3> vec3(const double* v) { return {v[0], v[1], v[2]}; }
+std::array<double, 3> PlaybackFile::rest_position() const { return vec3(impl_->meta->rest_position); }
+std::array<double, 3> PlaybackFile::grid_origin() const { return vec3(impl_->meta->origin); }
+std::array<double, 3> PlaybackFile::grid_spacing() const { return vec3(impl_->meta->spacing); }
+std::array<std::int32_t, 3> PlaybackFile::grid_lo() const {
+  return {impl_->meta->lo[0], impl_->meta->lo[1], impl_->meta->lo[2]};
+}
+std::array<std::int32_t, 3> PlaybackFile::grid_dims() const {
+  return {impl_->meta->dims[0], impl_->meta->dims[1], impl_->meta->dims[2]};
+}
+double PlaybackFile::max_force() const { return impl_->meta->max_force; }
+double PlaybackFile::force_change_bound() const { return impl_->meta->force_change_bound; }
+std::array<double, 3> PlaybackFile::force(std::int32_t c) const { return vec3(impl_->force + 3 * std::int64_t(c)); }
+std::array<double, 9> PlaybackFile::stiffness(std::int32_t c) const {
+  std::array<double, 9> k;
+  std::memcpy(k.data(), impl_->stiffness + 9 * std::int64_t(c), sizeof(k));
+  return k;
+}
+std::span<const float> PlaybackFile::displacements(std::int32_t c) const {
+  const std::size_t v = static_cast<std::size_t>(impl_->meta->num_view_nodes);
+  return {impl_->displacements + 3 * v * static_cast<std::size_t>(c), 3 * v};
+}
+
+}  // namespace hapstate

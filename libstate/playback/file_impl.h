@@ -1,0 +1,48 @@
+// The mapped playback file as the runtime reads it: typed pointers into the mapping.
+#pragma once
+
+#include "hapstate/playback.h"
+#include "playback/format.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+namespace hapstate {
+
+struct PlaybackFile::Impl {
+  const std::byte* base = nullptr;
+  std::size_t size = 0;
+  const playback::FileHeader* header = nullptr;
+  const playback::SectionEntry* table = nullptr;
+  const playback::Meta* meta = nullptr;
+  const std::int32_t* checkpoints = nullptr;       // [first, count] per grid point
+  const std::int32_t* config_checkpoint = nullptr;
+  const std::int32_t* config_level = nullptr;
+  const double* force = nullptr;
+  const double* stiffness = nullptr;
+  const std::int32_t* transitions = nullptr;
+  const std::int32_t* view_nodes = nullptr;
+  const float* reference = nullptr;
+  const std::int32_t* triangles = nullptr;
+  const float* displacements = nullptr;
+
+  // Linear index of grid point ijk (absolute grid indices), or -1 outside the grid.
+  std::int32_t point_index(const std::array<std::int32_t, 3>& ijk) const {
+    std::int32_t g = 0;
+    for (int a = 0; a < 3; ++a) {
+      const std::int32_t i = ijk[a] - meta->lo[a];
+      if (i < 0 || i >= meta->dims[a]) return -1;
+      g = g * meta->dims[a] + i;
+    }
+    return g;
+  }
+  // The target of configuration c's transition in direction d, or -1 if there is none
+  // (undecided, outside, failed, or an index out of range in a damaged file).
+  std::int32_t transition(std::int32_t c, int d) const {
+    const std::int32_t t = transitions[26 * static_cast<std::int64_t>(c) + d];
+    return t >= 0 && t < meta->num_configurations ? t : -1;
+  }
+};
+
+}  // namespace hapstate

@@ -1,0 +1,209 @@
+#include "playback/writer.h"
+
+#include "util/error.h"
+#include "util/hash.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+namespace hapstate::playback {
+namespace {
+
+std::uint64_t align_up(std::uint64_t n) { return (n + kAlignment - 1) / kAlignment * kAlignment; }
+
+// An output file written with pwrite at explicit offsets, hashing each section as it goes.
+class OutFile {
+ public:
+  OutFile(std::filesystem::path path) : path_(std::move(path)) {
+    fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd_ < 0) fail("cannot create");
+  }
+  ~OutFile() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  void write_at(std::uint64_t offset, const void* data, std::size_t bytes) {
+    const char* p = static_cast<const char*>(data);
+    while (bytes > 0) {
+      const ssize_t n = ::pwrite(fd_, p, bytes, static_cast<off_t>(offset));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) fail("cannot write");
+      p += n;
+      offset += static_cast<std::uint64_t>(n);
+      bytes -= static_cast<std::size_t>(n);
+    }
+  }
+  void finish(std::uint64_t size) {
+    if (::ftruncate(fd_, static_cast<off_t>(size)) != 0) fail("cannot size");
+    if (::fsync(fd_) != 0) fail("cannot fsync");
+    if (::close(fd_) != 0) {
+      fd_ = -1;
+      fail("cannot close");
+    }
+    fd_ = -1;
+  }
+  [[noreturn]] void fail(const char* what) const {
+    throw InputError(path_.string() + ": " + what + ": " + std::strerror(errno));
+  }
+
+ private:
+  std::filesystem::path path_;
+  int fd_ = -1;
+};
+
+template <class T>
+std::span<const std::byte> bytes_of(const std::vector<T>& v) {
+  return std::as_bytes(std::span<const T>(v));
+}
+
+void check_content(const Content& c, const std::filesystem::path& file) {
+  const std::size_t n = c.config_checkpoint.size();
+  const std::size_t points = static_cast<std::size_t>(c.meta.dims[0]) * c.meta.dims[1] * c.meta.dims[2];
+  auto bad = [&](const std::string& what) {
+    throw InputError(file.string() + ": cannot write a playback file: " + what);
+  };
+  for (int a = 0; a < 3; ++a) {
+    if (c.meta.dims[a] < 2) bad("the grid needs at least 2 check-points along every axis");
+    if (!(c.meta.spacing[a] > 0)) bad("grid spacing must be positive");
+  }
+  if (c.checkpoints.size() != 2 * points) bad("check-point table size");
+  if (c.config_level.size() != n || c.force.size() != 3 * n || c.stiffness.size() != 9 * n ||
+      c.transitions.size() != 26 * n)
+    bad("configuration table sizes");
+  if (c.reference.size() != 3 * c.view_nodes.size() || c.triangles.size() % 3 != 0)
+    bad("view node table sizes");
+  if (n == 0) bad("no configurations");
+  if (c.meta.rest_configuration < 0 || static_cast<std::size_t>(c.meta.rest_configuration) >= n)
+    bad("no rest configuration");
+  if (!c.displacements) bad("no displacement source");
+}
+
+}  // namespace
+
+double force_change_bound(const Content& c) {
+  const std::size_t n = c.config_checkpoint.size();
+  const int ny = c.meta.dims[1], nz = c.meta.dims[2];
+  auto point_ijk = [&](std::int32_t g) {
+    return std::array<int, 3>{g / (ny * nz), (g / nz) % ny, g % nz};
+  };
+  double slope = 0.0, stiffness = 0.0;
+  for (std::size_t a = 0; a < n; ++a) {
+    double k2 = 0;
+    for (int r = 0; r < 9; ++r) k2 += c.stiffness[9 * a + r] * c.stiffness[9 * a + r];
+    stiffness = std::max(stiffness, std::sqrt(k2));
+    const auto ia = point_ijk(c.config_checkpoint[a]);
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int dk = -1; dk <= 1; ++dk) {
+          const std::array<int, 3> ib{ia[0] + di, ia[1] + dj, ia[2] + dk};
+          if ((di == 0 && dj == 0 && dk == 0) || ib[0] < 0 || ib[1] < 0 || ib[2] < 0 ||
+              ib[0] >= c.meta.dims[0] || ib[1] >= ny || ib[2] >= nz)
+            continue;
+          const std::int32_t g = (ib[0] * ny + ib[1]) * nz + ib[2];
+          const double dist = std::sqrt(std::pow(di * c.meta.spacing[0], 2) +
+                                        std::pow(dj * c.meta.spacing[1], 2) +
+                                        std::pow(dk * c.meta.spacing[2], 2));
+          for (int b = c.checkpoints[2 * g]; b < c.checkpoints[2 * g] + c.checkpoints[2 * g + 1]; ++b) {
+            double d2 = 0;
+            for (int r = 0; r < 3; ++r) d2 += std::pow(c.force[3 * b + r] - c.force[3 * a + r], 2);
+            slope = std::max(slope, std::sqrt(d2) / dist);
+          }
+        }
+  }
+  const double hmax = std::max({c.meta.spacing[0], c.meta.spacing[1], c.meta.spacing[2]});
+  const double hmin = std::min({c.meta.spacing[0], c.meta.spacing[1], c.meta.spacing[2]});
+  return 4.0 * std::sqrt(3.0) * (slope + stiffness) * (hmax / hmin);
+}
+
+void write_file(Content c, const std::filesystem::path& file) {
+  check_content(c, file);
+  const std::size_t n = c.config_checkpoint.size();
+  const std::size_t v = c.view_nodes.size();
+  c.meta.num_configurations = static_cast<std::int32_t>(n);
+  c.meta.num_view_nodes = static_cast<std::int32_t>(v);
+  c.meta.num_triangles = static_cast<std::int32_t>(c.triangles.size() / 3);
+  c.meta.force_change_bound = force_change_bound(c);
+
+  struct Pending {
+    SectionId id;
+    std::uint32_t element_bytes;
+    std::span<const std::byte> data;  // empty for the streamed displacements
+    std::uint64_t bytes;
+  };
+  const std::vector<Meta> meta{c.meta};
+  const Pending pending[kSectionCount] = {
+      {SectionId::kMeta, sizeof(Meta), bytes_of(meta), sizeof(Meta)},
+      {SectionId::kCheckpoints, 8, bytes_of(c.checkpoints), 4 * c.checkpoints.size()},
+      {SectionId::kConfigCheckpoint, 4, bytes_of(c.config_checkpoint), 4 * n},
+      {SectionId::kConfigLevel, 4, bytes_of(c.config_level), 4 * n},
+      {SectionId::kForce, 24, bytes_of(c.force), 24 * n},
+      {SectionId::kStiffness, 72, bytes_of(c.stiffness), 72 * n},
+      {SectionId::kTransitions, 104, bytes_of(c.transitions), 104 * n},
+      {SectionId::kViewNodes, 4, bytes_of(c.view_nodes), 4 * v},
+      {SectionId::kReference, 12, bytes_of(c.reference), 12 * v},
+      {SectionId::kTriangles, 12, bytes_of(c.triangles), 4 * c.triangles.size()},
+      {SectionId::kDisplacements, 12, {}, 12 * v * n},
+  };
+
+  std::filesystem::path tmp = file;
+  tmp += ".tmp-" + std::to_string(::getpid());
+  OutFile out(tmp);
+  try {
+    SectionEntry table[kSectionCount];
+    const std::uint64_t table_offset = align_up(sizeof(FileHeader));
+    std::uint64_t offset = align_up(table_offset + sizeof(table));
+    for (int s = 0; s < kSectionCount; ++s) {
+      const Pending& p = pending[s];
+      table[s] = {static_cast<std::uint32_t>(p.id), p.element_bytes, offset, p.bytes, 0};
+      if (p.id != SectionId::kDisplacements) {
+        out.write_at(offset, p.data.data(), p.data.size());
+        table[s].checksum = content_hash(p.data).value;
+      } else {
+        ContentHasher hasher;
+        std::vector<float> row(3 * v);
+        for (std::size_t k = 0; k < n; ++k) {
+          std::fill(row.begin(), row.end(), 0.0f);
+          c.displacements(static_cast<std::int32_t>(k), row);
+          out.write_at(offset + 12 * v * k, row.data(), 12 * v);
+          hasher.update(std::as_bytes(std::span<const float>(row)));
+        }
+        table[s].checksum = hasher.value().value;
+      }
+      offset = align_up(offset + p.bytes);
+    }
+    FileHeader header{};
+    std::memcpy(header.magic, kMagic, sizeof(kMagic));
+    header.version = kVersion;
+    header.header_bytes = sizeof(FileHeader);
+    header.file_size = offset;
+    header.section_table_offset = table_offset;
+    header.section_count = kSectionCount;
+    header.section_entry_bytes = sizeof(SectionEntry);
+    header.section_table_checksum =
+        content_hash(std::as_bytes(std::span<const SectionEntry>(table))).value;
+    header.header_checksum =
+        content_hash(std::as_bytes(std::span(&header, 1)).first(offsetof(FileHeader, header_checksum)))
+            .value;
+    out.write_at(table_offset, table, sizeof(table));
+    out.write_at(0, &header, sizeof(header));
+    out.finish(offset);
+    std::filesystem::rename(tmp, file);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw;
+  }
+  const int dir = ::open(file.parent_path().empty() ? "." : file.parent_path().c_str(),
+                         O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
+}
+
+}  // namespace hapstate::playback

@@ -1,0 +1,39 @@
+// Writing a playback file (hapstate-index): everything but the displacements is held in
+// memory; the displacements are streamed one configuration at a time.
+#pragma once
+
+#include "playback/format.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <vector>
+
+namespace hapstate::playback {
+
+struct Content {
+  Meta meta{};  // counts are filled in from the vectors below; force_change_bound computed
+  std::vector<std::int32_t> checkpoints;        // 2 per grid point
+  std::vector<std::int32_t> config_checkpoint;  // per configuration
+  std::vector<std::int32_t> config_level;
+  std::vector<double> force;                    // 3 per configuration
+  std::vector<double> stiffness;                // 9 per configuration
+  std::vector<std::int32_t> transitions;        // 26 per configuration
+  std::vector<std::int32_t> view_nodes;
+  std::vector<float> reference;                 // 3 per view node
+  std::vector<std::int32_t> triangles;          // 3 per triangle, view-node indices
+  // Fills `out` (3 per view node) with the displacements of configuration c.
+  std::function<void(std::int32_t c, std::span<float> out)> displacements;
+};
+
+// The bound on |f(p) - f(q)| / |p - q| the cursor keeps (docs/playback.md), from the forces of
+// configurations at neighbouring grid points and the stiffness of every configuration.
+double force_change_bound(const Content& content);
+
+// Writes `content` to `file` atomically: a temporary file in the same directory, fsynced,
+// then renamed over `file` (an existing file stays intact until then). Throws InputError
+// naming the file on an I/O error or inconsistent content.
+void write_file(Content content, const std::filesystem::path& file);
+
+}  // namespace hapstate::playback
