@@ -1,0 +1,225 @@
+// The haptic cursor on the synthetic field (synthetic.h), whose exact force and Jacobian are
+// known everywhere: exactness at check-points, reproduction of linear fields, convergence
+// orders of both schemes, continuity (the documented change bound) with missing corners and
+// outside the grid, fast moves, return to rest, snapshots and deform.
+#include "hapstate/playback.h"
+#include "synthetic.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdio>
+#include <random>
+#include <thread>
+#include <unistd.h>
+
+namespace hapstate {
+namespace {
+
+namespace fs = std::filesystem;
+using test_util::Field;
+
+Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+std::array<double, 3> arr(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
+
+class Cursor : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("hapstate_cursor_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path write(playback::Content content, const std::string& name) {
+    const fs::path f = dir_ / name;
+    playback::write_file(std::move(content), f);
+    return f;
+  }
+  // Max |f - f_exact| (absolute, N) over random points within 1.5 spacings of rest, walking
+  // there in small steps from rest.
+  double max_error(const PlaybackFile& file, Scheme scheme, const Field& field, const Eigen::Vector3d& h) {
+    HapticCursor cursor(file, scheme);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1.5, 1.5);
+    double err = 0;
+    Eigen::Vector3d p = field.origin;
+    for (int n = 0; n < 300; ++n) {
+      const Eigen::Vector3d target = field.origin + Eigen::Vector3d(u(rng) * h[0], u(rng) * h[1], u(rng) * h[2]);
+      for (int s = 1; s <= 10; ++s) cursor.force(arr(p + (target - p) * s / 10.0));
+      p = target;
+      const Eigen::Vector3d f = vec(cursor.force(arr(p)).value);
+      err = std::max(err, (f - field.force(p)).norm());
+    }
+    return err;
+  }
+
+  Field field_;
+  fs::path dir_;
+};
+
+TEST_F(Cursor, ExactAtEveryCheckpoint) {
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  PlaybackFile file(write(test_util::synthetic_content(field_, h), "a.bin"));
+  for (Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    HapticCursor cursor(file, scheme);
+    std::vector<float> u(3 * test_util::kSyntheticViewNodes);
+    for (int i = -2; i <= 2; ++i)
+      for (int j = -2; j <= 2; ++j)
+        for (int k = -2; k <= 2; ++k) {
+          const Eigen::Vector3d p = field_.origin + Eigen::Vector3d(i * h[0], j * h[1], k * h[2]);
+          const Eigen::Vector3d f = vec(cursor.force(arr(p)).value);
+          EXPECT_LE((f - field_.force(p)).norm(), 1e-12 * (1 + field_.force(p).norm())) << i << j << k;
+          EXPECT_EQ(cursor.anchor_checkpoint(), (std::array<std::int32_t, 3>{i, j, k}));
+          Snapshot s;
+          cursor.snapshot(&s);
+          displacements(file, s, u);
+          for (int v = 0; v < test_util::kSyntheticViewNodes; ++v)
+            for (int r = 0; r < 3; ++r)
+              EXPECT_NEAR(u[3 * v + r], test_util::synthetic_displacement(field_, v, p)[r], 1e-6);
+        }
+  }
+}
+
+TEST_F(Cursor, BothSchemesReproduceALinearField) {
+  Field linear = field_;
+  linear.amplitude = 0;
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  PlaybackFile file(write(test_util::synthetic_content(linear, h), "linear.bin"));
+  EXPECT_LE(max_error(file, Scheme::kTrilinear, linear, h), 1e-12);
+  EXPECT_LE(max_error(file, Scheme::kHermite, linear, h), 1e-12);
+}
+
+TEST_F(Cursor, HermiteConvergesFasterThanTrilinear) {
+  // Halving the spacing: trilinear error / 4 (second order), Hermite / 8 or better (third order
+  // with estimated cross derivatives, fourth along the axes).
+  double tri[2], her[2];
+  for (int level = 0; level < 2; ++level) {
+    const Eigen::Vector3d h = Eigen::Vector3d(0.5, 0.4, 0.6) / (level ? 2.0 : 1.0);
+    PlaybackFile file(write(test_util::synthetic_content(field_, h), "conv" + std::to_string(level) + ".bin"));
+    tri[level] = max_error(file, Scheme::kTrilinear, field_, h);
+    her[level] = max_error(file, Scheme::kHermite, field_, h);
+  }
+  RecordProperty("trilinear", std::to_string(tri[0]) + " -> " + std::to_string(tri[1]));
+  RecordProperty("hermite", std::to_string(her[0]) + " -> " + std::to_string(her[1]));
+  std::printf("max error trilinear %.3g -> %.3g, hermite %.3g -> %.3g\n", tri[0], tri[1], her[0], her[1]);
+  EXPECT_GT(tri[0] / tri[1], 3.0);
+  EXPECT_GT(her[0] / her[1], 6.0);
+  EXPECT_LT(her[0], tri[0] / 3);
+  EXPECT_LT(her[1], tri[1] / 6);
+}
+
+// Drives a cursor along a seeded random walk of 1 ms steps (some fast jumps, some excursions
+// outside the grid) and checks the documented bound |Δf| <= B |Δp| and finiteness.
+void check_bound_along_random_walk(const PlaybackFile& file, Scheme scheme, int steps) {
+  HapticCursor cursor(file, scheme);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  const auto o = file.grid_origin(), h = file.grid_spacing();
+  const auto lo = file.grid_lo(), dims = file.grid_dims();
+  Eigen::Vector3d p = vec(file.rest_position()), f_prev = vec(cursor.force(arr(p)).value);
+  const double bound = file.force_change_bound();
+  double worst = 0;
+  for (int s = 0; s < steps; ++s) {
+    Eigen::Vector3d step(n(rng), n(rng), n(rng));
+    step *= (uni(rng) < 0.01 ? 1.0 : 0.03) * h[0];  // 1 % fast moves of about a spacing
+    Eigen::Vector3d next = p + step;
+    for (int a = 0; a < 3; ++a) {  // stay within one spacing outside the grid
+      const double lo_p = o[a] + (lo[a] - 1.0) * h[a], hi_p = o[a] + (lo[a] + dims[a]) * h[a];
+      if (next[a] < lo_p || next[a] > hi_p) next[a] = p[a] - step[a];
+    }
+    const Eigen::Vector3d f = vec(cursor.force(arr(next)).value);
+    ASSERT_TRUE(f.allFinite()) << "step " << s;
+    const double ratio = (f - f_prev).norm() / std::max((next - p).norm(), 1e-300);
+    worst = std::max(worst, ratio);
+    ASSERT_LE((f - f_prev).norm(), bound * (next - p).norm() + 1e-12) << "step " << s;
+    p = next;
+    f_prev = f;
+  }
+  ::testing::Test::RecordProperty("worst_ratio_over_bound", std::to_string(worst / bound));
+}
+
+TEST_F(Cursor, ContinuousWithMissingCornersAndOutsideTheGrid) {
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  playback::Content c = test_util::synthetic_content(field_, h);
+  // The +x half was never expanded, some transitions failed, and check-points with i = 2
+  // were never reached at all.
+  for (int g = 0; g < 125; ++g) {
+    const int i = g / 25 - 2;
+    for (int d = 0; d < 26; ++d) {
+      std::int32_t& t = c.transitions[26 * g + d];
+      if (i >= 1) t = playback::kUndecided;
+      if ((g + d) % 7 == 0) t = playback::kFailed;
+      if (t >= 0 && t / 25 - 2 == 2) t = playback::kUndecided;
+    }
+  }
+  PlaybackFile file(write(std::move(c), "holes.bin"));
+  file.verify();
+  for (Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) check_bound_along_random_walk(file, scheme, 10000);
+  // Near the rest state nothing is missing: still exact at a check-point.
+  HapticCursor cursor(file, Scheme::kHermite);
+  const Eigen::Vector3d p = field_.origin + Eigen::Vector3d(-h[0], 0, h[2]);
+  EXPECT_LE((vec(cursor.force(arr(p)).value) - field_.force(p)).norm(), 1e-12);
+  // In the unreached layer the corners are extended, and marked so.
+  cursor.force(arr(field_.origin + Eigen::Vector3d(1.9 * h[0], 0, 0)));
+  int extended = 0;
+  for (int k = 0; k < 8; ++k) extended += cursor.corner_source(k) == CornerSource::kExtended;
+  EXPECT_GE(extended, 4);
+}
+
+TEST_F(Cursor, OutsideTheGridTheForceIsExtendedContinuously) {
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  PlaybackFile file(write(test_util::synthetic_content(field_, h), "b.bin"));
+  HapticCursor cursor(file, Scheme::kTrilinear);
+  const Eigen::Vector3d edge = field_.origin + Eigen::Vector3d(2 * h[0], 0, 0);
+  const Eigen::Vector3d f_edge = vec(cursor.force(arr(edge)).value);
+  const Force out = cursor.force(arr(edge + Eigen::Vector3d(0.01, 0, 0)));
+  EXPECT_FALSE(out.inside_grid);
+  const Eigen::Vector3d expected = f_edge + field_.jacobian(edge) * Eigen::Vector3d(0.01, 0, 0);
+  EXPECT_LE((vec(out.value) - expected).norm(), 1e-12);
+  check_bound_along_random_walk(file, Scheme::kHermite, 10000);
+}
+
+TEST_F(Cursor, FastMoveWalksTheCellsAndReturnsToRest) {
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  PlaybackFile file(write(test_util::synthetic_content(field_, h), "c.bin"));
+  HapticCursor slow(file, Scheme::kHermite), fast(file, Scheme::kHermite);
+  const Eigen::Vector3d far = field_.origin + Eigen::Vector3d(1.7 * h[0], -1.3 * h[1], 1.9 * h[2]);
+  for (int s = 1; s <= 100; ++s) slow.force(arr(field_.origin + (far - field_.origin) * s / 100.0));
+  const Force f = fast.force(arr(far));
+  EXPECT_EQ(fast.cells_walked(), 4u);  // cell (0, 0, 0) -> (1, -2, 1): one face at a time
+  EXPECT_LE((vec(f.value) - vec(slow.force(arr(far)).value)).norm(), 1e-12);
+  EXPECT_EQ(vec(fast.force(arr(field_.origin)).value).norm(), 0.0);
+  EXPECT_EQ(vec(slow.force(arr(field_.origin)).value).norm(), 0.0);
+}
+
+TEST_F(Cursor, SnapshotsFromAnotherThreadAreConsistent) {
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  PlaybackFile file(write(test_util::synthetic_content(field_, h), "d.bin"));
+  HapticCursor cursor(file, Scheme::kHermite);
+  std::atomic<bool> done{false};
+  std::atomic<int> bad{0}, seen{0};
+  std::thread visual([&] {
+    std::uint64_t last = 0;
+    std::vector<float> pos(3 * test_util::kSyntheticViewNodes);
+    while (!done.load()) {
+      Snapshot s;
+      cursor.snapshot(&s);
+      double w = 0;
+      for (double x : s.weight) w += x;
+      if (s.sequence < last || std::abs(w - 1.0) > 1e-12) ++bad;
+      // The snapshot's force is the force at its probe position (no torn writes).
+      if (s.sequence > 0 && std::abs(s.probe[0] - (1.0 + 1e-4 * static_cast<double>(s.sequence))) > 1e-9) ++bad;
+      deform(file, s, pos);
+      last = s.sequence;
+      ++seen;
+    }
+  });
+  for (int n = 1; n <= 200000; ++n) cursor.force({1.0 + 1e-4 * n, 2.0, 3.0});
+  done = true;
+  visual.join();
+  EXPECT_EQ(bad.load(), 0);
+  EXPECT_GT(seen.load(), 0);
+}
+
+}  // namespace
+}  // namespace hapstate

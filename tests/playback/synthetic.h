@@ -1,0 +1,109 @@
+// A synthetic playback file for the runtime tests: a 5 x 5 x 5 grid (anisotropic spacing)
+// whose configurations carry an analytic force field f(P) and its exact Jacobian, one level
+// each, every transition between neighbours stored, and displacements that are a known
+// function of the check-point. Edits (missing transitions) are applied by the tests.
+#pragma once
+
+#include "playback/writer.h"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+
+namespace hapstate::test_util {
+
+// The field: linear part + smooth non-linear part, zero at the rest position.
+struct Field {
+  Eigen::Matrix3d a;
+  double amplitude = 0.3;
+  Eigen::Vector3d origin{1.0, 2.0, 3.0};
+
+  Field() { a << -2.0, 0.3, 0.1, 0.3, -1.5, 0.2, 0.1, 0.2, -3.0; }
+  Eigen::Vector3d raw(const Eigen::Vector3d& x) const {
+    const Eigen::Vector3d n(std::sin(x[0] + 2 * x[1]), std::cos(x[0] * x[2]) - 1.0, x[0] * x[1] * x[2]);
+    return a * x + amplitude * n;
+  }
+  Eigen::Vector3d force(const Eigen::Vector3d& p) const { return raw(p - origin) - raw(Eigen::Vector3d::Zero()); }
+  Eigen::Matrix3d jacobian(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d x = p - origin;
+    Eigen::Matrix3d n;
+    const double c = std::cos(x[0] + 2 * x[1]), s = std::sin(x[0] * x[2]);
+    n << c, 2 * c, 0, -s * x[2], 0, -s * x[0], x[1] * x[2], x[0] * x[2], x[0] * x[1];
+    return a + amplitude * n;
+  }
+};
+
+inline constexpr int kSyntheticViewNodes = 6;
+
+// Displacement of view node v at check-point position P.
+inline Eigen::Vector3d synthetic_displacement(const Field& field, int v, const Eigen::Vector3d& p) {
+  return (0.1 * (v + 1)) * (p - field.origin) + 0.01 * field.force(p);
+}
+
+// Content of the synthetic file with spacing h (grid indices -2..2 per axis).
+inline playback::Content synthetic_content(const Field& field, const Eigen::Vector3d& h) {
+  playback::Content c;
+  playback::Meta& m = c.meta;
+  for (int a = 0; a < 3; ++a) {
+    m.origin[a] = field.origin[a];
+    m.spacing[a] = h[a];
+    m.rest_position[a] = field.origin[a];
+    m.lo[a] = -2;
+    m.dims[a] = 5;
+  }
+  m.max_force = 10.0;
+  m.unit = 0.01;
+  m.num_mesh_nodes = kSyntheticViewNodes;
+  m.view_all_nodes = 1;
+  auto position = [&](int i, int j, int k) {
+    return Eigen::Vector3d(field.origin[0] + i * h[0], field.origin[1] + j * h[1], field.origin[2] + k * h[2]);
+  };
+  auto index = [](int i, int j, int k) { return ((i + 2) * 5 + (j + 2)) * 5 + (k + 2); };
+  for (int i = -2; i <= 2; ++i)
+    for (int j = -2; j <= 2; ++j)
+      for (int k = -2; k <= 2; ++k) {
+        const int g = index(i, j, k);
+        c.checkpoints.push_back(g);
+        c.checkpoints.push_back(1);
+        c.config_checkpoint.push_back(g);
+        c.config_level.push_back(0);
+        const Eigen::Vector3d p = position(i, j, k);
+        const Eigen::Vector3d f = field.force(p);
+        const Eigen::Matrix3d jac = field.jacobian(p);
+        for (int r = 0; r < 3; ++r) c.force.push_back(f[r]);
+        for (int r = 0; r < 3; ++r)
+          for (int s = 0; s < 3; ++s) c.stiffness.push_back(jac(r, s));
+        for (int di = -1; di <= 1; ++di)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int dk = -1; dk <= 1; ++dk) {
+              if (di == 0 && dj == 0 && dk == 0) continue;
+              const int ti = i + di, tj = j + dj, tk = k + dk;
+              const bool inside = std::abs(ti) <= 2 && std::abs(tj) <= 2 && std::abs(tk) <= 2;
+              c.transitions.push_back(inside ? index(ti, tj, tk) : playback::kOutsideGrid);
+            }
+      }
+  m.rest_configuration = index(0, 0, 0);
+  for (int v = 0; v < kSyntheticViewNodes; ++v) {
+    c.view_nodes.push_back(v);
+    for (int r = 0; r < 3; ++r) c.reference.push_back(static_cast<float>(v + r));
+  }
+  c.triangles = {0, 1, 2, 3, 4, 5};
+  c.displacements = [field, h, position](std::int32_t config, std::span<float> out) {
+    const int i = config / 25 - 2, j = (config / 5) % 5 - 2, k = config % 5 - 2;
+    for (int v = 0; v < kSyntheticViewNodes; ++v) {
+      const Eigen::Vector3d u = synthetic_displacement(field, v, position(i, j, k));
+      for (int r = 0; r < 3; ++r) out[3 * v + r] = static_cast<float>(u[r]);
+    }
+  };
+  return c;
+}
+
+// Grid direction index of offset (di, dj, dk) (catalogue/direction.h numbering).
+inline int direction_of(int di, int dj, int dk) {
+  const int c = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);
+  return c < 13 ? c : c - 1;
+}
+
+}  // namespace hapstate::test_util
