@@ -1,0 +1,15 @@
+// Summary of a sample of timings (hapstate-play's report).
+#pragma once
+
+#include <span>
+
+namespace hapstate::play {
+
+struct Distribution {
+  double median = 0, p99 = 0, p999 = 0, max = 0;  // nearest-rank percentiles
+};
+
+// Sorts `values` in place. All zero for an empty sample.
+Distribution summarize(std::span<double> values);
+
+}  // namespace hapstate::play
