@@ -166,12 +166,23 @@ bool up_to_date(const std::filesystem::path& file, const ContentHash& fingerprin
   }
 }
 
+// The index needs an expansion, complete or partial (stopped by --max-*): the transitions a
+// partial one left undecided are stored as kUndecided and the cursor extends past them.
+void require_expansion(StageContext& ctx) {
+  for (const StageRun& run : ctx.catalogue.read_stage_runs("expand"))
+    if (run.outcome == StageOutcome::kOk || run.outcome == StageOutcome::kUnchanged ||
+        run.outcome == StageOutcome::kPartial)
+      return;
+  throw InputError(ctx.dir.root.string() +
+                   ": hapstate-expand has not run in this state directory yet: run it first");
+}
+
 }  // namespace
 
 IndexReport run_index(const IndexOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   StageContext ctx = open_stage_context(options.state);
-  require_stage_run(ctx.catalogue, ctx.dir, "expand");
+  require_expansion(ctx);
   IndexReport report;
   report.output = options.output.empty() ? ctx.dir.root / "playback.bin" : options.output;
   const NamedHashes inputs = {{"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
