@@ -1,0 +1,138 @@
+#include "eval/eval_report.h"
+
+#include "util/error.h"
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace hapstate {
+namespace {
+
+// The plot script, run by python3 from standard input: argv = csv png title.
+constexpr const char* kPlotScript = R"PY(
+import csv, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+rows = list(csv.DictReader(open(sys.argv[1])))
+steps = [int(r["step"]) for r in rows]
+schemes = [c[:-len("_force_error")] for c in rows[0] if c.endswith("_force_error")]
+fig, ax = plt.subplots(figsize=(7, 4))
+styles = {"trilinear": "-", "hermite": "--"}
+for s in schemes:
+    ls = styles.get(s, ":")
+    ax.plot(steps, [float(r[s + "_force_error"]) for r in rows], "o" + ls, color="C0", label=s + ": force")
+    col = s + "_deformation_error_all"
+    if float(rows[0][col]) < 0:
+        col = s + "_deformation_error_surface"
+    ax.plot(steps, [float(r[col]) for r in rows], "s" + ls, color="C3",
+            label=s + ": deformation" + (" (surface)" if col.endswith("surface") else ""))
+ax.set_xlabel("step of the random probe path")
+ax.set_ylabel("relative error")
+ax.set_xlim(min(steps) - 0.5, max(steps) + 0.5)
+ax.set_ylim(bottom=0)
+ax.grid(True, alpha=0.3)
+ax.legend(fontsize=8)
+ax.set_title(sys.argv[3], fontsize=9)
+fig.tight_layout()
+fig.savefig(sys.argv[2], dpi=120)
+)PY";
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+}  // namespace
+
+void write_eval_csv(const EvalResult& result, const std::filesystem::path& file) {
+  std::ofstream out(file);
+  if (!out) throw InputError(file.string() + ": cannot write");
+  out.precision(12);
+  out << "step,x,y,z,fx_exact,fy_exact,fz_exact,solved";
+  for (Scheme s : result.schemes) {
+    const std::string n = scheme_name(s);
+    out << ',' << n << "_fx," << n << "_fy," << n << "_fz," << n << "_force_error," << n
+        << "_deformation_error_all," << n << "_deformation_error_surface";
+  }
+  out << '\n';
+  for (std::size_t k = 0; k < result.steps.size(); ++k) {
+    const EvalStep& st = result.steps[k];
+    out << k + 1 << ',' << st.probe.x() << ',' << st.probe.y() << ',' << st.probe.z() << ','
+        << st.exact_force.x() << ',' << st.exact_force.y() << ',' << st.exact_force.z() << ','
+        << (st.solved ? 1 : 0);
+    for (const SchemeResult& r : st.schemes)
+      out << ',' << r.force.x() << ',' << r.force.y() << ',' << r.force.z() << ',' << r.force_error << ','
+          << r.deformation_error_all << ',' << r.deformation_error_surface;
+    out << '\n';
+  }
+  if (!out.flush()) throw InputError(file.string() + ": write failed");
+}
+
+std::string eval_table(const EvalResult& result) {
+  std::ostringstream t;
+  char line[256];
+  int solved = 0;
+  double solve_ms = 0;
+  for (const EvalStep& st : result.steps) {
+    solved += st.solved;
+    solve_ms += st.solve_ms;
+  }
+  std::snprintf(line, sizeof line,
+                "%zu steps (%d solved precisely), grid spacing (%.4g, %.4g, %.4g), max |f*| = %.4g N\n",
+                result.steps.size(), solved, result.spacing.x(), result.spacing.y(), result.spacing.z(),
+                result.max_exact_force);
+  t << line;
+  t << "scheme      force error      deformation error (all)   deformation error (surface)   query\n"
+       "            max      mean    max      mean             max      mean                  mean\n";
+  for (std::size_t s = 0; s < result.schemes.size(); ++s) {
+    double fmax = 0, fsum = 0, amax = 0, asum = 0, smax = 0, ssum = 0, qsum = 0;
+    for (const EvalStep& st : result.steps) {
+      if (!st.solved) continue;
+      const SchemeResult& r = st.schemes[s];
+      fmax = std::max(fmax, r.force_error), fsum += r.force_error;
+      amax = std::max(amax, r.deformation_error_all), asum += r.deformation_error_all;
+      smax = std::max(smax, r.deformation_error_surface), ssum += r.deformation_error_surface;
+      qsum += r.query_us;
+    }
+    const double n = std::max(solved, 1);
+    char all[64];
+    if (result.has_all_nodes)
+      std::snprintf(all, sizeof all, "%6.2f %%  %6.2f %%", 100 * amax, 100 * asum / n);
+    else
+      std::snprintf(all, sizeof all, "%-17s", "(not stored)");
+    std::snprintf(line, sizeof line, "%-10s %6.2f %%  %6.2f %%  %s         %6.2f %%  %6.2f %%              %.2f us\n",
+                  scheme_name(result.schemes[s]), 100 * fmax, 100 * fsum / n, all, 100 * smax, 100 * ssum / n,
+                  qsum / n);
+    t << line;
+  }
+  std::snprintf(line, sizeof line, "precise Newton solve: %.2f ms per step (mean)\n",
+                solve_ms / std::max<std::size_t>(result.steps.size(), 1));
+  t << line;
+  t << "paper (Peterlik & Matyska 2007, trilinear): force <= 4 %, deformation <= 14 %\n";
+  for (std::size_t k = 0; k < result.steps.size(); ++k)
+    if (!result.steps[k].solved) t << "step " << k + 1 << ": precise solve failed: " << result.steps[k].failure << '\n';
+  return t.str();
+}
+
+void plot_eval(const std::filesystem::path& csv, const std::filesystem::path& png, const std::string& title) {
+  // Debian's interpreter first: it is the one python3-matplotlib installs into.
+  const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  const std::string command = python + " - " + shell_quote(csv.string()) + " " + shell_quote(png.string()) +
+                              " " + shell_quote(title) + " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "w");
+  if (!pipe) throw InputError(png.string() + ": cannot start " + python + " to plot");
+  std::fputs(kPlotScript, pipe);
+  const int status = ::pclose(pipe);
+  if (status != 0 || !std::filesystem::exists(png))
+    throw InputError(png.string() + ": plotting with " + python +
+                     " and matplotlib failed (install python3-matplotlib); the CSV " + csv.string() +
+                     " holds the numbers");
+}
+
+}  // namespace hapstate

@@ -1,0 +1,106 @@
+#include "eval/evaluation.h"
+
+#include "eval/region_path.h"
+#include "playback/file_impl.h"
+#include "solver/path_solver.h"
+#include "statespace/probe_model.h"
+#include "statespace/stage_context.h"
+#include "util/error.h"
+#include "util/progress.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace hapstate {
+namespace {
+
+// ||a - b|| / ||b|| over the listed view nodes (0 when both are zero).
+double relative_difference(const std::vector<float>& u, const Eigen::Matrix3Xd& exact,
+                           std::span<const std::int32_t> view_nodes, const std::vector<char>& use) {
+  double diff = 0, norm = 0;
+  for (std::size_t v = 0; v < view_nodes.size(); ++v) {
+    if (!use[v]) continue;
+    for (int r = 0; r < 3; ++r) {
+      const double e = exact(r, view_nodes[v]);
+      diff += (u[3 * v + r] - e) * (u[3 * v + r] - e);
+      norm += e * e;
+    }
+  }
+  if (norm == 0) return diff == 0 ? 0.0 : INFINITY;
+  return std::sqrt(diff / norm);
+}
+
+}  // namespace
+
+const char* scheme_name(Scheme scheme) {
+  return scheme == Scheme::kTrilinear ? "trilinear" : "hermite";
+}
+
+EvalResult run_eval(const EvalOptions& options) {
+  StageContext ctx = open_stage_context(options.state);
+  EvalResult result;
+  result.playback = options.playback.empty() ? ctx.dir.root / "playback.bin" : options.playback;
+  const PlaybackFile file(result.playback);
+  if (file.impl().meta->scene_hash != ctx.scene_record.hash.value)
+    throw InputError(result.playback.string() + ": built from another scene than the state directory " +
+                     ctx.dir.root.string() + ": run hapstate-index --state " + ctx.dir.root.string());
+  result.has_all_nodes = file.view_is_all_nodes();
+  const auto h = file.grid_spacing();
+  result.spacing = Eigen::Vector3d(h[0], h[1], h[2]);
+
+  const ProbePath path = options.path_file.empty()
+                             ? precomputed_random_path(file, options.steps,
+                                                       options.step_length > 0 ? options.step_length
+                                                                               : 0.5 * result.spacing.minCoeff(),
+                                                       options.seed)
+                             : read_probe_path(options.path_file);
+
+  // Which view nodes count as surface nodes: those of a surface triangle.
+  const auto view_nodes = file.view_nodes();
+  std::vector<char> all(view_nodes.size(), 1), surface(view_nodes.size(), 0);
+  for (std::int32_t v : file.triangles()) surface[v] = 1;
+  if (!result.has_all_nodes) std::fill(surface.begin(), surface.end(), 1);
+
+  const std::unique_ptr<ProbeModel> probe = make_probe_model(ctx.problem, ctx.scene.probe.mode);
+  PathSolver solver(ctx.problem);
+  std::vector<std::unique_ptr<HapticCursor>> cursors;
+  for (Scheme s : result.schemes) cursors.push_back(std::make_unique<HapticCursor>(file, s));
+  std::vector<float> u(3 * view_nodes.size());
+
+  Progress progress("hapstate-eval: precise solves", static_cast<long long>(path.size()));
+  long long failures = 0;
+  for (const Eigen::Vector3d& p : path) {
+    EvalStep step;
+    step.probe = p;
+    const MoveResult move = probe->move_to(solver, p);
+    step.solved = move.ok;
+    step.failure = move.reason;
+    step.solve_ms = move.wall_ms;
+    failures += move.ok ? 0 : 1;
+    step.exact_force = solver.force_felt();
+    const Eigen::Matrix3Xd exact_u = solver.displacements();
+    for (std::size_t s = 0; s < cursors.size(); ++s) {
+      SchemeResult r;
+      const auto t0 = std::chrono::steady_clock::now();
+      const Force f = cursors[s]->force({p.x(), p.y(), p.z()});
+      r.query_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+      r.force = Eigen::Vector3d(f.value[0], f.value[1], f.value[2]);
+      Snapshot snap;
+      cursors[s]->snapshot(&snap);
+      displacements(file, snap, u);
+      if (result.has_all_nodes) r.deformation_error_all = relative_difference(u, exact_u, view_nodes, all);
+      r.deformation_error_surface = relative_difference(u, exact_u, view_nodes, surface);
+      step.schemes.push_back(r);
+    }
+    if (step.solved) result.max_exact_force = std::max(result.max_exact_force, step.exact_force.norm());
+    result.steps.push_back(std::move(step));
+    progress.update(static_cast<long long>(result.steps.size()), failures);
+  }
+  progress.finish();
+  for (EvalStep& step : result.steps)
+    for (SchemeResult& r : step.schemes)
+      r.force_error = result.max_exact_force > 0 ? (r.force - step.exact_force).norm() / result.max_exact_force : 0.0;
+  return result;
+}
+
+}  // namespace hapstate

@@ -1,0 +1,60 @@
+// hapstate-eval: the paper's experiment (§4, Fig. 2). A probe path is solved precisely (the
+// path solver, step by step from rest) and played back by haptic cursors of each scheme; per
+// step the relative force error |f - f*| / max_path |f*| and the relative deformation error
+// ||u - u*|| / ||u*|| (all nodes when the playback file holds them, and surface nodes).
+#pragma once
+
+#include "hapstate/playback.h"
+#include "io/probe_path.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hapstate {
+
+struct EvalOptions {
+  std::filesystem::path state;
+  std::filesystem::path playback;    // "" = <state>/playback.bin
+  std::filesystem::path path_file;   // a probe path CSV instead of the random path
+  int steps = 20;
+  std::uint64_t seed = 1;
+  double step_length = 0;            // mesh units; 0 = half the smallest grid spacing
+};
+
+struct SchemeResult {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  double force_error = 0;             // |f - f*| / max over the path of |f*|
+  double deformation_error_all = -1;  // ||u - u*|| / ||u*|| over all nodes (-1: not stored)
+  double deformation_error_surface = 0;
+  double query_us = 0;                // time of the force call, microseconds
+};
+
+struct EvalStep {
+  Eigen::Vector3d probe = Eigen::Vector3d::Zero();  // mesh units
+  Eigen::Vector3d exact_force = Eigen::Vector3d::Zero();
+  bool solved = true;
+  std::string failure;                // the solver's reason if !solved
+  double solve_ms = 0;
+  std::vector<SchemeResult> schemes;  // one per EvalResult::schemes
+};
+
+struct EvalResult {
+  std::filesystem::path playback;
+  std::vector<Scheme> schemes{Scheme::kTrilinear, Scheme::kHermite};
+  std::vector<EvalStep> steps;
+  double max_exact_force = 0;         // N
+  bool has_all_nodes = false;
+  Eigen::Vector3d spacing = Eigen::Vector3d::Zero();
+};
+
+// Runs the experiment. Throws InputError naming the file if the state directory or the
+// playback file is unusable or they do not belong together (different scene).
+EvalResult run_eval(const EvalOptions& options);
+
+const char* scheme_name(Scheme scheme);
+
+}  // namespace hapstate
