@@ -1,0 +1,146 @@
+// The whole chain on the beam scene (pipelines/beam/): stages -> hapstate-index -> runtime ->
+// hapstate-eval. Truths: the catalogue's stored forces and the blobs' displacements (read
+// through the state directory, not the playback file), the precise path solver, and the
+// documented change bound.
+#include "../stages/beam_state.h"
+#include "blobs/blob_store.h"
+#include "catalogue/catalogue.h"
+#include "eval/evaluation.h"
+#include "hapstate/playback.h"
+#include "util/error.h"
+#include "walk_bound.h"
+
+#include <gtest/gtest.h>
+
+namespace hapstate {
+namespace {
+
+using namespace test_util;
+
+class BeamPlayback : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = new fs::path(fs::temp_directory_path() / ("hapstate_beam_playback_" + std::to_string(::getpid())));
+    fs::create_directories(*root_);
+    state_ = new fs::path(*root_ / "state");
+    build_beam(*state_, kBeamScene, 2, *root_);
+    const StageResult r = run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "--nodes", "all"}, *root_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*root_);
+    delete root_;
+    delete state_;
+  }
+  static fs::path* root_;
+  static fs::path* state_;
+};
+fs::path* BeamPlayback::root_ = nullptr;
+fs::path* BeamPlayback::state_ = nullptr;
+
+TEST_F(BeamPlayback, SecondIndexRunIsUnchanged) {
+  const auto before = fs::last_write_time(*state_ / "playback.bin");
+  const StageResult r = run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "--nodes", "all"}, *root_);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("unchanged"), std::string::npos) << r.out;
+  EXPECT_EQ(fs::last_write_time(*state_ / "playback.bin"), before);
+  // Other options are another file.
+  const StageResult s = run_stage(HAPSTATE_INDEX_EXE,
+                                  {"--state", state_->string(), "-o", (*root_ / "surface.bin").string()}, *root_);
+  EXPECT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_NE(s.out.find("wrote"), std::string::npos) << s.out;
+  PlaybackFile surface(*root_ / "surface.bin");
+  EXPECT_FALSE(surface.view_is_all_nodes());
+  EXPECT_LT(surface.num_view_nodes(), surface.num_mesh_nodes());
+}
+
+TEST_F(BeamPlayback, EqualsTheStoredConfigurationAtEveryCheckpoint) {
+  PlaybackFile file(*state_ / "playback.bin");
+  file.verify();
+  Catalogue cat(*state_ / "catalogue.sqlite", OpenMode::kReadOnly);
+  BlobStore blobs(*state_ / "blobs");
+  const auto o = file.grid_origin(), h = file.grid_spacing();
+  int checked = 0;
+  std::vector<float> u(3 * file.num_view_nodes());
+  for (Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    for (const Checkpoint& cp : cat.read_all_checkpoints()) {
+      const auto configs = cat.configurations_at(cp.id);
+      if (configs.empty()) continue;
+      const Configuration& c = configs.front();
+      HapticCursor cursor(file, scheme);
+      const std::array<double, 3> p{o[0] + cp.ijk[0] * h[0], o[1] + cp.ijk[1] * h[1], o[2] + cp.ijk[2] * h[2]};
+      // Walk there in 20 steps from rest.
+      const auto rest = file.rest_position();
+      for (int s = 1; s <= 20; ++s)
+        cursor.force({rest[0] + (p[0] - rest[0]) * s / 20, rest[1] + (p[1] - rest[1]) * s / 20,
+                      rest[2] + (p[2] - rest[2]) * s / 20});
+      const Force f = cursor.force(p);
+      const double scale = std::max(1e-12, std::hypot(c.force[0], c.force[1], c.force[2]));
+      for (int r = 0; r < 3; ++r) EXPECT_NEAR(f.value[r], c.force[r], 1e-6 * scale) << cp.ijk[0] << cp.ijk[1] << cp.ijk[2];
+      hapstate::Snapshot snap;
+      cursor.snapshot(&snap);
+      displacements(file, snap, u);
+      const std::vector<double> stored = c.blob ? blobs.read(c.blob->segment, c.blob->name + "/u")
+                                                : std::vector<double>(u.size(), 0.0);
+      double diff = 0, norm = 0;
+      for (std::size_t k = 0; k < u.size(); ++k) diff += std::pow(u[k] - stored[k], 2), norm += stored[k] * stored[k];
+      EXPECT_LE(std::sqrt(diff), 1e-6 * std::sqrt(norm) + 1e-12);
+      // Back to rest: exactly zero force.
+      for (int s = 19; s >= 0; --s)
+        cursor.force({rest[0] + (p[0] - rest[0]) * s / 20, rest[1] + (p[1] - rest[1]) * s / 20,
+                      rest[2] + (p[2] - rest[2]) * s / 20});
+      const Force back = cursor.force(rest);
+      EXPECT_EQ(std::hypot(back.value[0], back.value[1], back.value[2]), 0.0);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 2 * 45);
+}
+
+TEST_F(BeamPlayback, RandomWalkStaysFiniteAndWithinTheBound) {
+  PlaybackFile file(*state_ / "playback.bin");
+  for (Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    const double worst = check_bound_along_random_walk(file, scheme, 10000);
+    RecordProperty(scheme == Scheme::kHermite ? "hermite_worst" : "trilinear_worst", std::to_string(worst));
+    EXPECT_LE(worst, 1.0);
+  }
+}
+
+TEST_F(BeamPlayback, EvalBeatsThePaperAndHermiteBeatsTrilinear) {
+  EvalOptions o;
+  o.state = *state_;
+  o.steps = 20;
+  o.seed = 3;
+  const EvalResult r = run_eval(o);
+  ASSERT_EQ(r.steps.size(), 20u);
+  double worst[2] = {0, 0}, deformation = 0;
+  for (const EvalStep& s : r.steps) {
+    EXPECT_TRUE(s.solved) << s.failure;
+    for (int k = 0; k < 2; ++k) worst[k] = std::max(worst[k], s.schemes[k].force_error);
+    deformation = std::max(deformation, s.schemes[0].deformation_error_all);
+  }
+  std::printf("beam: max force error trilinear %.3g, hermite %.3g; deformation %.3g\n", worst[0], worst[1], deformation);
+  EXPECT_LT(worst[0], 0.04);
+  EXPECT_LT(deformation, 0.14);
+  EXPECT_LT(worst[1], worst[0]);
+  EXPECT_TRUE(r.has_all_nodes);
+}
+
+TEST_F(BeamPlayback, EvalRefusesAPlaybackFileOfAnotherScene) {
+  const fs::path other = *root_ / "other";
+  const std::string scene = beam_variant(*root_, "other.toml", {{"young = 5000.0", "young = 6000.0"}});
+  build_beam(other, scene, 1, *root_);
+  ASSERT_EQ(run_stage(HAPSTATE_INDEX_EXE, {"--state", other.string()}, *root_).exit_code, 0);
+  EvalOptions o;
+  o.state = *state_;
+  o.playback = other / "playback.bin";
+  try {
+    run_eval(o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another scene"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace hapstate
