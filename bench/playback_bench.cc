@@ -1,0 +1,133 @@
+// Playback runtime against the precise solver it replaces (docs/benchmarks.md, "Playback"):
+// haptic force queries along a 1 kHz device path on the liver playback file (trilinear and
+// Hermite), visual frames (snapshot + deform) on the liver surface and on a synthetic
+// 50 653-node mesh, and one precise Newton solve of a liver transition.
+// Run: build/bench/playback_bench [--benchmark_repetitions=5 ...]; HAPSTATE_PLAYBACK=file
+// measures another playback file for the force queries and the liver frame.
+#include "playback_fixtures.h"
+#include "solver/path_solver.h"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace hapstate::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// 1 kHz device motion of ~0.2 mm per tick: 0.02 mesh units (cm) per step.
+constexpr double kDeviceStep = 0.02;
+constexpr int kPathSteps = 100'000;
+
+const std::vector<std::array<double, 3>>& liver_path() {
+  static const auto path = device_path(liver_playback(), kPathSteps, kDeviceStep, 20261122);
+  return path;
+}
+
+double percentile(std::vector<double>& v, double fraction) {
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(v.size())));
+  return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
+}
+
+// Median and p99.9 of `samples` timed calls of `call` (steady_clock around each), as counters
+// "<prefix>median" and "<prefix>p99.9" in `unit` (1e9: ns, 1e6: us). The clock's own cost
+// (an empty timed region) is reported as "clock_ns".
+template <typename Call>
+void timed_counters(benchmark::State& state, int samples, double unit, const std::string& prefix,
+                    Call&& call) {
+  std::vector<double> t(static_cast<std::size_t>(samples)), empty(t.size());
+  for (auto& e : empty) {
+    const auto t0 = Clock::now();
+    const auto t1 = Clock::now();
+    e = std::chrono::duration<double>(t1 - t0).count() * 1e9;
+  }
+  for (int k = 0; k < samples; ++k) {
+    const auto t0 = Clock::now();
+    call(k);
+    const auto t1 = Clock::now();
+    t[static_cast<std::size_t>(k)] = std::chrono::duration<double>(t1 - t0).count() * unit;
+  }
+  state.counters[prefix + "median"] = percentile(t, 0.5);
+  state.counters[prefix + "p99.9"] = percentile(t, 0.999);
+  state.counters["clock_ns"] = percentile(empty, 0.5);
+}
+
+void BM_ForceQuery(benchmark::State& state, Scheme scheme) {
+  const PlaybackFile& file = liver_playback();
+  const auto& path = liver_path();
+  HapticCursor cursor(file, scheme);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(cursor.force(path[i]));
+    i = i + 1 == path.size() ? 0 : i + 1;
+  }
+  cursor.reset();
+  timed_counters(state, static_cast<int>(path.size()), 1e9, "ns_",
+                 [&](int k) { benchmark::DoNotOptimize(cursor.force(path[k])); });
+  state.SetLabel(std::string(scheme == Scheme::kHermite ? "hermite" : "trilinear") + ", liver " +
+                 std::to_string(file.num_configurations()) + " configurations");
+}
+
+// One frame: the snapshot of a cursor inside a cell (8 blended corners) and deform().
+void frame(benchmark::State& state, const PlaybackFile& file, const std::string& name) {
+  HapticCursor cursor(file, Scheme::kHermite);
+  std::array<double, 3> p = file.rest_position();
+  for (int a = 0; a < 3; ++a) p[a] += (0.3 + 0.2 * a) * file.grid_spacing()[a];
+  cursor.force(p);
+  Snapshot snapshot;
+  std::vector<float> positions(3 * static_cast<std::size_t>(file.num_view_nodes()));
+  for (auto _ : state) {
+    cursor.snapshot(&snapshot);
+    deform(file, snapshot, positions);
+    benchmark::DoNotOptimize(positions.data());
+    benchmark::ClobberMemory();
+  }
+  const int samples = file.num_view_nodes() > 10'000 ? 300 : 20'000;
+  timed_counters(state, samples, 1e6, "us_", [&](int) {
+    cursor.snapshot(&snapshot);
+    deform(file, snapshot, positions);
+    benchmark::DoNotOptimize(positions.data());
+    benchmark::ClobberMemory();
+  });
+  state.SetLabel(name + ", " + std::to_string(file.num_view_nodes()) + " view nodes");
+}
+
+void BM_FrameLiver(benchmark::State& state) { frame(state, liver_playback(), "liver surface"); }
+void BM_FrameSynthetic(benchmark::State& state) {
+  frame(state, synthetic_playback(), "synthetic box, all nodes");
+}
+
+// One precise transition as hapstate-expand solves it: the liver at rest, the probe moved to
+// a face-neighbouring check-point (one grid spacing along z), the scene's sub-steps and
+// Newton tolerance.
+void BM_NewtonSolve(benchmark::State& state) {
+  const Problem& problem = liver_problem();
+  PathSolver solver(problem);
+  const Eigen::Vector3d t(0.0, 0.0, liver_playback().grid_spacing()[2]);
+  int iterations = 0;
+  for (auto _ : state) {
+    solver.reset();
+    const MoveResult r = solver.move_to(t);
+    if (!r.ok) state.SkipWithError(r.reason.c_str());
+    iterations = r.iterations;
+  }
+  state.counters["newton_iterations"] = iterations;
+  state.SetLabel("liver " + std::to_string(solver.num_dofs()) + " DOFs, one grid spacing");
+}
+
+BENCHMARK_CAPTURE(BM_ForceQuery, trilinear, Scheme::kTrilinear)->Unit(benchmark::kNanosecond);
+BENCHMARK_CAPTURE(BM_ForceQuery, hermite, Scheme::kHermite)->Unit(benchmark::kNanosecond);
+BENCHMARK(BM_FrameLiver)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FrameSynthetic)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_NewtonSolve)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace hapstate::bench
+
+BENCHMARK_MAIN();
