@@ -1,5 +1,6 @@
 # Make-style staged runs, shared by every bundled scene (include it from pipelines/<scene>/Makefile).
-#   make -C pipelines/<scene>                 import, grid, expand, compact what is out of date
+#   make -C pipelines/<scene>                 import, grid, expand, compact, index what is out of date
+#   make -C pipelines/<scene> eval            the accuracy experiment on the playback file
 #   make -C pipelines/<scene> expand THREADS=2 MAX_SECONDS=600
 #   make -C pipelines/<scene> inspect         summary of the state directory
 # Each stage records the hashes of what it consumed and does nothing when they are unchanged
@@ -11,8 +12,9 @@ THREADS ?= 1
 MAX_SECONDS ?=
 STAGES := $(BUILD)/stages
 
-.PHONY: all import grid expand compact inspect clean
-all: compact
+.PHONY: all import grid expand compact index eval inspect clean
+NODES ?= surface
+all: index
 
 import:
 	$(STAGES)/hapstate-import $(SCENE) --state $(STATE)
@@ -22,6 +24,10 @@ expand: grid
 	$(STAGES)/hapstate-expand --state $(STATE) --threads $(THREADS) $(if $(MAX_SECONDS),--max-seconds $(MAX_SECONDS))
 compact: expand
 	$(STAGES)/hapstate-compact --state $(STATE)
+index: compact
+	$(STAGES)/hapstate-index --state $(STATE) --nodes $(NODES)
+eval: index
+	$(BUILD)/tools/hapstate-eval --state $(STATE)
 inspect:
 	$(BUILD)/tools/hapstate-inspect --state $(STATE) summary
 clean:

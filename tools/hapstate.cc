@@ -1,6 +1,7 @@
 // hapstate: the one-command driver. `hapstate run SCENE` runs the precomputation stages in order
-// (import -> grid -> expand -> compact) on the scene's state directory; every stage skips the
+// (import -> grid -> expand -> compact -> index) on the scene's state directory; every stage skips the
 // work whose inputs have not changed, so re-running does only what is out of date.
+#include "index/index_stage.h"
 #include "maintenance/compact.h"
 #include "statespace/expand_stage.h"
 #include "statespace/grid_stage.h"
@@ -12,6 +13,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -25,6 +27,7 @@ struct RunOptions {
   std::optional<double> max_seconds;
   bool fresh = false;
   bool no_compact = false;
+  ViewNodes view = ViewNodes::kSurface;
   bool quiet = false;
 };
 
@@ -58,6 +61,10 @@ int run_pipeline(const RunOptions& o) {
       text.insert(at + 1, "           ");
     std::printf("  compact: %s", text.c_str());
   }
+  IndexOptions index;
+  index.state = state;
+  index.view = o.view;
+  std::printf("  index:   %s\n", run_index(index).message.c_str());
   return kExitOk;
 }
 
@@ -73,7 +80,7 @@ int main(int argc, char** argv) {
                "mesh or state directory (the stage that found it changed nothing)."};
   app.require_subcommand(1);
   CLI::App* run = app.add_subcommand(
-      "run", "import -> grid -> expand -> compact; each stage skips what is up to date");
+      "run", "import -> grid -> expand -> compact -> index; each stage skips what is up to date");
   run->add_option("scene", o.scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   run->add_option("--state", o.state, "state directory (default: 'state' beside the scene)");
   run->add_option("--threads", o.threads, "expansion worker threads")->check(CLI::Range(1, 1024));
@@ -82,6 +89,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   run->add_flag("--fresh", o.fresh, "start the state directory anew (after validating the scene)");
   run->add_flag("--no-compact", o.no_compact, "skip the compaction stage");
+  run->add_option("--nodes", o.view, "index: store displacements of the surface (default) or all nodes")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, ViewNodes>{{"surface", ViewNodes::kSurface}, {"all", ViewNodes::kAll}}));
   run->add_flag("-q,--quiet", o.quiet, "no progress line");
   try {
     app.parse(argc, argv);
