@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # hapstate-play on the beam scene's playback file (built here by the stage executables): a
 # random walk and a recorded path report every field, write VTU frames and the tick CSV; a
-# missing or truncated playback file and a malformed path exit with code 2.
+# partial expansion is indexed and played; a missing or truncated playback file and a
+# malformed path exit with code 2.
 set -euo pipefail
 build=$1
 source=$2
@@ -44,6 +45,16 @@ recorded=$("$play" --playback "$playback" --path "$work/path.csv" --speed 2 --re
 echo "$recorded"
 grep -q "path: recorded, " <<<"$recorded" || fail "recorded path line"
 grep -Eq "^missed deadlines: [0-9]+ haptic ticks, [0-9]+ frames$" <<<"$recorded" || fail "missed line"
+
+# A partial expansion (stopped by --max-transitions) is indexed and played: the undecided
+# transitions leave corners to be extended.
+partial=$work/partial
+"$build/stages/hapstate-import" "$source/pipelines/beam/scene.toml" --state "$partial" >/dev/null
+"$build/stages/hapstate-grid" --state "$partial" >/dev/null
+"$build/stages/hapstate-expand" --state "$partial" --max-transitions 40 --batch 8 -q
+"$build/stages/hapstate-index" --state "$partial" || fail "index of a partial expansion"
+"$play" --playback "$partial/playback.bin" --random 40 --seed 7 --speed 0.5 | grep -q "^force calls: " ||
+  fail "play on a partial expansion"
 
 expect_bad_input() {
   local what=$1
