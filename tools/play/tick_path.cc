@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace hapstate::play {
 
@@ -15,14 +16,14 @@ TickPath::TickPath(ProbePath points, double speed, double rate)
     throw InputError("--speed must be a positive number of mesh units per second");
   if (!(rate > 0) || !std::isfinite(rate)) throw InputError("--rate must be a positive number of Hz");
   arc_.resize(points_.size());
-  arc_[0] = 0;
-  for (std::size_t i = 1; i < points_.size(); ++i) {
+  for (std::size_t i = 0; i < points_.size(); ++i) {
     if (!points_[i].allFinite())
       throw InputError("probe path point " + std::to_string(i + 1) + " is not finite");
-    arc_[i] = arc_[i - 1] + (points_[i] - points_[i - 1]).norm();
+    arc_[i] = i == 0 ? 0.0 : arc_[i - 1] + (points_[i] - points_[i - 1]).norm();
   }
   const double ticks = std::ceil(duration() * rate_ - 1e-9);
-  if (ticks > 1e9) throw InputError("the path is too long for the speed: over 1e9 ticks");
+  if (ticks > 1e8)
+    throw InputError("the path takes over 1e8 ticks at this speed and rate: raise --speed");
   num_ticks_ = static_cast<std::int64_t>(std::max(0.0, ticks)) + 1;
 }
 
