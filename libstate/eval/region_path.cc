@@ -8,24 +8,6 @@
 namespace hapstate {
 namespace {
 
-// splitmix64: a tiny generator whose output is the same on every platform.
-struct SplitMix {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-};
-
-Eigen::Vector3d random_direction(SplitMix& rng) {
-  const double z = 2.0 * rng.uniform() - 1.0, phi = 2.0 * M_PI * rng.uniform();
-  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
 bool segment_in_region(const PlaybackFile& file, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const auto h = file.grid_spacing();
   const double hmin = std::min({h[0], h[1], h[2]});
@@ -60,14 +42,14 @@ ProbePath precomputed_random_path(const PlaybackFile& file, int steps, double st
   if (!in_precomputed_region(file, p))
     throw InputError(file.path().string() + ": the cell around the rest position is not precomputed "
                      "(some corner has no configuration): run hapstate-expand further");
-  SplitMix rng{seed};
+  RandomDirections rng(seed);
   ProbePath path;
   for (int s = 0; s < steps; ++s) {
     double length = step_length;
     bool moved = false;
     while (!moved && length > 1e-6 * step_length) {
       for (int attempt = 0; attempt < 200 && !moved; ++attempt) {
-        const Eigen::Vector3d next = p + length * random_direction(rng);
+        const Eigen::Vector3d next = p + length * rng.direction();
         if (segment_in_region(file, p, next)) {
           p = next;
           moved = true;

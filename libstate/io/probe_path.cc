@@ -20,18 +20,6 @@ std::vector<std::string> split_commas(const std::string& line) {
   return out;
 }
 
-// splitmix64: a tiny, portable generator (std distributions differ between libraries).
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return (next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
-};
-
 }  // namespace
 
 ProbePath read_probe_path(const std::filesystem::path& file) {
@@ -85,18 +73,30 @@ ProbePath straight_path(const Eigen::Vector3d& from, const Eigen::Vector3d& to, 
   return path;
 }
 
+std::uint64_t RandomDirections::next() {
+  std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+double RandomDirections::uniform() { return (next() >> 11) * (1.0 / 9007199254740992.0); }
+
+Eigen::Vector3d RandomDirections::direction() {
+  const double z = 2.0 * uniform() - 1.0;
+  const double phi = 2.0 * M_PI * uniform();
+  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
 ProbePath random_path(const Eigen::Vector3d& start, int steps, double step_length,
                       const Eigen::Vector3d& box_min, const Eigen::Vector3d& box_max,
                       std::uint64_t seed) {
-  SplitMix64 rng{seed};
+  RandomDirections rng(seed);
   ProbePath path;
   Eigen::Vector3d p = start;
   for (int k = 0; k < steps; ++k) {
-    // Uniform direction on the sphere.
-    const double z = 2.0 * rng.uniform() - 1.0;
-    const double phi = 2.0 * M_PI * rng.uniform();
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    Eigen::Vector3d q = p + step_length * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z);
+    Eigen::Vector3d q = p + step_length * rng.direction();
     for (int c = 0; c < 3; ++c) {
       if (q[c] > box_max[c]) q[c] = 2 * box_max[c] - q[c];
       if (q[c] < box_min[c]) q[c] = 2 * box_min[c] - q[c];

@@ -21,6 +21,19 @@ void write_probe_path(const ProbePath& path, const std::filesystem::path& file);
 // `steps` evenly spaced points from `from` (exclusive) to `to` (inclusive).
 ProbePath straight_path(const Eigen::Vector3d& from, const Eigen::Vector3d& to, int steps);
 
+// Seeded uniformly distributed unit directions, the same sequence on every platform (splitmix64;
+// std distributions differ between standard libraries).
+class RandomDirections {
+ public:
+  explicit RandomDirections(std::uint64_t seed) : state_(seed) {}
+  Eigen::Vector3d direction();
+  double uniform();  // [0, 1)
+
+ private:
+  std::uint64_t next();
+  std::uint64_t state_;
+};
+
 // Seeded random walk of `steps` points starting next to `start`: each step moves by
 // `step_length` in a uniformly random direction; a step that would leave `box` (min, max
 // corners) is reflected back inside. Deterministic for a given seed on every platform.
