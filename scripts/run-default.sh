@@ -1,25 +1,28 @@
 #!/usr/bin/env bash
 # README command 1: installs dependencies, builds, and runs the main job on the bundled default
-# scene (pipelines/liver): the precise solver along a seeded 20-step random probe path, then the
-# staged precomputation of its state space for at most EXPAND_SECONDS (default 120; running the
-# command again resumes it) and a summary of the state directory.
+# scene (pipelines/liver): the whole pipeline import -> grid -> expand -> compact -> index, then
+# the paper's accuracy experiment (hapstate-eval: a seeded 20-step random path solved precisely
+# and played back with both interpolation schemes), its table and where the plot is.
+# EXPAND_SECONDS limits the expansion (default: none; running the command again resumes it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
 build_dir=${BUILD_DIR:-build}
-out=out/liver
-mkdir -p "$out"
-"$build_dir"/tools/hapstate-solve pipelines/liver/scene.toml --random 20 --seed 1 \
-  -o "$out/solve.csv" --vtu "$out/vtu" --timings
+state=pipelines/liver/state
+start=$(date +%s)
+echo "Precomputation of pipelines/liver/scene.toml (resumable; each stage skips what is up to date):"
+"$build_dir"/tools/hapstate run pipelines/liver/scene.toml --threads "$(nproc)" --nodes all \
+  ${EXPAND_SECONDS:+--max-seconds "$EXPAND_SECONDS"} -q
+echo "precomputation: $(( $(date +%s) - start )) s"
 echo
-echo "Force felt along the path (N):"
-awk -F, '{ printf "%-5s %9s %9s %9s %12s %12s %12s %6s %s\n", $1, $2, $3, $4, $5, $6, $7, $9, $13 }' \
-  "$out/solve.csv"
+"$build_dir"/tools/hapstate-inspect --state "$state" summary
 echo
-echo "Results: $out/solve.csv; deformed meshes for ParaView: $out/vtu/path.pvd"
+echo "Accuracy of playback against the precise solver (the paper's experiment, Fig. 2):"
+"$build_dir"/tools/hapstate-eval --state "$state" --steps 20 --seed 1
 echo
-echo "State-space precomputation (import -> grid -> expand -> compact), resumable:"
-"$build_dir"/tools/hapstate run pipelines/liver/scene.toml --threads "$(nproc)" \
-  --max-seconds "${EXPAND_SECONDS:-120}" -q
-"$build_dir"/tools/hapstate-inspect --state pipelines/liver/state summary
+echo "Playback at 1 kHz (real-time paced) with a 60 Hz visual thread, 5 s along a random path:"
+"$build_dir"/tools/hapstate-play --playback "$state/playback.bin" --random 40 --seed 1 --speed 2 \
+  --realtime --frames out/liver/frames --frame-every 30
+echo "frames for ParaView: out/liver/frames/frames.pvd"
+echo "total: $(( $(date +%s) - start )) s"

@@ -30,7 +30,9 @@ TEST(LiverScene, Parses) {
   EXPECT_EQ(s.probe.point, Eigen::Vector3d(-2.5, 3.5, 2.2));
   EXPECT_FALSE(s.probe.radius);
   EXPECT_EQ(s.probe.max_force, 3.0);
-  EXPECT_EQ(s.grid.spacing, Eigen::Vector3d::Constant(0.25));
+  EXPECT_EQ(s.grid.spacing, Eigen::Vector3d::Constant(0.5));
+  ASSERT_TRUE(s.grid.box);  // 1.5 cm (3 spacings) each way around the grabbed node
+  EXPECT_NEAR(s.grid.box->max.x() - s.grid.box->min.x(), 3.02, 1e-12);
   EXPECT_EQ(s.solver.substeps, 4);
   EXPECT_EQ(s.solver.tolerance, 1e-8);
   EXPECT_EQ(s.solver.max_iterations, 30);
