@@ -18,6 +18,7 @@ import csv, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import matplotlib.ticker
 rows = list(csv.DictReader(open(sys.argv[1])))
 steps = [int(r["step"]) for r in rows]
 schemes = [c[:-len("_force_error")] for c in rows[0] if c.endswith("_force_error")]
@@ -34,6 +35,7 @@ for s in schemes:
 ax.set_xlabel("step of the random probe path")
 ax.set_ylabel("relative error")
 ax.set_xlim(min(steps) - 0.5, max(steps) + 0.5)
+ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
 ax.set_ylim(bottom=0)
 ax.grid(True, alpha=0.3)
 ax.legend(fontsize=8)
