@@ -26,9 +26,11 @@ bool in_precomputed_region(const PlaybackFile& file, const Eigen::Vector3d& p) {
   for (int a = 0; a < 3; ++a) {
     const double q = (p[a] - m.origin[a]) / m.spacing[a];
     if (!(q >= m.lo[a] && q <= m.lo[a] + m.dims[a] - 1)) return false;
-    base[a] = std::min(static_cast<std::int32_t>(std::floor(q)), m.lo[a] + m.dims[a] - 2);
+    base[a] = std::min(static_cast<std::int32_t>(std::floor(q)), f.last_cell(a));
   }
   for (int c = 0; c < 8; ++c) {
+    // Along an axis with a single check-point the cell is flat: only its first corners count.
+    if ((m.dims[0] == 1 && (c & 4)) || (m.dims[1] == 1 && (c & 2)) || (m.dims[2] == 1 && (c & 1))) continue;
     const std::int32_t g = f.point_index({base[0] + ((c >> 2) & 1), base[1] + ((c >> 1) & 1), base[2] + (c & 1)});
     if (g < 0 || f.checkpoints[2 * g + 1] <= 0) return false;
   }

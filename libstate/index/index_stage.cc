@@ -56,9 +56,6 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
     m.rest_position[a] = ctx.problem.probe_rest[a];
     m.lo[a] = grid.lo[a];
     m.dims[a] = grid.hi[a] - grid.lo[a] + 1;
-    if (m.dims[a] < 2)
-      throw InputError(where + ": the workspace holds a single check-point along axis " +
-                       std::string(1, "xyz"[a]) + ": playback needs at least one grid cell");
   }
   m.max_force = ctx.scene.probe.max_force;
   m.unit = ctx.problem.unit;

@@ -53,7 +53,7 @@ void HapticCursor::reset() {
   // A one-corner "old cell" holding the rest corner, then resolve the cell around it.
   std::array<Corner, 8> old{};
   std::array<std::int32_t, 3> base{};
-  for (int a = 0; a < 3; ++a) base[a] = std::clamp(ijk[a], m.lo[a], m.lo[a] + m.dims[a] - 2);
+  for (int a = 0; a < 3; ++a) base[a] = std::clamp(ijk[a], m.lo[a], f.last_cell(a));
   int rest_corner = 0;
   for (int a = 0; a < 3; ++a) rest_corner |= (ijk[a] - base[a]) << (2 - a);
   for (int c = 0; c < 8; ++c) old[c].source = CornerSource::kExtended, old[c].configuration = -2;
@@ -163,7 +163,7 @@ void HapticCursor::walk_to(const std::array<double, 3>& q) {
   const playback::Meta& m = *file_.impl().meta;
   std::array<std::int32_t, 3> target{};
   for (int a = 0; a < 3; ++a)
-    target[a] = std::clamp(static_cast<std::int32_t>(std::floor(q[a])), m.lo[a], m.lo[a] + m.dims[a] - 2);
+    target[a] = std::clamp(static_cast<std::int32_t>(std::floor(q[a])), m.lo[a], file_.impl().last_cell(a));
   const std::array<double, 3> q0 = last_q_;
   while (base_ != target) {
     int axis = -1;

@@ -111,7 +111,7 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     fail("meta section checksum mismatch");
   const playback::Meta& m2 = *f.meta;
   for (int a = 0; a < 3; ++a)
-    if (m2.dims[a] < 2 || m2.dims[a] > (1 << 20) || !(m2.spacing[a] > 0) || !std::isfinite(m2.origin[a]))
+    if (m2.dims[a] < 1 || m2.dims[a] > (1 << 20) || !(m2.spacing[a] > 0) || !std::isfinite(m2.origin[a]))
       fail("meta: bad grid (dims, spacing or origin) on axis " + std::to_string(a));
   if (m2.num_configurations < 1 || m2.num_view_nodes < 0 || m2.num_triangles < 0 ||
       m2.rest_configuration < 0 || m2.rest_configuration >= m2.num_configurations)

@@ -37,6 +37,9 @@ struct PlaybackFile::Impl {
     }
     return g;
   }
+  // Grid index of the last cell's first corner along axis a: a cell spans [base, base + 1];
+  // with a single check-point along an axis the cell is degenerate there (s = 0 always).
+  std::int32_t last_cell(int a) const { return meta->lo[a] + (meta->dims[a] > 1 ? meta->dims[a] - 2 : 0); }
   // The target of configuration c's transition in direction d, or -1 if there is none
   // (undecided, outside, failed, or an index out of range in a damaged file).
   std::int32_t transition(std::int32_t c, int d) const {

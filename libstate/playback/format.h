@@ -75,7 +75,7 @@ struct Meta {
   double unit;               // metres per mesh unit
   double force_change_bound; // N per mesh unit (docs/playback.md)
   std::int32_t lo[3];        // grid index of the first grid point per axis
-  std::int32_t dims[3];      // grid points per axis, >= 2
+  std::int32_t dims[3];      // grid points per axis, >= 1
   std::int32_t probe_mode;   // ProbeModeCode
   std::int32_t rest_configuration;
   std::int32_t num_configurations;

@@ -68,7 +68,7 @@ void check_content(const Content& c, const std::filesystem::path& file) {
     throw InputError(file.string() + ": cannot write a playback file: " + what);
   };
   for (int a = 0; a < 3; ++a) {
-    if (c.meta.dims[a] < 2) bad("the grid needs at least 2 check-points along every axis");
+    if (c.meta.dims[a] < 1) bad("the grid needs at least 1 check-point along every axis");
     if (!(c.meta.spacing[a] > 0)) bad("grid spacing must be positive");
   }
   if (c.checkpoints.size() != 2 * points) bad("check-point table size");

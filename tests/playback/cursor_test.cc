@@ -140,6 +140,28 @@ TEST_F(Cursor, ContinuousWithMissingCornersAndOutsideTheGrid) {
   EXPECT_GE(extended, 4);
 }
 
+TEST_F(Cursor, PlanarWorkspaceWithOneCheckpointAlongAnAxis) {
+  // A workspace flat in z: in the plane the cursor interpolates in x and y; off the plane the
+  // force is extended with the stiffness (as outside any grid).
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  PlaybackFile file(write(test_util::synthetic_content(field_, h, true), "flat.bin"));
+  file.verify();
+  EXPECT_EQ(file.grid_dims()[2], 1);
+  for (Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    HapticCursor cursor(file, scheme);
+    const Eigen::Vector3d p = field_.origin + Eigen::Vector3d(1.0 * h[0], -2.0 * h[1], 0);
+    for (int s = 1; s <= 10; ++s) cursor.force(arr(field_.origin + (p - field_.origin) * s / 10.0));
+    EXPECT_LE((vec(cursor.force(arr(p)).value) - field_.force(p)).norm(), 1e-12);
+    const Force off = cursor.force(arr(p + Eigen::Vector3d(0, 0, 0.01)));
+    EXPECT_FALSE(off.inside_grid);
+    EXPECT_LE((vec(off.value) - field_.force(p) - field_.jacobian(p) * Eigen::Vector3d(0, 0, 0.01)).norm(), 1e-12);
+    // Between check-points in the plane: close to the field (second order in the spacing).
+    const Eigen::Vector3d mid = field_.origin + Eigen::Vector3d(0.5 * h[0], -1.5 * h[1], 0);
+    EXPECT_LE((vec(cursor.force(arr(mid)).value) - field_.force(mid)).norm(), 0.05);
+  }
+  RecordProperty("worst", std::to_string(check_bound_along_random_walk(file, Scheme::kHermite, 10000)));
+}
+
 TEST_F(Cursor, OutsideTheGridTheForceIsExtendedContinuously) {
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
   PlaybackFile file(write(test_util::synthetic_content(field_, h), "b.bin"));

@@ -42,16 +42,18 @@ inline Eigen::Vector3d synthetic_displacement(const Field& field, int v, const E
   return (0.1 * (v + 1)) * (p - field.origin) + 0.01 * field.force(p);
 }
 
-// Content of the synthetic file with spacing h (grid indices -2..2 per axis).
-inline playback::Content synthetic_content(const Field& field, const Eigen::Vector3d& h) {
+// Content of the synthetic file with spacing h (grid indices -2..2 per axis; with flat_z only
+// k = 0 along z: a planar workspace).
+inline playback::Content synthetic_content(const Field& field, const Eigen::Vector3d& h, bool flat_z = false) {
+  const int klo = flat_z ? 0 : -2, nk = flat_z ? 1 : 5;
   playback::Content c;
   playback::Meta& m = c.meta;
   for (int a = 0; a < 3; ++a) {
     m.origin[a] = field.origin[a];
     m.spacing[a] = h[a];
     m.rest_position[a] = field.origin[a];
-    m.lo[a] = -2;
-    m.dims[a] = 5;
+    m.lo[a] = a == 2 ? klo : -2;
+    m.dims[a] = a == 2 ? nk : 5;
   }
   m.max_force = 10.0;
   m.unit = 0.01;
@@ -60,10 +62,10 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
   auto position = [&](int i, int j, int k) {
     return Eigen::Vector3d(field.origin[0] + i * h[0], field.origin[1] + j * h[1], field.origin[2] + k * h[2]);
   };
-  auto index = [](int i, int j, int k) { return ((i + 2) * 5 + (j + 2)) * 5 + (k + 2); };
+  auto index = [=](int i, int j, int k) { return ((i + 2) * 5 + (j + 2)) * nk + (k - klo); };
   for (int i = -2; i <= 2; ++i)
     for (int j = -2; j <= 2; ++j)
-      for (int k = -2; k <= 2; ++k) {
+      for (int k = klo; k < klo + nk; ++k) {
         const int g = index(i, j, k);
         c.checkpoints.push_back(g);
         c.checkpoints.push_back(1);
@@ -80,7 +82,7 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
             for (int dk = -1; dk <= 1; ++dk) {
               if (di == 0 && dj == 0 && dk == 0) continue;
               const int ti = i + di, tj = j + dj, tk = k + dk;
-              const bool inside = std::abs(ti) <= 2 && std::abs(tj) <= 2 && std::abs(tk) <= 2;
+              const bool inside = std::abs(ti) <= 2 && std::abs(tj) <= 2 && tk >= klo && tk < klo + nk;
               c.transitions.push_back(inside ? index(ti, tj, tk) : playback::kOutsideGrid);
             }
       }
@@ -90,8 +92,8 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
     for (int r = 0; r < 3; ++r) c.reference.push_back(static_cast<float>(v + r));
   }
   c.triangles = {0, 1, 2, 3, 4, 5};
-  c.displacements = [field, h, position](std::int32_t config, std::span<float> out) {
-    const int i = config / 25 - 2, j = (config / 5) % 5 - 2, k = config % 5 - 2;
+  c.displacements = [field, h, position, nk, klo](std::int32_t config, std::span<float> out) {
+    const int i = config / (5 * nk) - 2, j = (config / nk) % 5 - 2, k = config % nk + klo;
     for (int v = 0; v < kSyntheticViewNodes; ++v) {
       const Eigen::Vector3d u = synthetic_displacement(field, v, position(i, j, k));
       for (int r = 0; r < 3; ++r) out[3 * v + r] = static_cast<float>(u[r]);
