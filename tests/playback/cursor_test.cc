@@ -9,10 +9,25 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cstdlib>
+#include <new>
 #include <cstdio>
 #include <random>
 #include <thread>
 #include <unistd.h>
+
+// Counts heap allocations while `g_counting` is set (this test binary replaces operator new;
+// GCC cannot see that the replaced delete matches it and warns falsely).
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+static std::atomic<bool> g_counting{false};
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  if (g_counting.load(std::memory_order_relaxed)) ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace hapstate {
 namespace {
@@ -186,6 +201,36 @@ TEST_F(Cursor, FastMoveWalksTheCellsAndReturnsToRest) {
   EXPECT_LE((vec(f.value) - vec(slow.force(arr(far)).value)).norm(), 1e-12);
   EXPECT_EQ(vec(fast.force(arr(field_.origin)).value).norm(), 0.0);
   EXPECT_EQ(vec(slow.force(arr(field_.origin)).value).norm(), 0.0);
+}
+
+TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  playback::Content c = test_util::synthetic_content(field_, h);
+  for (int d = 0; d < 26 * 125; d += 5) c.transitions[d] = playback::kFailed;  // extended corners too
+  PlaybackFile file(write(std::move(c), "alloc.bin"));
+  HapticCursor cursor(file, Scheme::kHermite);
+  std::vector<float> pos(3 * test_util::kSyntheticViewNodes);
+  Snapshot s;
+  g_allocations = 0;
+  g_counting = true;
+  for (int n = 0; n < 20000; ++n) {
+    const double t = 1e-3 * n;
+    cursor.force({1.0 + 1.2 * std::sin(t), 2.0 + 0.9 * std::cos(1.3 * t), 3.0 + 1.5 * std::sin(0.7 * t)});
+    if (n % 16 == 0) {
+      cursor.snapshot(&s);
+      deform(file, s, pos);
+    }
+  }
+  cursor.set_scheme(Scheme::kTrilinear);
+  for (int n = 0; n < 1000; ++n) cursor.force({1.0 + 3e-3 * n, 2.0, 3.0});
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  // The counter does count (the check above can fail).
+  g_counting = true;
+  { std::vector<int> v(10); }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 1);
+  EXPECT_GT(cursor.cells_walked(), 10u);
 }
 
 TEST_F(Cursor, SnapshotsFromAnotherThreadAreConsistent) {
