@@ -49,6 +49,15 @@ TEST_F(BeamPlayback, SecondIndexRunIsUnchanged) {
                                   {"--state", state_->string(), "-o", (*root_ / "surface.bin").string()}, *root_);
   EXPECT_EQ(s.exit_code, 0) << s.err;
   EXPECT_NE(s.out.find("wrote"), std::string::npos) << s.out;
+  const StageResult v = run_stage(HAPSTATE_INDEX_EXE, {"--verify", (*root_ / "surface.bin").string()}, *root_);
+  EXPECT_EQ(v.exit_code, 0) << v.err;
+  EXPECT_NE(v.out.find("ok: 45 configurations on a 5 x 3 x 3 grid"), std::string::npos) << v.out;
+  std::filesystem::resize_file(*root_ / "surface.bin", 3000);
+  const StageResult t = run_stage(HAPSTATE_INDEX_EXE, {"--verify", (*root_ / "surface.bin").string()}, *root_);
+  EXPECT_EQ(t.exit_code, 2);
+  EXPECT_NE(t.err.find("truncated"), std::string::npos) << t.err;
+  ASSERT_EQ(run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "-o", (*root_ / "surface.bin").string()},
+                      *root_).exit_code, 0);
   PlaybackFile surface(*root_ / "surface.bin");
   EXPECT_FALSE(surface.view_is_all_nodes());
   EXPECT_LT(surface.num_view_nodes(), surface.num_mesh_nodes());
