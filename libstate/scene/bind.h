@@ -23,6 +23,11 @@ MaterialConstants resolve_material(const SceneMaterial& material);
 // must not overlap the body's surface nodes, and the fixed DOFs alone must hold the body.
 Problem bind_scene(const Scene& scene, Mesh mesh);
 
+// The contact sphere of radius `radius` on `mesh`: candidates are the surface nodes none of
+// whose DOFs is fixed (`role`), ascending.
+ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role,
+                                  double radius);
+
 // load_mesh(scene.mesh.file, report) then bind_scene.
 Problem build_problem(const Scene& scene, MeshReport* report = nullptr);
 

@@ -106,13 +106,7 @@ std::vector<int> select_grabbed(const SceneProbe& probe, const Mesh& mesh,
 // node cannot be held by the sticking sphere); the sphere at rest must not overlap the body.
 ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
                            const std::vector<DofRole>& role, Diagnostics& diagnostics) {
-  ContactSphere sphere;
-  sphere.radius = *probe.radius;
-  for (int n : surface_nodes(mesh)) {
-    bool fixed = false;
-    for (int k = 0; k < 3; ++k) fixed = fixed || role[static_cast<size_t>(3 * n + k)] != DofRole::kFree;
-    if (!fixed) sphere.candidates.push_back(n);
-  }
+  ContactSphere sphere = make_contact_sphere(mesh, role, *probe.radius);
   if (sphere.candidates.empty()) {
     diagnostics.add(probe.line, "probe: contact: " + mesh_name(mesh) +
                                     " has no surface node without fixed components to touch");
@@ -133,6 +127,18 @@ ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
 }
 
 }  // namespace
+
+ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role,
+                                  double radius) {
+  ContactSphere sphere;
+  sphere.radius = radius;
+  for (int n : surface_nodes(mesh)) {
+    bool fixed = false;
+    for (int k = 0; k < 3; ++k) fixed = fixed || role[static_cast<size_t>(3 * n + k)] != DofRole::kFree;
+    if (!fixed) sphere.candidates.push_back(n);
+  }
+  return sphere;
+}
 
 Problem bind_scene(const Scene& scene, Mesh mesh) {
   Diagnostics diagnostics(scene.path.string());
