@@ -16,25 +16,26 @@ ContactSet::ContactSet(const Eigen::Matrix3Xd& reference, const ContactSphere& s
       is_candidate_(static_cast<std::size_t>(reference.cols()), 0),
       centre_rest_(centre_rest) {
   for (int n : candidates_) is_candidate_[static_cast<std::size_t>(n)] = 1;
-  deformed_.resize(3, static_cast<Eigen::Index>(candidates_.size()));
 }
 
 Eigen::Vector3d ContactSet::prescribed(int k, const Eigen::Vector3d& centre) const {
   return centre + anchors_[static_cast<std::size_t>(k)] - reference_.col(touched_[k]);
 }
 
+// The deformed surface moves between queries, so any index would be rebuilt every time; a
+// plain scan is measured faster than rebuilding our grid hash or a k-d tree
+// (bench/contact_bench, docs/contact.md).
 std::vector<int> ContactSet::penetrating(const Eigen::VectorXd& u_m, double unit,
                                          const Eigen::Vector3d& centre) {
   const auto start = std::chrono::steady_clock::now();
-  for (std::size_t k = 0; k < candidates_.size(); ++k) {
-    const int n = candidates_[k];
-    deformed_.col(static_cast<Eigen::Index>(k)) =
-        reference_.col(n) + u_m.segment<3>(3 * n) / unit;
-  }
-  index_.build(deformed_, radius_);
+  const double reach = radius_ * (1.0 - kPenetrationTolerance);
+  const double reach2 = reach * reach;
+  const double inverse_unit = 1.0 / unit;
   std::vector<int> inside;
-  index_.inside(centre, radius_ * (1.0 - kPenetrationTolerance), &inside);
-  for (int& k : inside) k = candidates_[static_cast<std::size_t>(k)];
+  for (int n : candidates_) {
+    const Eigen::Vector3d x = reference_.col(n) + u_m.segment<3>(3 * n) * inverse_unit;
+    if ((x - centre).squaredNorm() < reach2) inside.push_back(n);
+  }
   timings_.detection +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ++timings_.queries;

@@ -7,7 +7,6 @@
 #pragma once
 
 #include "scene/problem.h"
-#include "solver/sphere_query.h"
 
 #include <Eigen/Core>
 
@@ -49,7 +48,8 @@ class ContactSet {
   Eigen::Vector3d prescribed(int k, const Eigen::Vector3d& centre) const;
 
   // Candidate nodes strictly inside the sphere by more than the penetration tolerance, on the
-  // deformed surface x = X + u_m / unit (u_m in metres, 3 per node), ascending. Spatial index.
+  // deformed surface x = X + u_m / unit (u_m in metres, 3 per node), ascending. A scan: see
+  // penetrating() in contact_set.cc for why no index.
   std::vector<int> penetrating(const Eigen::VectorXd& u_m, double unit,
                                const Eigen::Vector3d& centre);
   // The active-set decision at an equilibrium: `f` is the internal force (N, 3 per node) at u_m;
@@ -86,8 +86,6 @@ class ContactSet {
   Eigen::Vector3d centre_rest_;
   std::vector<int> touched_;
   std::vector<Eigen::Vector3d> anchors_;
-  SphereQuery index_;
-  Eigen::Matrix3Xd deformed_;  // workspace: deformed candidate positions
   ContactTimings timings_;
 };
 

@@ -1,7 +1,8 @@
 // Which points of a set lie inside a sphere: a uniform grid hash over the points (cell size
-// chosen by the caller, typically the sphere radius), rebuilt in O(n) whenever the points move.
-// Used by the contact probe on the deformed surface nodes (docs/contact.md has the measured
-// comparison with a k-d tree and a plain scan).
+// chosen by the caller, typically the sphere radius), built in O(n). Used by the contact probe
+// on the rest surface (grid classification, moves between free check-points): one build, many
+// queries, as fast as a nanoflann k-d tree there and without the dependency. The deformed
+// surface is scanned instead (docs/contact.md has the measurements).
 #pragma once
 
 #include <Eigen/Core>
