@@ -54,6 +54,10 @@ struct MoveResult {
 struct SolverTimings {
   double assembly = 0, factorize = 0, solve = 0, analyze = 0;
   long long assemblies = 0, factorizations = 0, psd_fallbacks = 0;
+  // Contact probe: collision detection (summed by TransitionSolver::timings from
+  // PathSolver::contact_timings; PathSolver::timings leaves them 0).
+  double contact_detection = 0;
+  long long contact_queries = 0;
 };
 
 class PathSolver {

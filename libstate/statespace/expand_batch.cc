@@ -124,6 +124,10 @@ SolverTimings TransitionSolver::timings() const {
     sum.assemblies += t.assemblies;
     sum.factorizations += t.factorizations;
     sum.psd_fallbacks += t.psd_fallbacks;
+    if (const ContactTimings* c = solver->contact_timings()) {
+      sum.contact_detection += c->detection;
+      sum.contact_queries += c->queries;
+    }
   }
   return sum;
 }

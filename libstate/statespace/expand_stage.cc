@@ -173,6 +173,7 @@ class Expander {
         continue;
       }
       ++report->solved;
+      if (solve.trivial) ++report->trivial;
       t.substeps = solve.move.substeps;
       t.newton_iterations = solve.move.iterations;
       t.final_residual = std::isfinite(solve.move.residual) ? solve.move.residual : 0.0;
