@@ -122,6 +122,31 @@ TEST(ContactProbe, PressingTheBlockPushesBackAlongTheNormalAndLeavingRestoresRes
   EXPECT_TRUE(solver.state_m().isZero(0.0));
 }
 
+// With one node touched, the contact state is the grab problem of that node at the same
+// displacement (grab is checked against CalculiX in tests/ccx): same force, same field.
+TEST(ContactProbe, OneTouchedNodeEqualsGrabbingIt) {
+  const Problem p = block_problem();
+  PathSolver contact(p);
+  ASSERT_TRUE(contact.move_to(Eigen::Vector3d(0, 0, -0.6)).ok);  // 0.1 into the top face
+  ASSERT_EQ(contact.touched_nodes().size(), 1u);
+  const int node = contact.touched_nodes()[0];
+  EXPECT_EQ(p.mesh.nodes.col(node), Eigen::Vector3d(2, 2, 1));
+  const Eigen::Vector3d u_node = contact.displacements().col(node);
+  EXPECT_NEAR(u_node.z(), -0.1, 1e-12);  // anchored straight below the centre
+
+  Problem grab = p;
+  grab.contact.reset();
+  grab.probe_rest = p.mesh.nodes.col(node);
+  grab.constraints.probe_nodes = {node};
+  for (int c = 0; c < 3; ++c) grab.constraints.role[3 * node + c] = DofRole::kProbe;
+  PathSolver grabbed(grab);
+  ASSERT_TRUE(grabbed.move_to(u_node).ok);
+  const Eigen::Vector3d f = contact.force_felt();
+  EXPECT_LE((grabbed.force_felt() - f).norm(), 1e-8 * f.norm());
+  EXPECT_LE((grabbed.state_m() - contact.state_m()).lpNorm<Eigen::Infinity>(),
+            1e-8 * contact.state_m().lpNorm<Eigen::Infinity>());
+}
+
 // With the touched set and anchors fixed, the touched nodes translate with the centre c and the
 // felt force is -d(equilibrium energy)/dc: central differences, set unchanged by the small moves.
 TEST(ContactProbe, FeltForceIsMinusTheEnergyDerivative) {
