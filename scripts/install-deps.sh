@@ -17,6 +17,7 @@ packages=(
   nlohmann-json3-dev         # JSON output of hapstate-inspect
   libgmsh-dev                # tetrahedralising closed STL/OBJ surfaces
   libgtest-dev libbenchmark-dev
+  libnanoflann-dev           # only bench/contact_bench's k-d tree comparison (optional there)
   calculix-ccx               # the independent reference solver used by the tests
   python3 python3-matplotlib # plots and comparison scripts
   python3-h5py               # the test that a foreign HDF5 reader decodes our blobs

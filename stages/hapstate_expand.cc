@@ -75,6 +75,13 @@ int main(int argc, char** argv) {
                   o.threads, cpu > 0 ? 100 * t.assembly / cpu : 0,
                   cpu > 0 ? 100 * t.factorize / cpu : 0, cpu > 0 ? 100 * t.solve / cpu : 0, cpu,
                   r.decided / r.wall_s, r.solved ? 1e3 * r.wall_s / r.solved : 0.0);
+      if (t.contact_queries > 0) {
+        std::printf("hapstate-expand: timings: contact: %lld of the solved transitions were moves "
+                    "between free check-points (no solve); collision detection %.4f ms per "
+                    "probe position (%lld), %.3f%% of the solvers' time\n",
+                    r.trivial, 1e3 * t.contact_detection / static_cast<double>(t.contact_queries),
+                    t.contact_queries, cpu > 0 ? 100 * t.contact_detection / cpu : 0.0);
+      }
     }
     return kExitOk;
   });

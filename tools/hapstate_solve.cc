@@ -65,6 +65,11 @@ int run(const Options& o) {
   for (const auto& w : report.warnings) std::fprintf(stderr, "hapstate-solve: mesh: %s\n", w.c_str());
   const ProbePath path = make_path(o, scene, problem);
 
+  const bool contact = problem.contact.has_value();
+  if (!o.ccx_dir.empty() && contact) {
+    throw InputError(o.scene + ": --export-ccx: a contact probe cannot be exported (the "
+                     "CalculiX deck prescribes grabbed nodes; contact is not modelled there)");
+  }
   if (!o.ccx_dir.empty()) {
     write_ccx_deck(problem, path, o.ccx_dir);
     if (!o.quiet) std::fprintf(stderr, "hapstate-solve: wrote CalculiX deck to %s\n", o.ccx_dir.c_str());
@@ -73,8 +78,8 @@ int run(const Options& o) {
 
   std::ofstream out(o.output);
   if (!out) throw InputError(o.output + ": cannot write output CSV");
-  out << "step,x,y,z,fx,fy,fz,residual,iterations,substeps,cutbacks,wall_ms,status\n"
-      << std::setprecision(12);
+  out << "step,x,y,z,fx,fy,fz,residual,iterations,substeps,cutbacks,wall_ms,status"
+      << (contact ? ",touched,active_set_changes\n" : "\n") << std::setprecision(12);
   std::ofstream disp;
   if (!o.displacements.empty()) {
     disp.open(o.displacements);
@@ -88,9 +93,11 @@ int run(const Options& o) {
   Progress progress("hapstate-solve", static_cast<long long>(path.size()),
                     o.quiet ? nullptr : stderr);
   long long failures = 0;
+  std::vector<double> wall_ms;
   for (std::size_t k = 0; k < path.size(); ++k) {
     const int step = static_cast<int>(k) + 1;
     const MoveResult r = solver.move_to(path[k] - problem.probe_rest);
+    wall_ms.push_back(r.wall_ms);
     if (!r.ok) {
       ++failures;
       std::fprintf(stderr, "hapstate-solve: step %d (%g, %g, %g) failed: %s: %s\n", step,
@@ -101,7 +108,9 @@ int run(const Options& o) {
     out << step << ',' << path[k].x() << ',' << path[k].y() << ',' << path[k].z() << ',' << f.x()
         << ',' << f.y() << ',' << f.z() << ',' << r.residual << ',' << r.iterations << ','
         << r.substeps << ',' << r.cutbacks << ',' << r.wall_ms << ','
-        << (r.ok ? "ok" : failure_name(r.failure)) << '\n';
+        << (r.ok ? "ok" : failure_name(r.failure));
+    if (contact) out << ',' << solver.touched_nodes().size() << ',' << r.active_set_iterations;
+    out << '\n';
     if (disp.is_open() || !o.vtu_dir.empty()) {
       const Eigen::Matrix3Xd u = solver.displacements();
       if (disp.is_open())
@@ -128,6 +137,19 @@ int run(const Options& o) {
     const SparseCholesky& c = solver.linear_solver();
     std::fprintf(stderr, "hapstate-solve: %d DOFs, factor %s (%s ordering), nnz(L) %.3g, %.3g flop\n",
                  solver.num_dofs(), c.method(), c.ordering(), c.factor_nonzeros(), c.factor_flops());
+    if (const ContactTimings* ct = solver.contact_timings()) {
+      const double total_ms = [&] {
+        double ms = 0;
+        for (double w : wall_ms) ms += w;
+        return ms;
+      }();
+      std::fprintf(stderr,
+                   "hapstate-solve: collision detection %.4f ms x %lld (%zu candidate surface "
+                   "nodes), %.3f %% of the path's solve time\n",
+                   1e3 * ct->detection / std::max(1LL, ct->queries), ct->queries,
+                   problem.contact->candidates.size(),
+                   total_ms > 0 ? 100 * 1e3 * ct->detection / total_ms : 0.0);
+    }
   }
   if (!o.vtu_dir.empty()) write_pvd(std::filesystem::path(o.vtu_dir) / "path.pvd", frames);
   if (!out) throw InputError(o.output + ": write failed");
@@ -168,7 +190,8 @@ int main(int argc, char** argv) {
   random_opt->excludes(by_opt);
   app.add_option("-o,--output", o.output,
                  "output CSV: step,x,y,z,fx,fy,fz,residual,iterations,substeps,cutbacks,wall_ms,"
-                 "status (f = force felt by the user, N)");
+                 "status (f = force felt by the user, N); a contact probe adds touched (nodes "
+                 "the sphere holds) and active_set_changes");
   app.add_option("--displacements", o.displacements,
                  "also write every node's displacement per step: CSV step,node,ux,uy,uz");
   app.add_option("--vtu", o.vtu_dir, "also write the deformed mesh per step as VTU + path.pvd");
@@ -177,7 +200,8 @@ int main(int argc, char** argv) {
                  "tools/ccx_compare.py)");
   app.add_flag("-q,--quiet", o.quiet, "no progress line");
   app.add_flag("--timings", o.timings,
-               "print time per assembly / factorisation / solve and the symbolic analysis");
+               "print time per assembly / factorisation / solve and the symbolic analysis (and, for a "
+               "contact probe, collision detection)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

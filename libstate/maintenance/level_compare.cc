@@ -20,13 +20,17 @@ ConfigVectors read_level_vectors(const BlobStore& blobs, const Configuration& c)
   if (!c.blob) return v;
   v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
   v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
+  // Contact probe: the touched set is part of the configuration (never merge different sets).
+  if (blobs.contains(c.blob->segment, c.blob->name + "/touched"))
+    for (double n : blobs.read(c.blob->segment, c.blob->name + "/touched"))
+      v.touched.push_back(static_cast<int>(n));
   return v;
 }
 
 double compaction_level_distance(const ConfigVectors& a, const ConfigVectors& b,
                                  const LevelTolerances& tolerances) {
-  ConfigVectors x{or_zeros(a.u, b.u), {}, or_zeros(a.h, b.h)};
-  ConfigVectors y{or_zeros(b.u, a.u), {}, or_zeros(b.h, a.h)};
+  ConfigVectors x{or_zeros(a.u, b.u), {}, or_zeros(a.h, b.h), a.touched};
+  ConfigVectors y{or_zeros(b.u, a.u), {}, or_zeros(b.h, a.h), b.touched};
   if (x.u.size() != y.u.size() || x.h.size() != y.h.size()) {
     return std::numeric_limits<double>::infinity();
   }

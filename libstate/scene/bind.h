@@ -18,9 +18,15 @@ MaterialConstants resolve_material(const SceneMaterial& material);
 // on probe.dofs, probe_rest, then checks that fixed + probe DOFs remove all 6 rigid-body modes
 // of every connected component. All problems (a selector selecting no node, a missing group,
 // a bad node id, a DOF both fixed and grabbed, ...) are reported at once in one InputError;
-// the rigid-body check runs only when there are no other problems. Contact probes are not
-// supported yet (InputError).
+// the rigid-body check runs only when there are no other problems. A contact probe gets
+// Problem::contact (candidate nodes: surface nodes with no fixed component); its sphere at rest
+// must not overlap the body's surface nodes, and the fixed DOFs alone must hold the body.
 Problem bind_scene(const Scene& scene, Mesh mesh);
+
+// The contact sphere of radius `radius` on `mesh`: candidates are the surface nodes none of
+// whose DOFs is fixed (`role`), ascending.
+ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role,
+                                  double radius);
 
 // load_mesh(scene.mesh.file, report) then bind_scene.
 Problem build_problem(const Scene& scene, MeshReport* report = nullptr);

@@ -102,7 +102,43 @@ std::vector<int> select_grabbed(const SceneProbe& probe, const Mesh& mesh,
   return ids;
 }
 
+// The contact sphere: candidates are the surface nodes with no fixed component (a partly fixed
+// node cannot be held by the sticking sphere); the sphere at rest must not overlap the body.
+ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
+                           const std::vector<DofRole>& role, Diagnostics& diagnostics) {
+  ContactSphere sphere = make_contact_sphere(mesh, role, *probe.radius);
+  if (sphere.candidates.empty()) {
+    diagnostics.add(probe.line, "probe: contact: " + mesh_name(mesh) +
+                                    " has no surface node without fixed components to touch");
+  }
+  for (int n : surface_nodes(mesh)) {
+    const double distance = (mesh.nodes.col(n) - *probe.point).norm();
+    if (distance < sphere.radius) {
+      std::ostringstream os;
+      os.precision(6);
+      os << "probe: contact: the sphere at rest (centre " << format_point(*probe.point)
+         << ", radius " << sphere.radius << ") overlaps the body: surface node " << n
+         << " is at distance " << distance << "; put probe.point outside the body";
+      diagnostics.add(probe.line, os.str());
+      break;
+    }
+  }
+  return sphere;
+}
+
 }  // namespace
+
+ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role,
+                                  double radius) {
+  ContactSphere sphere;
+  sphere.radius = radius;
+  for (int n : surface_nodes(mesh)) {
+    bool fixed = false;
+    for (int k = 0; k < 3; ++k) fixed = fixed || role[static_cast<size_t>(3 * n + k)] != DofRole::kFree;
+    if (!fixed) sphere.candidates.push_back(n);
+  }
+  return sphere;
+}
 
 Problem bind_scene(const Scene& scene, Mesh mesh) {
   Diagnostics diagnostics(scene.path.string());
@@ -133,7 +169,8 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
 
   const SceneProbe& probe = scene.probe;
   if (probe.mode == ProbeMode::kContact) {
-    diagnostics.add(probe.line, "contact probe not supported yet (use mode = \"grab\")");
+    problem.contact = bind_contact(probe, mesh, role, diagnostics);
+    problem.probe_rest = *probe.point;
   } else {
     const std::vector<int> grabbed = select_grabbed(probe, mesh, diagnostics);
     int conflicts = 0;

@@ -9,7 +9,18 @@
 
 #include <Eigen/Core>
 
+#include <optional>
+#include <vector>
+
 namespace hapstate {
+
+// The contact probe (scene probe.mode = "contact"): a rigid sphere whose centre at rest is
+// Problem::probe_rest. See docs/contact.md for the model.
+struct ContactSphere {
+  double radius = 0;            // mesh units, > 0
+  std::vector<int> candidates;  // surface nodes the sphere may touch (none of their DOFs fixed),
+                                // ascending
+};
 
 struct Problem {
   Mesh mesh;                      // as imported, mesh units
@@ -20,6 +31,9 @@ struct Problem {
                                   // the grabbed node, or the centroid of the grabbed patch
   double max_force = 0;           // N, device force limit
   SolverOptions solver;
+  // Set for a contact probe: then constraints.probe_nodes is empty and no DOF is kProbe; the
+  // touched nodes are decided by the solver at each probe position.
+  std::optional<ContactSphere> contact;
 };
 
 }  // namespace hapstate

@@ -9,6 +9,7 @@ struct SolverOptions {
   double absolute_tolerance = 1e-12;  // Newton: absolute residual floor [N]
   int max_iterations = 30;       // Newton iterations per sub-step target
   int max_cutbacks = 8;          // halvings of a sub-step after a failed Newton solve
+  int max_active_set_iterations = 20;  // contact: touched-set changes per sub-step
 };
 
 }  // namespace hapstate

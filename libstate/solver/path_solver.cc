@@ -1,5 +1,6 @@
 #include "solver/path_solver.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
@@ -37,6 +38,8 @@ const char* failure_name(SolveFailure f) {
     case SolveFailure::kNotFinite: return "not_finite";
     case SolveFailure::kLineSearch: return "line_search";
     case SolveFailure::kCutbackLimit: return "cutback_limit";
+    case SolveFailure::kContactCycle: return "contact_cycle";
+    case SolveFailure::kContactUnsettled: return "contact_unsettled";
   }
   return "unknown";
 }
@@ -62,6 +65,11 @@ PathSolver::PathSolver(const Problem& problem)
   for (int n : problem.constraints.probe_nodes)
     for (int c = 0; c < 3; ++c)
       if (role_[3 * n + c] == DofRole::kProbe) probe_dof_component_[3 * n + c] = c;
+  base_role_ = role_;
+  probe_base_.setZero(num_dofs());
+  probe_rest_ = problem.probe_rest;
+  if (problem.contact)
+    contact_ = std::make_unique<ContactSet>(problem.mesh.nodes, *problem.contact, probe_rest_);
   reset();
 }
 
@@ -72,11 +80,96 @@ int PathSolver::num_dofs() const { return assembler_->num_dofs(); }
 void PathSolver::reset() {
   u_.setZero(num_dofs());
   t_.setZero();
+  if (contact_) {
+    contact_->clear();
+    apply_contact_roles();
+  }
 }
 
-void PathSolver::set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t) {
+void PathSolver::set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t,
+                           const std::vector<int>& touched) {
   u_ = u_m;
   t_ = t;
+  if (!contact_) return;
+  contact_->assign(touched, u_, unit_, probe_rest_ + t_);
+  apply_contact_roles();
+}
+
+std::vector<int> PathSolver::touched_nodes() const {
+  return contact_ ? contact_->touched() : std::vector<int>{};
+}
+
+const ContactTimings* PathSolver::contact_timings() const {
+  return contact_ ? &contact_->timings() : nullptr;
+}
+
+// Contact mode: the touched nodes become probe DOFs (all three components) that follow the
+// sphere centre, u = probe_base_ + t with probe_base_ = centre_rest + anchor - X.
+void PathSolver::apply_contact_roles() {
+  role_ = base_role_;
+  std::fill(probe_dof_component_.begin(), probe_dof_component_.end(), -1);
+  const std::vector<int>& touched = contact_->touched();
+  for (std::size_t k = 0; k < touched.size(); ++k) {
+    const Eigen::Vector3d base = contact_->prescribed(static_cast<int>(k), probe_rest_);
+    for (int c = 0; c < 3; ++c) {
+      const int d = 3 * touched[k] + c;
+      role_[d] = DofRole::kProbe;
+      probe_dof_component_[d] = c;
+      probe_base_[d] = base[c] * unit_;
+    }
+  }
+}
+
+// The active-set loop at probe displacement t, from an equilibrium (f_ assembled at u_):
+// release adhesive touched nodes, add penetrating ones, re-solve, until the set is stable.
+bool PathSolver::settle_contact(const Eigen::Vector3d& t, double rel_tol, MoveResult* result) {
+  const Eigen::Vector3d centre = probe_rest_ + t;
+  // A set repeats when the same nodes come back with the same anchors: a node released and
+  // re-added from where it sprang back gets a new anchor (it slides along the sphere) and is
+  // progress, not a cycle.
+  const double same_anchor = 1e-9 * contact_->radius();
+  auto same = [&](const ContactSet::Held& a, const ContactSet::Held& b) {
+    if (a.nodes != b.nodes) return false;
+    for (std::size_t k = 0; k < a.anchors.size(); ++k)
+      if ((a.anchors[k] - b.anchors[k]).norm() > same_anchor) return false;
+    return true;
+  };
+  std::vector<ContactSet::Held> seen{contact_->held()};
+  for (int it = 0;; ++it) {
+    const ContactChange change =
+        contact_->decide(u_, unit_, f_, centre, options_.absolute_tolerance);
+    if (change.empty()) return true;
+    if (it >= options_.max_active_set_iterations) {
+      result->failure = SolveFailure::kContactUnsettled;
+      result->reason = "the touched set still changed after " +
+                       std::to_string(options_.max_active_set_iterations) +
+                       " active-set iterations (" + std::to_string(change.added.size()) +
+                       " node(s) to add, " + std::to_string(change.released.size()) +
+                       " to release)";
+      return false;
+    }
+    contact_->apply(change, u_, unit_, centre);
+    ++result->active_set_iterations;
+    const ContactSet::Held now = contact_->held();
+    if (std::any_of(seen.begin(), seen.end(), [&](const ContactSet::Held& h) { return same(h, now); })) {
+      std::string nodes;
+      for (int n : change.added) nodes += " +" + std::to_string(n);
+      for (int n : change.released) nodes += " -" + std::to_string(n);
+      result->failure = SolveFailure::kContactCycle;
+      result->reason = "the touched set oscillates: after" + nodes +
+                       " it is a set (nodes and anchors) it already had in this sub-step";
+      return false;
+    }
+    seen.push_back(now);
+    apply_contact_roles();
+    if (contact_->touched().empty()) {
+      // Nothing loads the body: it is at rest (exactly).
+      u_.setZero();
+      continue;
+    }
+    set_probe_dofs(t, &u_);
+    if (!newton(rel_tol, result)) return false;
+  }
 }
 
 Eigen::Matrix3Xd PathSolver::displacements() const {
@@ -85,7 +178,13 @@ Eigen::Matrix3Xd PathSolver::displacements() const {
 
 void PathSolver::set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const {
   for (int d = 0; d < num_dofs(); ++d)
-    if (probe_dof_component_[d] >= 0) (*u)[d] = t[probe_dof_component_[d]] * unit_;
+    if (probe_dof_component_[d] >= 0)
+      (*u)[d] = probe_base_[d] + t[probe_dof_component_[d]] * unit_;
+}
+
+void PathSolver::set_probe_translation(const Eigen::Vector3d& dt, Eigen::VectorXd* v) const {
+  for (int d = 0; d < num_dofs(); ++d)
+    if (probe_dof_component_[d] >= 0) (*v)[d] = dt[probe_dof_component_[d]] * unit_;
 }
 
 double PathSolver::free_norm(const Eigen::VectorXd& v) const {
@@ -241,6 +340,11 @@ bool PathSolver::newton(double rel_tol, MoveResult* result) {
 // One sub-step: tangent predictor from t_from to t_to, then Newton corrections.
 bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t_to,
                          double rel_tol, MoveResult* result) {
+  // Contact: decisions on reactions need converged reactions at every sub-step.
+  if (contact_) rel_tol = options_.tolerance;
+  // Contact with nothing touched and the body at rest: only collision detection is needed.
+  if (contact_ && contact_->touched().empty() && u_.isZero(0.0))
+    return settle_contact(t_to, rel_tol, result);
   double energy = 0;
   assemble(u_, false, &energy);
   if (!std::isfinite(energy)) {
@@ -250,7 +354,7 @@ bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t
   }
   // Predictor: K_FF du_F = -r_F - K_FP dt.
   Eigen::VectorXd dt = Eigen::VectorXd::Zero(num_dofs());
-  set_probe_dofs(t_to - t_from, &dt);
+  set_probe_translation(t_to - t_from, &dt);
   Eigen::VectorXd k_dt;
   symmetric_multiply(assembler_->pattern(), k_values_, dt, &k_dt);
   Eigen::VectorXd rhs = -(f_ + k_dt);
@@ -282,7 +386,8 @@ bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t
     }
   }
   u_ = trial_;
-  return newton(rel_tol, result);
+  if (!newton(rel_tol, result)) return false;
+  return !contact_ || settle_contact(t_to, rel_tol, result);
 }
 
 MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
@@ -290,6 +395,12 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
   MoveResult result;
   const Eigen::VectorXd u_start = u_;
   const Eigen::Vector3d t_start = t_;
+  const ContactSet::Held held_start = contact_ ? contact_->held() : ContactSet::Held{};
+  auto restore_contact = [&](const ContactSet::Held& h) {
+    if (!contact_) return;
+    contact_->restore(h);
+    apply_contact_roles();
+  };
   const double nominal = 1.0 / options_.substeps;
   const double smallest = nominal / std::pow(2.0, options_.max_cutbacks);
   double s = 0, ds = nominal;
@@ -299,6 +410,7 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
     const Eigen::Vector3d t_from = t_start + s * (t_target - t_start);
     const Eigen::Vector3d t_to = t_start + s_next * (t_target - t_start);
     const Eigen::VectorXd u_saved = u_;
+    const ContactSet::Held held_saved = contact_ ? contact_->held() : ContactSet::Held{};
     const double tol = s_next == 1.0 ? options_.tolerance
                                      : std::max(options_.tolerance, kIntermediateRelTol);
     if (substep(t_from, t_to, tol, &result)) {
@@ -309,6 +421,7 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
       continue;
     }
     u_ = u_saved;
+    restore_contact(held_saved);
     streak = 0;
     ds *= 0.5;
     ++result.cutbacks;
@@ -321,6 +434,7 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
                       "% of the move; last: " + last;
       u_ = u_start;
       t_ = t_start;
+      restore_contact(held_start);
       result.wall_ms = 1e3 * seconds_since(start);
       return result;
     }

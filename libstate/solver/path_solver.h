@@ -6,11 +6,15 @@
 // the FEM works in metres (mesh units x Problem::unit); forces are in N.
 // Sign: force_felt() is the force the user feels, -sum over probe DOFs of the internal force
 // (h = dPi/du_P is the force the probe applies to the body; the user feels its opposite).
+// Contact probe (Problem::contact): the probe is a rigid sphere; the prescribed DOFs are those of
+// the touched nodes, decided at the end of every sub-step by the active-set loop of
+// solver/contact_set.h (docs/contact.md). t is then the displacement of the sphere centre.
 // Not thread-safe: one PathSolver per thread.
 #pragma once
 
 #include "fem/assembler.h"
 #include "scene/problem.h"
+#include "solver/contact_set.h"
 #include "solver/sparse_cholesky.h"
 
 #include <Eigen/Core>
@@ -28,6 +32,8 @@ enum class SolveFailure {
   kNotFinite = 3,       // NaN or infinity in the residual
   kLineSearch = 4,      // no step along the Newton direction reduced energy or residual
   kCutbackLimit = 5,    // the sub-step was halved max_cutbacks times and still failed
+  kContactCycle = 6,    // contact: the touched set came back to an earlier set (oscillates)
+  kContactUnsettled = 7,  // contact: the touched set still changed after the iteration cap
 };
 const char* failure_name(SolveFailure f);
 
@@ -40,6 +46,7 @@ struct MoveResult {
   int iterations = 0;            // Newton iterations (factorisations) over the whole move
   double residual = 0;           // final ||r_free|| [N]
   double wall_ms = 0;
+  int active_set_iterations = 0; // contact: touched-set changes over the whole move
   std::vector<double> residual_history;  // ||r_free|| of the last Newton solve, per iteration
 };
 
@@ -47,6 +54,10 @@ struct MoveResult {
 struct SolverTimings {
   double assembly = 0, factorize = 0, solve = 0, analyze = 0;
   long long assemblies = 0, factorizations = 0, psd_fallbacks = 0;
+  // Contact probe: collision detection (summed by TransitionSolver::timings from
+  // PathSolver::contact_timings; PathSolver::timings leaves them 0).
+  double contact_detection = 0;
+  long long contact_queries = 0;
 };
 
 class PathSolver {
@@ -66,7 +77,14 @@ class PathSolver {
   Eigen::Matrix3Xd displacements() const;
   // Raw state vector (metres, DOF order 3*node + component) and its setter.
   const Eigen::VectorXd& state_m() const { return u_; }
-  void set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t);
+  // Contact mode: `touched` are the nodes the sphere holds in that state (anchors are taken
+  // from u_m); without it, the touched set is empty.
+  void set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t,
+                 const std::vector<int>& touched = {});
+  // Contact mode: the nodes the sphere holds, ascending (empty in grab mode).
+  std::vector<int> touched_nodes() const;
+  // Contact mode: collision-detection cost so far (nullptr in grab mode).
+  const ContactTimings* contact_timings() const;
   // Force felt by the user [N] at the current state.
   Eigen::Vector3d force_felt() const;
   // Reactions h at the probe DOFs [N]: the internal force the body resists the probe with, one
@@ -89,7 +107,10 @@ class PathSolver {
   void assemble(const Eigen::VectorXd& u, bool project_psd, double* energy);
   void constrain_values();
   bool factorize_with_fallback(const Eigen::VectorXd& u);
+  bool settle_contact(const Eigen::Vector3d& t, double rel_tol, MoveResult* result);
+  void apply_contact_roles();
   void set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const;
+  void set_probe_translation(const Eigen::Vector3d& dt, Eigen::VectorXd* v) const;
   double free_norm(const Eigen::VectorXd& v) const;
   double reaction_norm(const Eigen::VectorXd& f) const;
 
@@ -98,6 +119,10 @@ class PathSolver {
   std::unique_ptr<SparseCholesky> cholesky_;
   std::vector<DofRole> role_;
   std::vector<int> probe_dof_component_;  // per DOF: component 0..2 if probe DOF, else -1
+  std::vector<DofRole> base_role_;        // roles without touched nodes (contact mode)
+  Eigen::VectorXd probe_base_;            // per probe DOF: u = probe_base_ + t (metres)
+  std::unique_ptr<ContactSet> contact_;   // contact mode only
+  Eigen::Vector3d probe_rest_;
   double unit_;
   int num_nodes_;
   SolverOptions options_;

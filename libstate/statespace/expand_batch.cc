@@ -11,17 +11,29 @@
 namespace hapstate {
 
 ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
-                                  int num_probe_dofs) {
+                                  int num_probe_dofs, bool contact) {
   ConfigVectors v;
   if (!c.blob) {
     v.u.assign(num_dofs, 0.0);
-    v.t.assign(num_probe_dofs, 0.0);
-    v.h.assign(num_probe_dofs, 0.0);
+    v.t.assign(contact ? 0 : num_probe_dofs, 0.0);
+    v.h.assign(contact ? 0 : num_probe_dofs, 0.0);
     return v;
   }
   v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
   v.t = blobs.read(c.blob->segment, c.blob->name + "/t");
   v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
+  if (contact) {
+    for (double n : blobs.read(c.blob->segment, c.blob->name + "/touched")) {
+      if (n < 0 || n >= num_dofs / 3 || n != static_cast<int>(n) ||
+          (!v.touched.empty() && n <= v.touched.back())) {
+        throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
+                         ": '" + c.blob->name + "/touched' of configuration " +
+                         std::to_string(c.id.value()) + " is not an ascending list of node ids");
+      }
+      v.touched.push_back(static_cast<int>(n));
+    }
+    num_probe_dofs = 3 * static_cast<int>(v.touched.size());
+  }
   if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_probe_dofs) {
     throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
                      ": vectors of configuration " + std::to_string(c.id.value()) + " ('" +
@@ -45,15 +57,22 @@ TransitionSolve TransitionSolver::solve_one(PathSolver& solver, const Transition
   TransitionSolve out;
   if (!task.target) return out;
   out.solved = true;
-  const ConfigVectors source =
-      load_config_vectors(blobs_, task.source, solver.num_dofs(), num_probe_dofs_);
-  probe_.set_state(solver, source.u, task.from);
+  if (!task.source.blob && probe_.trivial_move(task.from, task.to)) {
+    // The zero configuration moved past the body: still at rest, nothing touched.
+    out.trivial = true;
+    out.vectors.u.assign(solver.num_dofs(), 0.0);
+    return out;
+  }
+  const ConfigVectors source = load_config_vectors(blobs_, task.source, solver.num_dofs(),
+                                                   num_probe_dofs_, probe_.is_contact());
+  probe_.set_state(solver, source.u, source.touched, task.from);
   out.move = probe_.move_to(solver, task.to);
   if (!out.move.ok) return out;
+  out.vectors.touched = solver.touched_nodes();
   const Eigen::VectorXd& u_m = solver.state_m();
   out.vectors.u.resize(u_m.size());
   for (Eigen::Index k = 0; k < u_m.size(); ++k) out.vectors.u[k] = u_m[k] / problem_.unit;
-  out.vectors.t = probe_.load_at(task.to).values;
+  out.vectors.t = probe_.load_of(solver, task.to).values;
   const Eigen::VectorXd h = solver.probe_reactions();
   out.vectors.h.assign(h.data(), h.data() + h.size());
   const Eigen::Vector3d f = solver.force_felt();
@@ -105,6 +124,10 @@ SolverTimings TransitionSolver::timings() const {
     sum.assemblies += t.assemblies;
     sum.factorizations += t.factorizations;
     sum.psd_fallbacks += t.psd_fallbacks;
+    if (const ContactTimings* c = solver->contact_timings()) {
+      sum.contact_detection += c->detection;
+      sum.contact_queries += c->queries;
+    }
   }
   return sum;
 }

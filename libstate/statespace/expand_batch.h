@@ -32,16 +32,19 @@ struct TransitionTask {
 // and solved is false).
 struct TransitionSolve {
   bool solved = false;
+  bool trivial = false;               // contact: free to free at rest, no solve needed
   MoveResult move;
   ConfigVectors vectors;              // when move.ok
   std::array<double, 3> force{};      // felt by the user, N
   std::array<double, 9> stiffness{};  // row-major, N per mesh unit (0 if not computable)
 };
 
-// The vectors of a stored configuration: from its blob, or zeros for one without a blob.
-// Throws InputError naming the segment and vector if they cannot be read.
+// The vectors of a stored configuration: from its blob, or zeros for one without a blob (the
+// zero configuration: nothing touched). `contact`: t and h have 3 values per touched node, the
+// touched set is read from <name>/touched. Throws InputError naming the segment and vector if
+// they cannot be read.
 ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
-                                  int num_probe_dofs);
+                                  int num_probe_dofs, bool contact = false);
 
 class TransitionSolver {
  public:

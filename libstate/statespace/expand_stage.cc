@@ -25,6 +25,11 @@ using SteadyClock = std::chrono::steady_clock;
 
 double norm3(const std::array<double, 3>& f) { return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); }
 
+// Check-points configurations are computed at (contact: kFree ones too).
+bool is_workspace(CheckpointClass c) {
+  return c == CheckpointClass::kWorkspace || c == CheckpointClass::kFree;
+}
+
 struct GridIndexOf {
   std::map<GridIndex, Checkpoint> by_ijk;
   std::unordered_map<CheckpointId, GridIndex> ijk_of;
@@ -37,7 +42,7 @@ class Expander {
       : ctx_(ctx),
         options_(options),
         blobs_(ctx.dir.blobs()),
-        probe_(make_probe_model(ctx.problem, ctx.scene.probe.mode)),
+        probe_(make_probe_model(ctx.problem)),
         sketch_(ctx.problem),
         tolerances_(level_tolerances(ctx.scene)),
         max_force_(ctx.scene.probe.max_force) {
@@ -66,7 +71,8 @@ class Expander {
     }
     for (const Configuration& c : cat.read_all_configurations()) {
       if (!c.blob || c.status == ConfigStatus::kMerged) continue;
-      for (const char* v : {"/u", "/t", "/h"}) {
+      for (const char* v : {"/u", "/t", "/h", "/touched"}) {
+        if (std::string(v) == "/touched" && !probe_->is_contact()) continue;
         if (!blobs_.contains(c.blob->segment, c.blob->name + v)) {
           throw InputError((blobs_.directory() / segment_file_name(c.blob->segment)).string() +
                            ": vector '" + c.blob->name + v + "' of configuration " +
@@ -91,8 +97,7 @@ class Expander {
   bool is_expandable(CheckpointId checkpoint, const std::array<double, 3>& force) const {
     const auto it = grid_.ijk_of.find(checkpoint);
     if (it == grid_.ijk_of.end()) return false;
-    return grid_.by_ijk.at(it->second).classification == CheckpointClass::kWorkspace &&
-           norm3(force) <= max_force_;
+    return is_workspace(grid_.by_ijk.at(it->second).classification) && norm3(force) <= max_force_;
   }
 
   // The lowest wave with open expandable configurations, if any.
@@ -131,7 +136,7 @@ class Expander {
         task.from = ctx_.grid.position(ijk);
         task.to = ctx_.grid.position(to);
         const auto it = grid_.by_ijk.find(to);
-        if (it != grid_.by_ijk.end() && it->second.classification == CheckpointClass::kWorkspace)
+        if (it != grid_.by_ijk.end() && is_workspace(it->second.classification))
           task.target = it->second.id;
         tasks.push_back(std::move(task));
       }
@@ -168,6 +173,7 @@ class Expander {
         continue;
       }
       ++report->solved;
+      if (solve.trivial) ++report->trivial;
       t.substeps = solve.move.substeps;
       t.newton_iterations = solve.move.iterations;
       t.final_residual = std::isfinite(solve.move.residual) ? solve.move.residual : 0.0;
@@ -186,8 +192,13 @@ class Expander {
       ConfigId best_id;
       auto consider = [&](const Configuration& level, const ConfigVectors* in_memory) {
         if (level.status == ConfigStatus::kMerged) return;
+        // Contact: levels with a different touched set are never equal, so the bound may use
+        // this result's touched count.
+        const int probe_nodes =
+            probe_->is_contact() ? std::max<int>(1, static_cast<int>(solve.vectors.touched.size()))
+                                 : num_probe_nodes_;
         if (level_distance_bound(summary, solve.force, level.summary, level.force, tolerances_,
-                                 num_probe_nodes_) > 1.0)
+                                 probe_nodes) > 1.0)
           return;
         const ConfigVectors& v = in_memory ? *in_memory : cached_vectors(level);
         const double d = level_distance(solve.vectors, v, tolerances_);
@@ -234,6 +245,10 @@ class Expander {
         writer.write(n.config.blob->name + "/u", n.vectors->u);
         writer.write(n.config.blob->name + "/t", n.vectors->t);
         writer.write(n.config.blob->name + "/h", n.vectors->h);
+        if (probe_->is_contact()) {
+          const std::vector<double> touched(n.vectors->touched.begin(), n.vectors->touched.end());
+          writer.write(n.config.blob->name + "/touched", touched);
+        }
       }
       writer.close();
     }
@@ -254,7 +269,9 @@ class Expander {
     auto it = cache_.find(c.id);
     if (it != cache_.end()) return it->second;
     if (cache_.size() >= kMaxCached) cache_.clear();
-    return cache_.emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, num_probe_dofs_))
+    return cache_
+        .emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, num_probe_dofs_,
+                                           probe_->is_contact()))
         .first->second;
   }
 

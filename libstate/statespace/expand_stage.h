@@ -27,6 +27,8 @@ struct ExpandReport {
   StageOutcome outcome = StageOutcome::kOk;  // kOk (nothing undecided left), kPartial, kUnchanged
   long long decided = 0;          // transitions decided in this run
   long long solved = 0;           // of which solved (reached or failed)
+  long long trivial = 0;          // of the solved: contact moves between free check-points at
+                                  // rest, recorded without a solve
   long long failed = 0;
   long long outside = 0;
   long long new_configurations = 0;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 namespace hapstate {
 namespace {
@@ -20,6 +21,11 @@ std::string ijk_text(const GridIndex& ijk) {
          std::to_string(ijk[2]) + ")";
 }
 
+bool in_workspace(CheckpointClass c) {
+  return c == CheckpointClass::kWorkspace || c == CheckpointClass::kFree;
+}
+
+// The zero configuration (no blob: u = 0, nothing touched or t = 0) of `checkpoint`.
 Configuration zero_configuration(const StageContext& ctx, CheckpointId checkpoint) {
   PathSolver solver(ctx.problem);
   const Eigen::Matrix3d k = solver.haptic_stiffness();
@@ -79,29 +85,32 @@ GridReport run_grid(const GridOptions& options) {
   }
 
   Transaction tx(cat);
+  const auto probe = make_probe_model(ctx.problem);
   std::map<GridIndex, CheckpointId> workspace_ids;
+  std::vector<CheckpointId> free_ids;  // contact: check-points whose sphere touches nothing
   for (int i = grid.lo[0]; i <= grid.hi[0]; ++i)
     for (int j = grid.lo[1]; j <= grid.hi[1]; ++j)
       for (int k = grid.lo[2]; k <= grid.hi[2]; ++k) {
         const GridIndex ijk{i, j, k};
         auto it = existing.find(ijk);
         if (it != existing.end()) {
-          if (it->second.classification == CheckpointClass::kWorkspace)
-            workspace_ids.emplace(ijk, it->second.id);
+          if (in_workspace(it->second.classification)) workspace_ids.emplace(ijk, it->second.id);
+          if (it->second.classification == CheckpointClass::kFree) free_ids.push_back(it->second.id);
           continue;
         }
         Checkpoint c;
         c.ijk = ijk;
         const Eigen::Vector3d p = grid.position(ijk);
         c.position = {p.x(), p.y(), p.z()};
-        c.classification = grid.in_workspace(p) ? CheckpointClass::kWorkspace
-                                                : CheckpointClass::kOutsideWorkspace;
+        c.classification = !grid.in_workspace(p) ? CheckpointClass::kOutsideWorkspace
+                           : probe->is_contact() && probe->holds_zero_configuration(p)
+                               ? CheckpointClass::kFree
+                               : CheckpointClass::kWorkspace;
         c.id = cat.insert_checkpoint(c);
-        if (c.classification == CheckpointClass::kWorkspace) workspace_ids.emplace(ijk, c.id);
+        if (in_workspace(c.classification)) workspace_ids.emplace(ijk, c.id);
+        if (c.classification == CheckpointClass::kFree) free_ids.push_back(c.id);
         ++report.checkpoints_added;
       }
-  for (const auto& [ijk, c] : existing)
-    if (c.classification == CheckpointClass::kWorkspace) workspace_ids.emplace(ijk, c.id);
   report.checkpoints_total = cat.num_checkpoints();
 
   // The zero configuration at the rest check-point.
@@ -110,9 +119,22 @@ GridReport run_grid(const GridOptions& options) {
     throw InputError(ctx.dir.root.string() + ": the rest check-point (0, 0, 0) is not in the "
                      "workspace (internal inconsistency)");
   }
-  if (cat.configurations_at(rest->second).empty()) {
+  if (!probe->is_contact() && cat.configurations_at(rest->second).empty()) {
     cat.insert_configuration(zero_configuration(ctx, rest->second));
     report.zero_configuration_added = true;
+  }
+  // Contact: every free check-point holds the shared zero configuration (no blob).
+  if (probe->is_contact()) {
+    std::optional<Configuration> zero;
+    for (CheckpointId id : free_ids) {
+      if (!cat.configurations_at(id).empty()) continue;
+      if (!zero) zero = zero_configuration(ctx, id);
+      Configuration c = *zero;
+      c.checkpoint = id;
+      cat.insert_configuration(c);
+      ++report.zero_configurations;
+    }
+    report.zero_configuration_added = report.zero_configurations > 0;
   }
 
   // Reopen decisions "outside the grid" whose neighbour is now a workspace check-point.
@@ -137,7 +159,12 @@ GridReport run_grid(const GridOptions& options) {
   run.ended = now_ms();
   report.message = std::to_string(report.checkpoints_added) + " check-points added (" +
                    std::to_string(report.checkpoints_total) + " in all)" +
-                   (report.zero_configuration_added ? ", zero configuration at (0, 0, 0)" : "") +
+                   (report.zero_configurations > 0
+                        ? ", " + std::to_string(report.zero_configurations) +
+                              " free check-points (sphere clear of the body) with the zero "
+                              "configuration"
+                    : report.zero_configuration_added ? ", zero configuration at (0, 0, 0)"
+                                                      : "") +
                    (report.transitions_reopened
                         ? ", " + std::to_string(report.transitions_reopened) +
                               " transitions reopened into the enlarged workspace"

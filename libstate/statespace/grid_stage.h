@@ -17,6 +17,7 @@ struct GridReport {
   std::int64_t checkpoints_added = 0;
   std::int64_t checkpoints_total = 0;
   bool zero_configuration_added = false;
+  std::int64_t zero_configurations = 0;   // contact: zero configurations added at free check-points
   std::int64_t transitions_reopened = 0;  // kOutsideGrid decisions now inside the workspace
   std::string message;
 };
@@ -25,7 +26,10 @@ struct GridReport {
 // (i, j, k) order; the zero configuration at the rest check-point (0, 0, 0) if missing (u = 0,
 // force 0, level 0, wave 0, no blob; stiffness from the solver at rest); and, after the
 // workspace was enlarged, deletes the kOutsideGrid transitions whose neighbour is now a
-// workspace check-point and reopens their sources. Existing check-points keep ids and indices.
+// workspace check-point and reopens their sources. Contact probe: a workspace check-point whose
+// sphere touches no surface node of the rest shape is kFree and holds the zero configuration
+// (no blob; the rest check-point is one of them); the others are kWorkspace, reached only by
+// expansion. Existing check-points keep ids and indices.
 // One transaction with an "grid" stage run. Skips ("unchanged") if the grid and the problem are
 // those of the last grid run. Throws InputError (nothing changed) if the directory is not
 // imported, or a stored check-point is not where the scene's grid puts it.

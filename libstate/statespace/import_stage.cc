@@ -88,10 +88,6 @@ ImportReport run_import(const ImportOptions& options) {
   MeshReport mesh_report;
   const Problem problem = build_problem(scene, &mesh_report);
   const GridSpec grid = resolve_grid(scene.grid, problem.probe_rest, options.scene.string());
-  if (scene.probe.mode != ProbeMode::kGrab) {
-    throw InputError(options.scene.string() + ": probe.mode = \"contact\" is not supported by the "
-                     "state space yet (grab only)");
-  }
   const ContentHash mesh_hash = content_hash_file(scene.mesh.file);
   const NamedHashes identity = scene_identity(scene, problem, mesh_hash);
   const StateDir dir{options.state};

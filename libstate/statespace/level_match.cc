@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 namespace hapstate {
 
@@ -41,6 +42,7 @@ double level_distance_bound(const std::vector<double>& summary_a, const std::arr
 
 double level_distance(const ConfigVectors& a, const ConfigVectors& b,
                       const LevelTolerances& tolerances) {
+  if (a.touched != b.touched) return std::numeric_limits<double>::infinity();
   assert(a.u.size() == b.u.size() && a.h.size() == b.h.size());
   double du = 0;
   for (std::size_t k = 0; k < a.u.size(); ++k) du = std::max(du, std::abs(a.u[k] - b.u[k]));

@@ -14,9 +14,11 @@
 namespace hapstate {
 
 // The vectors of a configuration: u (3 per node, mesh units), t (probe DOFs, mesh units),
-// h (reactions at the probe DOFs, N).
+// h (reactions at the probe DOFs, N); contact probe: touched (the nodes the sphere holds,
+// ascending; their 3 DOFs each are the probe DOFs of t and h, in that order).
 struct ConfigVectors {
   std::vector<double> u, t, h;
+  std::vector<int> touched;
 };
 
 class LevelSketch {
@@ -42,7 +44,8 @@ double level_distance_bound(const std::vector<double>& summary_a, const std::arr
                             const std::vector<double>& summary_b, const std::array<double, 3>& force_b,
                             const LevelTolerances& tolerances, int probe_nodes);
 
-// The exact distance; u and h of a and b must have equal sizes.
+// The exact distance; u of a and b must have equal sizes. Configurations holding different
+// touched sets are never the same level (+infinity); with equal sets h have equal sizes.
 double level_distance(const ConfigVectors& a, const ConfigVectors& b,
                       const LevelTolerances& tolerances);
 

@@ -1,9 +1,16 @@
 #include "statespace/probe_model.h"
 
+#include "solver/sphere_query.h"
 #include "util/error.h"
+
+#include <algorithm>
 
 namespace hapstate {
 namespace {
+
+Eigen::VectorXd metres(const std::vector<double>& u, double unit) {
+  return Eigen::Map<const Eigen::VectorXd>(u.data(), static_cast<Eigen::Index>(u.size())) * unit;
+}
 
 class GrabProbe final : public ProbeModel {
  public:
@@ -15,7 +22,7 @@ class GrabProbe final : public ProbeModel {
 
   Eigen::Vector3d rest_position() const override { return problem_.probe_rest; }
 
-  ProbeLoad load_at(const Eigen::Vector3d& p) const override {
+  ProbeLoad load_of(const PathSolver&, const Eigen::Vector3d& p) const override {
     const Eigen::Vector3d t = p - problem_.probe_rest;
     ProbeLoad load;
     load.dofs = dofs_;
@@ -23,11 +30,9 @@ class GrabProbe final : public ProbeModel {
     return load;
   }
 
-  void set_state(PathSolver& solver, const std::vector<double>& u,
+  void set_state(PathSolver& solver, const std::vector<double>& u, const std::vector<int>&,
                  const Eigen::Vector3d& p) const override {
-    Eigen::VectorXd u_m = Eigen::Map<const Eigen::VectorXd>(u.data(), static_cast<Eigen::Index>(u.size()));
-    u_m *= problem_.unit;
-    solver.set_state(u_m, p - problem_.probe_rest);
+    solver.set_state(metres(u, problem_.unit), p - problem_.probe_rest);
   }
 
   MoveResult move_to(PathSolver& solver, const Eigen::Vector3d& p) const override {
@@ -37,18 +42,85 @@ class GrabProbe final : public ProbeModel {
   bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
     return p == problem_.probe_rest;
   }
+  bool trivial_move(const Eigen::Vector3d&, const Eigen::Vector3d&) const override {
+    return false;
+  }
+  bool is_contact() const override { return false; }
 
  private:
   const Problem& problem_;
   std::vector<int> dofs_;
 };
 
+// The contact sphere (solver/contact_set.h). "Touches" uses the solver's own criterion: a
+// node deeper inside the sphere than the penetration tolerance.
+class ContactProbe final : public ProbeModel {
+ public:
+  explicit ContactProbe(const Problem& problem)
+      : problem_(problem),
+        reach_(problem.contact->radius * (1.0 - kPenetrationTolerance)) {
+    const auto& candidates = problem.contact->candidates;
+    rest_.resize(3, static_cast<Eigen::Index>(candidates.size()));
+    for (std::size_t k = 0; k < candidates.size(); ++k)
+      rest_.col(static_cast<Eigen::Index>(k)) = problem.mesh.nodes.col(candidates[k]);
+    index_.build(rest_, problem.contact->radius);
+  }
+
+  Eigen::Vector3d rest_position() const override { return problem_.probe_rest; }
+
+  ProbeLoad load_of(const PathSolver& solver, const Eigen::Vector3d&) const override {
+    ProbeLoad load;
+    const Eigen::Matrix3Xd u = solver.displacements();
+    for (int n : solver.touched_nodes())
+      for (int c = 0; c < 3; ++c) {
+        load.dofs.push_back(3 * n + c);
+        load.values.push_back(u(c, n));
+      }
+    return load;
+  }
+
+  void set_state(PathSolver& solver, const std::vector<double>& u,
+                 const std::vector<int>& touched, const Eigen::Vector3d& p) const override {
+    solver.set_state(metres(u, problem_.unit), p - problem_.probe_rest, touched);
+  }
+
+  MoveResult move_to(PathSolver& solver, const Eigen::Vector3d& p) const override {
+    return solver.move_to(p - problem_.probe_rest);
+  }
+
+  bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
+    std::vector<int> inside;
+    index_.inside(p, reach_, &inside);
+    return inside.empty();
+  }
+
+  bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override {
+    if (!holds_zero_configuration(a) || !holds_zero_configuration(b)) return false;
+    // Nodes near the segment: within reach + half its length of its midpoint.
+    const Eigen::Vector3d ab = b - a;
+    if (ab.squaredNorm() == 0.0) return true;
+    std::vector<int> near;
+    index_.inside(0.5 * (a + b), reach_ + 0.5 * ab.norm(), &near);
+    for (int k : near) {
+      const Eigen::Vector3d x = rest_.col(k);
+      const double s = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      if ((x - (a + s * ab)).norm() < reach_) return false;
+    }
+    return true;
+  }
+  bool is_contact() const override { return true; }
+
+ private:
+  const Problem& problem_;
+  double reach_;
+  Eigen::Matrix3Xd rest_;  // rest positions of the candidate nodes
+  SphereQuery index_;
+};
+
 }  // namespace
 
-std::unique_ptr<ProbeModel> make_probe_model(const Problem& problem, ProbeMode mode) {
-  if (mode != ProbeMode::kGrab) {
-    throw InputError("probe.mode = \"contact\": the state space supports only grab probes yet");
-  }
+std::unique_ptr<ProbeModel> make_probe_model(const Problem& problem) {
+  if (problem.contact) return std::make_unique<ContactProbe>(problem);
   return std::make_unique<GrabProbe>(problem);
 }
 

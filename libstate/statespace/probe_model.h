@@ -1,5 +1,5 @@
-// How the probe loads the body at a check-point: the interface both probe modes fit (grab now,
-// contact later). The expansion only talks to the probe through it.
+// How the probe loads the body at a check-point: the interface both probe modes fit (grab and
+// contact). The expansion only talks to the probe through it.
 #pragma once
 
 #include "scene/problem.h"
@@ -26,21 +26,27 @@ class ProbeModel {
 
   // The probe position at rest (mesh units); the grid is aligned on it.
   virtual Eigen::Vector3d rest_position() const = 0;
-  // The prescribed DOFs and values with the probe at position p (mesh units).
-  virtual ProbeLoad load_at(const Eigen::Vector3d& p) const = 0;
+  // The prescribed DOFs and values of `solver`'s current state, its probe at p (grab: the
+  // grabbed DOFs, t = p - rest; contact: the three DOFs of every touched node).
+  virtual ProbeLoad load_of(const PathSolver& solver, const Eigen::Vector3d& p) const = 0;
   // Puts `solver` into the state of a stored configuration: displacements u (mesh units, 3 per
-  // node) with the probe at position p.
+  // node) with the probe at position p; contact: `touched` are the nodes the sphere holds.
   virtual void set_state(PathSolver& solver, const std::vector<double>& u,
-                         const Eigen::Vector3d& p) const = 0;
+                         const std::vector<int>& touched, const Eigen::Vector3d& p) const = 0;
   // Moves the probe of `solver` from its current state to position p.
   virtual MoveResult move_to(PathSolver& solver, const Eigen::Vector3d& p) const = 0;
   // Whether the probe at p leaves the body undeformed: such a check-point holds a zero
-  // configuration (grab: only the rest position).
+  // configuration (grab: only the rest position; contact: every p whose sphere touches no
+  // surface node of the rest shape).
   virtual bool holds_zero_configuration(const Eigen::Vector3d& p) const = 0;
+  // Whether moving the probe from a to b with the body at rest keeps it at rest, so the move
+  // needs no solve (grab: never; contact: the sphere sweeps past every surface node).
+  virtual bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const = 0;
+  virtual bool is_contact() const = 0;
 };
 
-// The grab probe: the grabbed nodes translate rigidly with the probe, t = p - probe_rest on the
-// grabbed components. Keeps a reference to `problem`, which must outlive it.
-std::unique_ptr<ProbeModel> make_probe_model(const Problem& problem, ProbeMode mode);
+// The probe of `problem` (grab, or contact when problem.contact is set). Keeps a reference to
+// `problem`, which must outlive it.
+std::unique_ptr<ProbeModel> make_probe_model(const Problem& problem);
 
 }  // namespace hapstate

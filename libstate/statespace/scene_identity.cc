@@ -34,6 +34,8 @@ NamedHashes scene_identity(const Scene& scene, const Problem& problem,
   {
     ContentHasher h;
     h.update(static_cast<std::int64_t>(scene.probe.mode));
+    // Contact: the sphere radius decides every configuration (grab hashes stay as they were).
+    if (problem.contact) h.update(problem.contact->radius);
     parts.emplace_back("probe", h.value());
   }
   {
@@ -78,7 +80,7 @@ std::string describe_scene_part(const std::string& part) {
   if (part == "mesh") return "the mesh file's content";
   if (part == "problem") return "the mesh geometry or the fixed/grabbed nodes ([[fixed]], [probe])";
   if (part == "material") return "the material ([material] or mesh.unit)";
-  if (part == "probe") return "the probe mode (probe.mode)";
+  if (part == "probe") return "the probe mode (probe.mode) or the contact sphere's radius";
   if (part == "solver") return "the solver options ([solver])";
   if (part == "levels") return "the level tolerances ([levels])";
   if (part == "grid.spacing") return "the grid spacing (grid.spacing or grid.dims with grid.box)";

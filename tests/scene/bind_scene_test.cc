@@ -251,12 +251,37 @@ TEST_F(BindScene, EveryConnectedComponentIsChecked) {
                 "(e.g. translation along x); add fixed nodes");
 }
 
-TEST_F(BindScene, ContactProbeIsNotSupportedYet) {
+TEST_F(BindScene, ContactProbeCandidatesAreTheSurfaceNodesWithoutFixedComponents) {
+  const Problem p =
+      bind_scene(scene(kFixX0, "mode = \"contact\"\npoint = [1, 1, 3]\nradius = 0.5"), cube_);
+  ASSERT_TRUE(p.contact.has_value());
+  EXPECT_EQ(p.contact->radius, 0.5);
+  EXPECT_EQ(p.probe_rest, Eigen::Vector3d(1, 1, 3));
+  EXPECT_TRUE(p.constraints.probe_nodes.empty());
+  // 26 surface nodes (all but the centre (1, 1, 1)), minus the 9 on the fixed face x = 0.
+  std::vector<int> expected;
+  for (int n = 0; n < 27; ++n)
+    if (n != box_node(1, 1, 1, 3, 3) && p.mesh.nodes(0, n) != 0.0) expected.push_back(n);
+  EXPECT_EQ(p.contact->candidates, expected);
+  for (DofRole r : p.constraints.role) EXPECT_NE(r, DofRole::kProbe);
+}
+
+TEST_F(BindScene, ContactSphereOverlappingTheBodyAtRestIsAnError) {
+  // Centre 0.4 above the top face: node (1, 1, 2) is inside the sphere of radius 0.5.
   EXPECT_EQ(error_of([&] {
-              bind_scene(scene(kFixX0, "mode = \"contact\"\npoint = [1, 1, 3]\nradius = 0.5"),
+              bind_scene(scene(kFixX0, "mode = \"contact\"\npoint = [1, 1, 2.4]\nradius = 0.5"),
                          cube_);
             }),
-            at(10, "contact probe not supported yet (use mode = \"grab\")"));
+            at(10, "probe: contact: the sphere at rest (centre [1, 1, 2.4], radius 0.5) overlaps "
+                   "the body: surface node 22 is at distance 0.4; put probe.point outside the "
+                   "body"));
+}
+
+TEST_F(BindScene, ContactProbeNeedsFixedNodesThatHoldTheBody) {
+  EXPECT_NE(error_of([&] {
+              bind_scene(scene("", "mode = \"contact\"\npoint = [1, 1, 3]\nradius = 0.5"), cube_);
+            }).find("rigid-body mode(s) free"),
+            std::string::npos);
 }
 
 TEST_F(BindScene, MeshWithoutTets) {

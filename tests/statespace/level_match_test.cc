@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <random>
 
 namespace hapstate {
@@ -33,6 +35,19 @@ TEST(LevelSketch, SixteenNodesNoneFullyFixed) {
   const auto s = sketch.summary(u);
   EXPECT_EQ(s[0], 3.0 * sketch.nodes()[0]);
   EXPECT_EQ(s[47], 3.0 * sketch.nodes()[15] + 2);
+}
+
+// Contact probe: the touched set is part of the configuration; equal vectors with different
+// sets are different levels, equal sets compare as usual.
+TEST(LevelDistance, DifferentTouchedSetsAreNeverTheSameLevel) {
+  const LevelTolerances tol{0.01, 0.002};
+  const ConfigVectors a{std::vector<double>(9, 0.0), {0, 0, 0}, {0.1, 0.2, 0.3}, {2}};
+  ConfigVectors b = a;
+  EXPECT_EQ(level_distance(a, b, tol), 0.0);
+  b.touched = {1};
+  EXPECT_TRUE(std::isinf(level_distance(a, b, tol)));
+  b.touched.clear();
+  EXPECT_TRUE(std::isinf(level_distance(a, b, tol)));
 }
 
 TEST(LevelDistance, DefinitionAndBound) {

@@ -241,3 +241,91 @@ TEST_F(HapstateSolve, ExportCcxWritesDeck) {
 
 }  // namespace
 }  // namespace hapstate
+
+namespace hapstate {
+namespace {
+
+const std::string kPlate = HAPSTATE_SOURCE_DIR "/pipelines/plate/scene.toml";
+const std::string kContactHeader = kHeader + ",touched,active_set_changes";
+
+// Rows of a contact run: (z, fz, status, touched).
+struct ContactRow {
+  double z, fx, fy, fz;
+  std::string status;
+  int touched;
+};
+std::vector<ContactRow> contact_rows(const fs::path& csv) {
+  std::vector<ContactRow> rows;
+  const auto lines = lines_of(csv);
+  for (std::size_t k = 1; k < lines.size(); ++k) {
+    const auto c = split(lines[k]);
+    if (c.size() != 15u) return {};
+    rows.push_back({std::stod(c[3]), std::stod(c[4]), std::stod(c[5]), std::stod(c[6]), c[12],
+                    std::stoi(c[13])});
+  }
+  return rows;
+}
+
+// The bundled plate scene through the real tool: reaching the centre (2, 2, 0.2) from below
+// (straight up from rest) and from above (around the plate's edge, then down) gives opposite
+// normal forces; untouched rows are exactly zero.
+TEST_F(HapstateSolve, ContactPlateFromBelowAndFromAbove) {
+  const Run below = solve({kPlate, "--straight", "2", "2", "0.2", "--steps", "12", "-q", "-o",
+                           p("below.csv")});
+  ASSERT_EQ(below.exit_code, 0) << below.err;
+  EXPECT_EQ(lines_of(p("below.csv"))[0], kContactHeader);
+  {
+    std::ofstream path(p("above.txt"));
+    path << "x,y,z\n2,2,-1.5\n5,2,-1.5\n5,2,1.5\n2,2,1.5\n";
+    for (double z = 1.3; z > 0.25; z -= 0.2) path << "2,2," << z << "\n";
+    path << "2,2,0.2\n";
+  }
+  const Run above = solve({kPlate, "--path", p("above.txt"), "-q", "-o", p("above.csv")});
+  ASSERT_EQ(above.exit_code, 0) << above.err;
+  const auto b = contact_rows(p("below.csv"));
+  const auto a = contact_rows(p("above.csv"));
+  ASSERT_EQ(b.size(), 12u);
+  ASSERT_EQ(a.size(), 11u);
+  for (const auto* rows : {&a, &b})
+    for (const ContactRow& r : *rows) {
+      EXPECT_EQ(r.status, "ok");
+      if (r.touched == 0) {
+        EXPECT_EQ(r.fx, 0.0);
+        EXPECT_EQ(r.fy, 0.0);
+        EXPECT_EQ(r.fz, 0.0);
+      }
+    }
+  // First touch from below: the sphere's top (z + 0.8) passes the plate's bottom face at -0.1.
+  EXPECT_EQ(b[0].touched, 0);   // z = -0.9: top at -0.1, not inside
+  EXPECT_GT(b[1].touched, 0);   // z = -0.8
+  EXPECT_EQ(a[4].touched, 0);   // z = 1.3: bottom at 0.5, clear of the top face at 0.1
+  EXPECT_GT(a.back().touched, 0);
+  EXPECT_LT(b.back().fz, -0.1);  // pushed up from below: the plate pushes the probe down
+  EXPECT_GT(a.back().fz, 0.1);   // pushed down from above: it pushes the probe up
+}
+
+// The bundled liver touched by a sphere: pressed 1 cm along minus the surface normal at the
+// touched spot, it converges, touches, and the force pushes back out of the liver.
+TEST_F(HapstateSolve, ContactLiverPressedConvergesAndPushesBack) {
+  const std::string scene = HAPSTATE_SOURCE_DIR "/pipelines/liver-contact/scene.toml";
+  const Run r = solve({scene, "--by", "0.18", "-0.4", "-0.9", "--steps", "5", "-q", "-o",
+                       p("liver.csv")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = contact_rows(p("liver.csv"));
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_EQ(rows[0].touched, 0);  // 0.2 cm of the 0.25 cm gap: not yet
+  EXPECT_GT(rows.back().touched, 0);
+  const Eigen::Vector3d normal(-0.18, 0.40, 0.90);  // outward normal at node 100
+  const Eigen::Vector3d f(rows.back().fx, rows.back().fy, rows.back().fz);
+  EXPECT_GT(f.dot(normal.normalized()), 0.0) << f.transpose();
+}
+
+TEST_F(HapstateSolve, ContactProbeCannotBeExportedToCalculix) {
+  const Run r = solve({kPlate, "--by", "0", "0", "1", "--export-ccx", p("ccx")});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--export-ccx: a contact probe cannot be exported"), std::string::npos)
+      << r.err;
+}
+
+}  // namespace
+}  // namespace hapstate

@@ -1,0 +1,208 @@
+// The state space of a contact probe, through the real stages on the bundled plate scene
+// (pipelines/plate/): free check-points hold the shared zero configuration, moves between them
+// need no solve, the check-points in the plate's swept region hold a level pushed from below
+// and one pushed from above with opposite normal forces, and leaving the plate gives the zero
+// configuration back.
+#include "beam_state.h"
+#include "statespace/expand_batch.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+namespace hapstate::test_util {
+namespace {
+
+const std::string kPlateScene = HAPSTATE_SOURCE_DIR "/pipelines/plate/scene.toml";
+
+// A copy of the plate scene with text replacements, the mesh named by its absolute path.
+std::string plate_variant(const fs::path& dir,
+                          const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::string text = slurp(kPlateScene);
+  auto all = edits;
+  all.emplace_back("file = \"plate.msh\"",
+                   "file = \"" HAPSTATE_SOURCE_DIR "/pipelines/plate/plate.msh\"");
+  for (const auto& [from, to] : all) {
+    const auto at = text.find(from);
+    if (at == std::string::npos) throw std::runtime_error("plate scene lacks: " + from);
+    text.replace(at, from.size(), to);
+  }
+  const fs::path file = dir / "plate.toml";
+  std::ofstream(file) << text;
+  return file.string();
+}
+
+class ContactState : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("hapstate_contact_state_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  // import, grid, expand (extra expand arguments) of `scene` into dir_/state.
+  void run_all(const std::string& scene, std::vector<std::string> expand_extra = {}) {
+    const StageResult i = import_stage(state(), scene, dir_);
+    ASSERT_EQ(i.exit_code, 0) << i.err;
+    const StageResult g = grid_stage(state(), dir_);
+    ASSERT_EQ(g.exit_code, 0) << g.err;
+    const StageResult e = expand_stage(state(), 1, dir_, std::move(expand_extra));
+    ASSERT_TRUE(e.exit_code == 0) << e.err;
+  }
+  fs::path state() const { return dir_ / "state"; }
+  fs::path dir_;
+};
+
+Eigen::Vector3d force_of(const Configuration& c) {
+  return Eigen::Vector3d(c.force[0], c.force[1], c.force[2]);
+}
+
+TEST_F(ContactState, PlateColumnHoldsBothSidesAndLeavingGivesTheZeroConfiguration) {
+  run_all(kPlateScene);
+  Catalogue cat(state() / "catalogue.sqlite", OpenMode::kReadOnly);
+  BlobStore blobs(state() / "blobs");
+  std::map<int, Checkpoint> by_k;  // the column: i = j = 0, k = 0 .. 10 (z = -1.0 .. 1.0)
+  for (const Checkpoint& c : cat.read_all_checkpoints())
+    if (c.ijk[0] == 0 && c.ijk[1] == 0) by_k.emplace(c.ijk[2], c);
+  ASSERT_EQ(by_k.size(), 11u);
+  for (int k = 0; k <= 10; ++k) {
+    const std::vector<Configuration> levels = cat.configurations_at(by_k.at(k).id);
+    const double z = -1.0 + 0.2 * k;
+    SCOPED_TRACE("z = " + std::to_string(z));
+    // Free (the sphere of radius 0.8 clear of the plate, |z| >= 0.9): only the shared zero
+    // configuration, no blob, exactly zero force.
+    if (std::abs(z) > 0.9) {
+      EXPECT_EQ(by_k.at(k).classification, CheckpointClass::kFree);
+      ASSERT_EQ(levels.size(), 1u);
+      EXPECT_FALSE(levels[0].blob.has_value());
+      EXPECT_EQ(force_of(levels[0]), Eigen::Vector3d::Zero());
+      continue;
+    }
+    EXPECT_EQ(by_k.at(k).classification, CheckpointClass::kWorkspace);
+    ASSERT_GE(levels.size(), 1u);
+    for (const Configuration& c : levels) {
+      ASSERT_TRUE(c.blob.has_value());
+      const ConfigVectors v = load_config_vectors(blobs, c, 3 * 242, 0, /*contact=*/true);
+      EXPECT_FALSE(v.touched.empty());
+      EXPECT_EQ(v.h.size(), 3 * v.touched.size());
+      EXPECT_EQ(v.t.size(), 3 * v.touched.size());
+    }
+    // The swept region: the sphere centre within 0.2 of the mid-plane is reached from below
+    // (plate bent up, force down) and from above (bent down, force up) within max_force.
+    if (std::abs(z) < 0.25) {
+      ASSERT_GE(levels.size(), 2u);
+      const Configuration* down = nullptr;
+      const Configuration* up = nullptr;
+      for (const Configuration& c : levels) {
+        if (c.force[2] < 0 && (!down || c.force[2] < down->force[2])) down = &c;
+        if (c.force[2] > 0 && (!up || c.force[2] > up->force[2])) up = &c;
+      }
+      ASSERT_TRUE(down && up);
+      for (const Configuration* c : {down, up}) {
+        const Eigen::Vector3d f = force_of(*c);
+        EXPECT_GT(std::abs(f.z()), 0.1);
+        EXPECT_LT(f.head<2>().norm(), 0.15 * std::abs(f.z()));  // tets' diagonal split only
+      }
+      EXPECT_LT(force_of(*down).normalized().dot(force_of(*up).normalized()), -0.97);
+    }
+  }
+  // Leaving: from the first touching check-point on either side, the move out to the free
+  // check-point reaches its zero configuration.
+  const Configuration zero_below = cat.configurations_at(by_k.at(0).id)[0];
+  const Configuration zero_above = cat.configurations_at(by_k.at(10).id)[0];
+  int left = 0;
+  for (const Transition& t : cat.read_all_transitions()) {
+    if (t.outcome != TransitionOutcome::kReached) continue;
+    const Configuration source = cat.read_configuration(t.source);
+    const auto off = t.direction.offset();
+    if (off[0] != 0 || off[1] != 0) continue;
+    if (source.checkpoint == by_k.at(1).id && off[2] == -1) {
+      EXPECT_EQ(t.target, zero_below.id);
+      ++left;
+    }
+    if (source.checkpoint == by_k.at(9).id && off[2] == 1) {
+      EXPECT_EQ(t.target, zero_above.id);
+      ++left;
+    }
+  }
+  EXPECT_EQ(left, 2);
+}
+
+// Free check-points side by side (the layer z = -1.0 of a 3 x 3 grid): their zero
+// configurations are joined without a solve; moves into the plate are solved.
+TEST_F(ContactState, MovesBetweenFreeCheckpointsNeedNoSolve) {
+  run_all(plate_variant(dir_, {{"box = [[1.9, 1.9, -1.0], [2.1, 2.1, 1.0]]",
+                                "box = [[1.8, 1.8, -1.0], [2.2, 2.2, -0.8]]"},
+                               {"max_force = 0.5", "max_force = 0.03"}}),
+          {"--max-transitions", "400"});
+  Catalogue cat(state() / "catalogue.sqlite", OpenMode::kReadOnly);
+  std::map<CheckpointId, Checkpoint> checkpoints;
+  int free = 0;
+  for (const Checkpoint& c : cat.read_all_checkpoints()) {
+    checkpoints.emplace(c.id, c);
+    if (c.classification == CheckpointClass::kFree) {
+      ++free;
+      EXPECT_EQ(c.ijk[2], 0);  // z = -1.0 (the rest centre); z = -0.8 touches the plate at rest
+    }
+  }
+  EXPECT_EQ(free, 9);
+  int trivial = 0, solved_in = 0;
+  for (const Transition& t : cat.read_all_transitions()) {
+    if (t.outcome != TransitionOutcome::kReached) continue;
+    const Configuration source = cat.read_configuration(t.source);
+    const Configuration target = cat.read_configuration(t.target);
+    const bool from_free = checkpoints.at(source.checkpoint).classification == CheckpointClass::kFree;
+    const bool to_free = checkpoints.at(target.checkpoint).classification == CheckpointClass::kFree;
+    if (from_free && to_free && !source.blob) {
+      EXPECT_EQ(t.substeps, 0);
+      EXPECT_EQ(t.newton_iterations, 0);
+      EXPECT_FALSE(target.blob.has_value());
+      EXPECT_EQ(target.level.value(), 0);
+      ++trivial;
+    } else if (from_free && !to_free) {
+      EXPECT_GT(t.substeps, 0);
+      EXPECT_TRUE(target.blob.has_value());
+      ++solved_in;
+    }
+  }
+  // 9 free check-points in a 3 x 3 layer: 8 x 3 + 4 x 2 ... = 40 ordered neighbour pairs.
+  EXPECT_EQ(trivial, 40);
+  EXPECT_GT(solved_in, 0);
+}
+
+// Contact expansion is as deterministic as grab expansion: 1 and 2 threads give the same
+// decisions, vectors and touched sets.
+TEST_F(ContactState, ThreadCountDoesNotChangeTheStateSpace) {
+  const std::string scene = plate_variant(dir_, {{"box = [[1.9, 1.9, -1.0], [2.1, 2.1, 1.0]]",
+                                                  "box = [[1.8, 1.8, -1.0], [2.2, 2.2, -0.8]]"},
+                                                 {"max_force = 0.5", "max_force = 0.03"}});
+  std::vector<fs::path> states;
+  for (int threads : {1, 2}) {
+    const fs::path state = dir_ / ("state" + std::to_string(threads));
+    ASSERT_EQ(import_stage(state, scene, dir_).exit_code, 0);
+    ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
+    const StageResult e = expand_stage(state, threads, dir_, {"--max-transitions", "300"});
+    ASSERT_EQ(e.exit_code, 0) << e.err;
+    states.push_back(state);
+  }
+  const Snapshot a = snapshot(states[0]);
+  expect_same_decisions(a, snapshot(states[1]));
+  EXPECT_EQ(max_vector_difference(states[0], states[1], a.configurations), 0.0);
+  BlobStore b0(states[0] / "blobs"), b1(states[1] / "blobs");
+  int touching = 0;
+  for (const Configuration& c : a.configurations) {
+    if (!c.blob) continue;
+    const auto t0 = b0.read(c.blob->segment, c.blob->name + "/touched");
+    EXPECT_EQ(t0, b1.read(c.blob->segment, c.blob->name + "/touched"));
+    touching += t0.empty() ? 0 : 1;
+  }
+  EXPECT_GT(touching, 10);
+}
+
+}  // namespace
+}  // namespace hapstate::test_util

@@ -1,0 +1,56 @@
+// The contact probe's view for the state space on the block of tests/solver/contact_problems.h
+// (nodes every 0.5 on [0, 4]^2 x [0, 1], base z = 0 fixed, sphere radius 0.8): which probe
+// positions leave the body at rest, and which moves between them sweep past every node; the
+// expected answers are worked out by hand from the node lattice.
+#include "../solver/contact_problems.h"
+#include "statespace/probe_model.h"
+
+#include <gtest/gtest.h>
+
+namespace hapstate {
+namespace {
+
+TEST(ContactProbeModel, ZeroConfigurationWhereTheSphereTouchesNoSurfaceNode) {
+  const Problem p = testing::block_problem();
+  const auto probe = make_probe_model(p);
+  ASSERT_TRUE(probe->is_contact());
+  EXPECT_TRUE(probe->holds_zero_configuration(p.probe_rest));
+  // Above the top-face node (2, 2, 1): 0.85 away is clear, 0.75 away touches.
+  EXPECT_TRUE(probe->holds_zero_configuration(Eigen::Vector3d(2, 2, 1.85)));
+  EXPECT_FALSE(probe->holds_zero_configuration(Eigen::Vector3d(2, 2, 1.75)));
+  // Beside the fixed base (z = 0 nodes are not candidates): only the z = 0.5 nodes count.
+  EXPECT_TRUE(probe->holds_zero_configuration(Eigen::Vector3d(-0.6, 2, -0.5)));  // 0.78 from (0, 2, 0)
+  EXPECT_FALSE(probe->holds_zero_configuration(Eigen::Vector3d(-0.6, 2, 0.1)));  // 0.72 from (0, 2, 0.5)
+}
+
+TEST(ContactProbeModel, MoveIsTrivialOnlyIfTheSphereSweepsPastEveryNode) {
+  const Problem p = testing::block_problem();
+  const auto probe = make_probe_model(p);
+  // At x = -0.78, z = 0.5 the sphere reaches a node (0, y_n, 0.5) iff |y - y_n| < 0.178; the
+  // nodes are at y = 0, 0.5, 1, ...: y = 0.25 and 0.75 are clear, the segment between them
+  // passes y = 0.5.
+  const Eigen::Vector3d a(-0.78, 0.25, 0.5), b(-0.78, 0.75, 0.5), c(-0.98, 0.25, 0.5);
+  ASSERT_TRUE(probe->holds_zero_configuration(a));
+  ASSERT_TRUE(probe->holds_zero_configuration(b));
+  EXPECT_FALSE(probe->trivial_move(a, b));
+  EXPECT_FALSE(probe->trivial_move(b, a));
+  EXPECT_TRUE(probe->trivial_move(a, c));  // straight away from the face
+  EXPECT_TRUE(probe->trivial_move(a, a));
+  EXPECT_FALSE(probe->trivial_move(a, Eigen::Vector3d(-0.7, 0.25, 0.5)));  // target touches
+}
+
+TEST(GrabProbeModel, NoTrivialMovesAndZeroOnlyAtRest) {
+  Problem p = testing::block_problem();
+  p.contact.reset();
+  p.constraints.probe_nodes = {p.mesh.num_nodes() - 1};
+  for (int c = 0; c < 3; ++c) p.constraints.role[3 * (p.mesh.num_nodes() - 1) + c] = DofRole::kProbe;
+  p.probe_rest = p.mesh.nodes.col(p.mesh.num_nodes() - 1);
+  const auto probe = make_probe_model(p);
+  EXPECT_FALSE(probe->is_contact());
+  EXPECT_TRUE(probe->holds_zero_configuration(p.probe_rest));
+  EXPECT_FALSE(probe->holds_zero_configuration(p.probe_rest + Eigen::Vector3d(0, 0, 0.1)));
+  EXPECT_FALSE(probe->trivial_move(p.probe_rest, p.probe_rest));
+}
+
+}  // namespace
+}  // namespace hapstate
