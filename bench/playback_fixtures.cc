@@ -84,6 +84,7 @@ void write_synthetic(const std::filesystem::path& file) {
     c.checkpoints.insert(c.checkpoints.end(), {g, 1});
     c.config_checkpoint.push_back(g);
     c.config_level.push_back(0);
+    c.config_zero.push_back(g == m.rest_configuration ? 1 : 0);
     for (int a = 0; a < 3; ++a) c.force.push_back(-kStiffness * (p[a] + m.lo[a]) * kSpacing);
     for (int r = 0; r < 9; ++r) c.stiffness.push_back(r % 4 == 0 ? -kStiffness : 0.0);
     for (int d = 0; d < 27; ++d) {

@@ -52,6 +52,10 @@ class PlaybackFile {
   std::int32_t num_view_nodes() const;       // nodes whose displacements are stored
   std::int32_t num_mesh_nodes() const;
   bool view_is_all_nodes() const;            // view nodes = every mesh node, in mesh order
+  bool is_contact() const;                   // the scene's probe is a contact sphere
+  // Whether configuration c is a zero configuration: the body at rest (no force, no
+  // displacement); the rest configuration, and with a contact probe every free check-point's.
+  bool is_zero_configuration(std::int32_t c) const;
   std::span<const std::int32_t> view_nodes() const;       // mesh node index per view node
   std::span<const float> reference_positions() const;     // 3 per view node, mesh units
   std::span<const std::int32_t> triangles() const;        // 3 view-node indices each
@@ -104,6 +108,11 @@ class HapticCursor {
   explicit HapticCursor(const PlaybackFile& file, Scheme scheme = Scheme::kHermite);
 
   void reset();  // the probe at rest, every corner from the rest configuration
+  // The probe placed at `probe` with the body at rest (contact probe: the device starts away
+  // from the body): anchored at the zero configuration nearest to `probe` (grab probe: only
+  // the rest configuration is one), from where the next force() call walks. Scans the grid:
+  // call it before the haptic loop, not in it.
+  void reset(const std::array<double, 3>& probe);
   Force force(const std::array<double, 3>& probe);
   void set_scheme(Scheme scheme) { scheme_ = scheme; }
   Scheme scheme() const { return scheme_; }
@@ -127,6 +136,7 @@ class HapticCursor {
   };
 
  private:
+  void anchor_at(std::int32_t configuration);
   void enter_cell(const std::array<std::int32_t, 3>& base);
   void resolve_corner(int corner, const std::array<Corner, 8>& old,
                       const std::array<std::int32_t, 3>& old_base);

@@ -44,6 +44,8 @@ void hs_playback_rest_position(const hs_playback* file, double out[3]);
 hs_cursor* hs_cursor_create(const hs_playback* file, int scheme); /* NULL on a bad scheme */
 void hs_cursor_destroy(hs_cursor* cursor);
 void hs_cursor_reset(hs_cursor* cursor);
+/* The probe placed at p with the body at rest (HapticCursor::reset(p)); not in the haptic loop. */
+void hs_cursor_reset_at(hs_cursor* cursor, const double p[3]);
 /* Force (N) at probe position p (mesh units); returns 1 inside the grid, 0 outside. */
 int hs_cursor_force(hs_cursor* cursor, const double p[3], double force[3]);
 void hs_cursor_snapshot(const hs_cursor* cursor, hs_snapshot* out);

@@ -14,20 +14,34 @@
 namespace hapstate {
 namespace {
 
-// ||a - b|| / ||b|| over the listed view nodes (0 when both are zero).
-double relative_difference(const std::vector<float>& u, const Eigen::Matrix3Xd& exact,
+// ||u - u*||^2 and ||u*||^2 over the listed view nodes.
+struct SquaredNorms {
+  double diff = 0, exact = 0;
+};
+
+SquaredNorms squared_norms(const std::vector<float>& u, const Eigen::Matrix3Xd& exact,
                            std::span<const std::int32_t> view_nodes, const std::vector<char>& use) {
-  double diff = 0, norm = 0;
+  SquaredNorms s;
   for (std::size_t v = 0; v < view_nodes.size(); ++v) {
     if (!use[v]) continue;
     for (int r = 0; r < 3; ++r) {
       const double e = exact(r, view_nodes[v]);
-      diff += (u[3 * v + r] - e) * (u[3 * v + r] - e);
-      norm += e * e;
+      s.diff += (u[3 * v + r] - e) * (u[3 * v + r] - e);
+      s.exact += e * e;
     }
   }
-  if (norm == 0) return diff == 0 ? 0.0 : INFINITY;
-  return std::sqrt(diff / norm);
+  return s;
+}
+
+// ||u - u*|| / ||u*|| per step; a step where the body is at rest (u* = 0: a contact probe off
+// the body) is divided by the path's largest ||u*|| instead, like the force error.
+void relative_errors(const std::vector<SquaredNorms>& steps, std::vector<double*> out) {
+  double largest = 0;
+  for (const SquaredNorms& s : steps) largest = std::max(largest, s.exact);
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const double den = steps[k].exact > 0 ? steps[k].exact : largest;
+    *out[k] = den > 0 ? std::sqrt(steps[k].diff / den) : 0.0;
+  }
 }
 
 }  // namespace
@@ -61,11 +75,18 @@ EvalResult run_eval(const EvalOptions& options) {
   for (std::int32_t v : file.triangles()) surface[v] = 1;
   if (!result.has_all_nodes) std::fill(surface.begin(), surface.end(), 1);
 
-  const std::unique_ptr<ProbeModel> probe = make_probe_model(ctx.problem, ctx.scene.probe.mode);
+  const std::unique_ptr<ProbeModel> probe = make_probe_model(ctx.problem);
   PathSolver solver(ctx.problem);
   std::vector<std::unique_ptr<HapticCursor>> cursors;
   for (Scheme s : result.schemes) cursors.push_back(std::make_unique<HapticCursor>(file, s));
+  // A contact path may start anywhere the sphere is clear of the body: the body at rest, the
+  // probe there (the precise solver and the cursors alike). Otherwise both start at rest.
+  if (!path.empty() && probe->is_contact() && probe->holds_zero_configuration(path.front())) {
+    probe->set_state(solver, std::vector<double>(3 * ctx.problem.mesh.nodes.cols(), 0.0), {}, path.front());
+    for (auto& cursor : cursors) cursor->reset({path.front().x(), path.front().y(), path.front().z()});
+  }
   std::vector<float> u(3 * view_nodes.size());
+  std::vector<SquaredNorms> norms_all, norms_surface;
 
   Progress progress("hapstate-eval: precise solves", static_cast<long long>(path.size()));
   long long failures = 0;
@@ -88,8 +109,8 @@ EvalResult run_eval(const EvalOptions& options) {
       Snapshot snap;
       cursors[s]->snapshot(&snap);
       displacements(file, snap, u);
-      if (result.has_all_nodes) r.deformation_error_all = relative_difference(u, exact_u, view_nodes, all);
-      r.deformation_error_surface = relative_difference(u, exact_u, view_nodes, surface);
+      if (result.has_all_nodes) norms_all.push_back(squared_norms(u, exact_u, view_nodes, all));
+      norms_surface.push_back(squared_norms(u, exact_u, view_nodes, surface));
       step.schemes.push_back(r);
     }
     if (step.solved) result.max_exact_force = std::max(result.max_exact_force, step.exact_force.norm());
@@ -97,9 +118,25 @@ EvalResult run_eval(const EvalOptions& options) {
     progress.update(static_cast<long long>(result.steps.size()), failures);
   }
   progress.finish();
-  for (EvalStep& step : result.steps)
-    for (SchemeResult& r : step.schemes)
-      r.force_error = result.max_exact_force > 0 ? (r.force - step.exact_force).norm() / result.max_exact_force : 0.0;
+  for (std::size_t s = 0; s < result.schemes.size(); ++s) {
+    std::vector<SquaredNorms> all_s, surface_s;
+    std::vector<double*> all_out, surface_out;
+    const std::size_t n = result.schemes.size();
+    for (std::size_t k = 0; k < result.steps.size(); ++k) {
+      SchemeResult& r = result.steps[k].schemes[s];
+      r.force_error = result.max_exact_force > 0
+                          ? (r.force - result.steps[k].exact_force).norm() / result.max_exact_force
+                          : 0.0;
+      surface_s.push_back(norms_surface[k * n + s]);
+      surface_out.push_back(&r.deformation_error_surface);
+      if (result.has_all_nodes) {
+        all_s.push_back(norms_all[k * n + s]);
+        all_out.push_back(&r.deformation_error_all);
+      }
+    }
+    relative_errors(surface_s, surface_out);
+    if (result.has_all_nodes) relative_errors(all_s, all_out);
+  }
   return result;
 }
 

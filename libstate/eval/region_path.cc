@@ -1,6 +1,5 @@
 #include "eval/region_path.h"
 
-#include "playback/file_impl.h"
 #include "util/error.h"
 
 #include <cmath>
@@ -8,53 +7,82 @@
 namespace hapstate {
 namespace {
 
-bool segment_in_region(const PlaybackFile& file, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const auto h = file.grid_spacing();
-  const double hmin = std::min({h[0], h[1], h[2]});
-  const int samples = 1 + static_cast<int>(std::ceil(10.0 * (b - a).norm() / hmin));
-  for (int s = 0; s <= samples; ++s)
-    if (!in_precomputed_region(file, a + (b - a) * (static_cast<double>(s) / samples))) return false;
+// Whether every corner of the cursor's cell is stored; along an axis with a single
+// check-point the cell is flat and only its first corners count.
+bool corners_stored(const HapticCursor& cursor, const std::array<std::int32_t, 3>& dims) {
+  for (int c = 0; c < 8; ++c) {
+    if ((dims[0] == 1 && (c & 4)) || (dims[1] == 1 && (c & 2)) || (dims[2] == 1 && (c & 1))) continue;
+    if (cursor.corner_source(c) != CornerSource::kStored) return false;
+  }
   return true;
 }
+
+class RegionWalker {
+ public:
+  explicit RegionWalker(const PlaybackFile& file) : file_(file), cursor_(file, Scheme::kTrilinear) {
+    const auto h = file.grid_spacing();
+    sample_ = 0.1 * std::min({h[0], h[1], h[2]});
+  }
+  // Moves the cursor from a to b in samples of a tenth of the smallest spacing; false as soon
+  // as the probe leaves the grid or a corner is not stored (the cursor is then somewhere on
+  // the segment).
+  bool move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const int samples = 1 + static_cast<int>(std::ceil((b - a).norm() / sample_));
+    for (int s = 1; s <= samples; ++s) {
+      const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(s) / samples);
+      if (!cursor_.force({q.x(), q.y(), q.z()}).inside_grid) return false;
+      if (!corners_stored(cursor_, file_.grid_dims())) return false;
+    }
+    return true;
+  }
+  // Puts the cursor back where it was after following `path` from `start`.
+  void replay(const Eigen::Vector3d& start, const ProbePath& path) {
+    cursor_.reset();
+    Eigen::Vector3d p = start;
+    cursor_.force({p.x(), p.y(), p.z()});
+    for (const Eigen::Vector3d& q : path) {
+      move(p, q);
+      p = q;
+    }
+  }
+  bool stored_here() const { return corners_stored(cursor_, file_.grid_dims()); }
+
+ private:
+  const PlaybackFile& file_;
+  HapticCursor cursor_;
+  double sample_;
+};
 
 }  // namespace
-
-bool in_precomputed_region(const PlaybackFile& file, const Eigen::Vector3d& p) {
-  const PlaybackFile::Impl& f = file.impl();
-  const playback::Meta& m = *f.meta;
-  std::array<std::int32_t, 3> base{};
-  for (int a = 0; a < 3; ++a) {
-    const double q = (p[a] - m.origin[a]) / m.spacing[a];
-    if (!(q >= m.lo[a] && q <= m.lo[a] + m.dims[a] - 1)) return false;
-    base[a] = std::min(static_cast<std::int32_t>(std::floor(q)), f.last_cell(a));
-  }
-  for (int c = 0; c < 8; ++c) {
-    // Along an axis with a single check-point the cell is flat: only its first corners count.
-    if ((m.dims[0] == 1 && (c & 4)) || (m.dims[1] == 1 && (c & 2)) || (m.dims[2] == 1 && (c & 1))) continue;
-    const std::int32_t g = f.point_index({base[0] + ((c >> 2) & 1), base[1] + ((c >> 1) & 1), base[2] + (c & 1)});
-    if (g < 0 || f.checkpoints[2 * g + 1] <= 0) return false;
-  }
-  return true;
-}
 
 ProbePath precomputed_random_path(const PlaybackFile& file, int steps, double step_length,
                                   std::uint64_t seed) {
   const auto rest = file.rest_position();
-  Eigen::Vector3d p(rest[0], rest[1], rest[2]);
-  if (!in_precomputed_region(file, p))
+  const Eigen::Vector3d start(rest[0], rest[1], rest[2]);
+  RegionWalker walker(file);
+  walker.replay(start, {});
+  if (!walker.stored_here())
     throw InputError(file.path().string() + ": the cell around the rest position is not precomputed "
                      "(some corner has no configuration): run hapstate-expand further");
   RandomDirections rng(seed);
+  const auto dims = file.grid_dims();
   ProbePath path;
+  Eigen::Vector3d p = start;
   for (int s = 0; s < steps; ++s) {
     double length = step_length;
     bool moved = false;
     while (!moved && length > 1e-6 * step_length) {
       for (int attempt = 0; attempt < 200 && !moved; ++attempt) {
-        const Eigen::Vector3d next = p + length * rng.direction();
-        if (segment_in_region(file, p, next)) {
+        Eigen::Vector3d direction = rng.direction();
+        for (int a = 0; a < 3; ++a)
+          if (dims[a] == 1) direction[a] = 0.0;
+        if (direction.norm() < 1e-3) continue;
+        const Eigen::Vector3d next = p + length * direction.normalized();
+        if (walker.move(p, next)) {
           p = next;
           moved = true;
+        } else {
+          walker.replay(start, path);
         }
       }
       length *= 0.5;

@@ -1,5 +1,6 @@
-// Random probe paths inside the precomputed region of a playback file: the cells whose 8
-// corners all hold a stored configuration.
+// Random probe paths inside the precomputed region of a playback file: where a haptic cursor
+// that follows the path finds every corner of its cell stored (reached through the stored
+// transitions of the side it came from; none extended).
 #pragma once
 
 #include "hapstate/playback.h"
@@ -9,14 +10,12 @@
 
 namespace hapstate {
 
-// Whether the grid cell holding p (mesh units) has a stored configuration at all 8 corners.
-bool in_precomputed_region(const PlaybackFile& file, const Eigen::Vector3d& p);
-
 // A seeded random walk of `steps` points from the rest position: each step moves
-// `step_length` (mesh units) in a random direction chosen so that the whole segment stays in
-// the precomputed region (tried 200 times, then the length is halved). Deterministic for a
-// seed on every platform. Throws InputError naming the file if the rest cell is not
-// precomputed (expand further).
+// `step_length` (mesh units) in a random direction chosen so that a cursor following the walk
+// keeps every corner stored along the whole segment (tried 200 times, then the length is
+// halved). Along an axis with a single check-point the walk stays on it. Deterministic for a
+// seed on every platform. Throws InputError naming the file if the cell around the rest
+// position is not stored (expand further).
 ProbePath precomputed_random_path(const PlaybackFile& file, int steps, double step_length,
                                   std::uint64_t seed);
 

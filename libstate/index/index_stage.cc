@@ -102,6 +102,7 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
     index_of.emplace(conf.id.value(), static_cast<std::int32_t>(k));
     c.config_checkpoint.push_back(p);
     c.config_level.push_back(conf.level.value());
+    c.config_zero.push_back(conf.blob ? 0 : 1);  // no blob: the body at rest
     c.force.insert(c.force.end(), conf.force.begin(), conf.force.end());
     c.stiffness.insert(c.stiffness.end(), conf.stiffness.begin(), conf.stiffness.end());
     if (!conf.blob && m.rest_configuration < 0) {

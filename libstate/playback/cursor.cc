@@ -30,10 +30,32 @@ HapticCursor::HapticCursor(const PlaybackFile& file, Scheme scheme) : file_(file
   reset();
 }
 
-void HapticCursor::reset() {
+void HapticCursor::reset() { anchor_at(file_.impl().meta->rest_configuration); }
+
+void HapticCursor::reset(const std::array<double, 3>& probe) {
   const PlaybackFile::Impl& f = file_.impl();
   const playback::Meta& m = *f.meta;
-  const std::int32_t rest = m.rest_configuration;
+  std::int32_t best = m.rest_configuration;
+  double best_d2 = -1.0;
+  for (std::int32_t c = 0; c < m.num_configurations; ++c) {
+    if (f.config_zero[c] != 1) continue;
+    const std::int32_t g = f.config_checkpoint[c];
+    const std::int32_t ijk[3] = {g / (m.dims[1] * m.dims[2]), (g / m.dims[2]) % m.dims[1], g % m.dims[2]};
+    double d2 = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      const double d = m.origin[a] + (m.lo[a] + ijk[a]) * m.spacing[a] - probe[a];
+      d2 += d * d;
+    }
+    if (std::isfinite(d2) && (best_d2 < 0.0 || d2 < best_d2)) best = c, best_d2 = d2;
+  }
+  anchor_at(best);
+}
+
+// The cursor at the check-point of configuration `rest`, that corner from it and the others
+// resolved around it.
+void HapticCursor::anchor_at(std::int32_t rest) {
+  const PlaybackFile::Impl& f = file_.impl();
+  const playback::Meta& m = *f.meta;
   // Grid index of the rest configuration's check-point.
   std::int32_t g = f.config_checkpoint[rest];
   const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];

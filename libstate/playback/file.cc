@@ -33,6 +33,7 @@ std::string section_name(SectionId id) {
     case SectionId::kReference: return "reference positions";
     case SectionId::kTriangles: return "triangles";
     case SectionId::kDisplacements: return "displacements";
+    case SectionId::kConfigZero: return "zero configurations";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -121,7 +122,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   const std::uint64_t points = std::uint64_t(m2.dims[0]) * m2.dims[1] * m2.dims[2];
   const std::pair<SectionId, std::uint64_t> expected[] = {
       {SectionId::kCheckpoints, 8 * points},      {SectionId::kConfigCheckpoint, 4 * n},
-      {SectionId::kConfigLevel, 4 * n},           {SectionId::kForce, 24 * n},
+      {SectionId::kConfigLevel, 4 * n},           {SectionId::kConfigZero, 4 * n},
+      {SectionId::kForce, 24 * n},
       {SectionId::kStiffness, 72 * n},            {SectionId::kTransitions, 104 * n},
       {SectionId::kViewNodes, 4 * v},             {SectionId::kReference, 12 * v},
       {SectionId::kTriangles, 12 * std::uint64_t(m2.num_triangles)},
@@ -133,6 +135,7 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   f.checkpoints = reinterpret_cast<const std::int32_t*>(section(SectionId::kCheckpoints));
   f.config_checkpoint = reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigCheckpoint));
   f.config_level = reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigLevel));
+  f.config_zero = reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigZero));
   f.force = reinterpret_cast<const double*>(section(SectionId::kForce));
   f.stiffness = reinterpret_cast<const double*>(section(SectionId::kStiffness));
   f.transitions = reinterpret_cast<const std::int32_t*>(section(SectionId::kTransitions));
@@ -174,6 +177,8 @@ void PlaybackFile::verify() const {
     for (int r = 0; r < 9; ++r)
       if (!std::isfinite(f.stiffness[9 * c + r]))
         fail("configuration " + std::to_string(c) + ": stiffness not finite");
+    if (f.config_zero[c] != 0 && f.config_zero[c] != 1)
+      fail("configuration " + std::to_string(c) + ": zero flag " + std::to_string(f.config_zero[c]) + " is not 0 or 1");
     for (int d = 0; d < 26; ++d) {
       const std::int32_t t = f.transitions[26 * c + d];
       if (t < playback::kFailed || t >= n)
@@ -193,6 +198,10 @@ std::int32_t PlaybackFile::num_configurations() const { return impl_->meta->num_
 std::int32_t PlaybackFile::num_view_nodes() const { return impl_->meta->num_view_nodes; }
 std::int32_t PlaybackFile::num_mesh_nodes() const { return impl_->meta->num_mesh_nodes; }
 bool PlaybackFile::view_is_all_nodes() const { return impl_->meta->view_all_nodes != 0; }
+bool PlaybackFile::is_contact() const {
+  return impl_->meta->probe_mode == static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
+}
+bool PlaybackFile::is_zero_configuration(std::int32_t c) const { return impl_->config_zero[c] == 1; }
 std::span<const std::int32_t> PlaybackFile::view_nodes() const {
   return {impl_->view_nodes, static_cast<std::size_t>(impl_->meta->num_view_nodes)};
 }

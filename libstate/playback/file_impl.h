@@ -19,6 +19,7 @@ struct PlaybackFile::Impl {
   const std::int32_t* checkpoints = nullptr;       // [first, count] per grid point
   const std::int32_t* config_checkpoint = nullptr;
   const std::int32_t* config_level = nullptr;
+  const std::int32_t* config_zero = nullptr;       // 1: a zero configuration
   const double* force = nullptr;
   const double* stiffness = nullptr;
   const std::int32_t* transitions = nullptr;

@@ -17,7 +17,7 @@ static_assert(std::endian::native == std::endian::little,
               "the playback file is little-endian and mapped as is");
 
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
-inline constexpr std::uint32_t kVersion = 1;
+inline constexpr std::uint32_t kVersion = 2;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -46,8 +46,9 @@ enum class SectionId : std::uint32_t {
   kReference = 9,      // float32 x 3 per view node, mesh units
   kTriangles = 10,     // int32 x 3 per surface triangle, view-node indices
   kDisplacements = 11, // float32 x 3 per view node per configuration, mesh units
+  kConfigZero = 12,    // int32 per configuration: 1 for a zero configuration (the body at rest)
 };
-inline constexpr int kSectionCount = 11;
+inline constexpr int kSectionCount = 12;
 
 struct SectionEntry {
   std::uint32_t id;             // SectionId

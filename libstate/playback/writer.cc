@@ -72,7 +72,7 @@ void check_content(const Content& c, const std::filesystem::path& file) {
     if (!(c.meta.spacing[a] > 0)) bad("grid spacing must be positive");
   }
   if (c.checkpoints.size() != 2 * points) bad("check-point table size");
-  if (c.config_level.size() != n || c.force.size() != 3 * n || c.stiffness.size() != 9 * n ||
+  if (c.config_level.size() != n || c.config_zero.size() != n || c.force.size() != 3 * n || c.stiffness.size() != 9 * n ||
       c.transitions.size() != 26 * n)
     bad("configuration table sizes");
   if (c.reference.size() != 3 * c.view_nodes.size() || c.triangles.size() % 3 != 0)
@@ -141,6 +141,7 @@ void write_file(Content c, const std::filesystem::path& file) {
       {SectionId::kCheckpoints, 8, bytes_of(c.checkpoints), 4 * c.checkpoints.size()},
       {SectionId::kConfigCheckpoint, 4, bytes_of(c.config_checkpoint), 4 * n},
       {SectionId::kConfigLevel, 4, bytes_of(c.config_level), 4 * n},
+      {SectionId::kConfigZero, 4, bytes_of(c.config_zero), 4 * n},
       {SectionId::kForce, 24, bytes_of(c.force), 24 * n},
       {SectionId::kStiffness, 72, bytes_of(c.stiffness), 72 * n},
       {SectionId::kTransitions, 104, bytes_of(c.transitions), 104 * n},

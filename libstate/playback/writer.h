@@ -17,6 +17,7 @@ struct Content {
   std::vector<std::int32_t> checkpoints;        // 2 per grid point
   std::vector<std::int32_t> config_checkpoint;  // per configuration
   std::vector<std::int32_t> config_level;
+  std::vector<std::int32_t> config_zero;        // 1: a zero configuration (body at rest)
   std::vector<double> force;                    // 3 per configuration
   std::vector<double> stiffness;                // 9 per configuration
   std::vector<std::int32_t> transitions;        // 26 per configuration

@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
   hs_deform(file, &snapshot, positions);
   for (int k = 0; k < 3 * n; ++k) CHECK(isfinite(positions[k]));
   free(positions);
+  /* Placed back at rest from afar (the grab probe's only zero configuration): zero force. */
+  hs_cursor_reset_at(cursor, p);
+  CHECK(hs_cursor_force(cursor, rest, f) == 1);
+  CHECK(f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0);
   hs_cursor_destroy(cursor);
   hs_playback_close(file);
   return failures == 0 ? 0 : 1;

@@ -94,8 +94,8 @@ TEST_F(PlaybackFormat, DamagedHeaderIsRefusedAtOpen) {
   b[0] = 'X';
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "bad magic");
   b = bytes_;
-  b[8] = 2;  // version
-  expect_input_error([&] { PlaybackFile p(damaged(b)); }, "format version 2");
+  b[8] = 1;  // version
+  expect_input_error([&] { PlaybackFile p(damaged(b)); }, "format version 1, this build reads version 2");
   b = bytes_;
   b[30] ^= 1;  // section table offset, covered by the header checksum
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "header checksum mismatch");

@@ -71,6 +71,7 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
         c.checkpoints.push_back(1);
         c.config_checkpoint.push_back(g);
         c.config_level.push_back(0);
+        c.config_zero.push_back(i == 0 && j == 0 && k == 0 ? 1 : 0);
         const Eigen::Vector3d p = position(i, j, k);
         const Eigen::Vector3d f = field.force(p);
         const Eigen::Matrix3d jac = field.jacobian(p);

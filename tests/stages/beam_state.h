@@ -32,14 +32,15 @@ inline StageResult expand_stage(const fs::path& state, int threads, const fs::pa
   return run_stage(HAPSTATE_EXPAND_EXE, expand_args(state, threads, std::move(extra)), log_dir);
 }
 
-// A copy of the beam scene in `dir` named `name`, with each (from, to) text replacement applied
-// (each `from` must occur) and the mesh named by its absolute path.
-inline std::string beam_variant(const fs::path& dir, const std::string& name,
-                                const std::vector<std::pair<std::string, std::string>>& edits) {
-  std::string text = slurp(kBeamScene);
+// A copy of `scene` in `dir` named `name`, with each (from, to) text replacement applied (each
+// `from` must occur) and its mesh file `mesh` (beside the scene) named by its absolute path.
+inline std::string scene_variant(const std::string& scene, const std::string& mesh, const fs::path& dir,
+                                 const std::string& name,
+                                 const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::string text = slurp(scene);
   std::vector<std::pair<std::string, std::string>> all = edits;
-  all.emplace_back("file = \"beam.msh\"",
-                   "file = \"" + (fs::path(kBeamScene).parent_path() / "beam.msh").string() + "\"");
+  all.emplace_back("file = \"" + mesh + "\"",
+                   "file = \"" + (fs::path(scene).parent_path() / mesh).string() + "\"");
   for (const auto& [from, to] : all) {
     const auto at = text.find(from);
     EXPECT_NE(at, std::string::npos) << from;
@@ -48,6 +49,15 @@ inline std::string beam_variant(const fs::path& dir, const std::string& name,
   const fs::path file = dir / name;
   std::ofstream(file) << text;
   return file.string();
+}
+
+inline std::string beam_variant(const fs::path& dir, const std::string& name,
+                                const std::vector<std::pair<std::string, std::string>>& edits) {
+  return scene_variant(kBeamScene, "beam.msh", dir, name, edits);
+}
+inline std::string plate_variant(const fs::path& dir,
+                                 const std::vector<std::pair<std::string, std::string>>& edits) {
+  return scene_variant(kPlateScene, "plate.msh", dir, "plate.toml", edits);
 }
 
 // import + grid + expand of the beam into `state`; asserts each stage succeeded.

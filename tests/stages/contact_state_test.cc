@@ -14,25 +14,6 @@
 namespace hapstate::test_util {
 namespace {
 
-const std::string kPlateScene = HAPSTATE_SOURCE_DIR "/pipelines/plate/scene.toml";
-
-// A copy of the plate scene with text replacements, the mesh named by its absolute path.
-std::string plate_variant(const fs::path& dir,
-                          const std::vector<std::pair<std::string, std::string>>& edits) {
-  std::string text = slurp(kPlateScene);
-  auto all = edits;
-  all.emplace_back("file = \"plate.msh\"",
-                   "file = \"" HAPSTATE_SOURCE_DIR "/pipelines/plate/plate.msh\"");
-  for (const auto& [from, to] : all) {
-    const auto at = text.find(from);
-    if (at == std::string::npos) throw std::runtime_error("plate scene lacks: " + from);
-    text.replace(at, from.size(), to);
-  }
-  const fs::path file = dir / "plate.toml";
-  std::ofstream(file) << text;
-  return file.string();
-}
-
 class ContactState : public ::testing::Test {
  protected:
   void SetUp() override {

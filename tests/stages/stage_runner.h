@@ -25,6 +25,7 @@ namespace hapstate::test_util {
 namespace fs = std::filesystem;
 
 inline const std::string kBeamScene = HAPSTATE_SOURCE_DIR "/pipelines/beam/scene.toml";
+inline const std::string kPlateScene = HAPSTATE_SOURCE_DIR "/pipelines/plate/scene.toml";
 
 inline std::string slurp(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
