@@ -122,6 +122,8 @@ class HapticCursor {
   std::int32_t anchor_configuration() const;
   std::array<std::int32_t, 3> anchor_checkpoint() const;
   CornerSource corner_source(int corner) const { return corners_[corner].source; }
+  // The stored configuration at a corner (0..7, bits i j k), -1 if extended.
+  std::int32_t corner_configuration(int corner) const { return corners_[corner].configuration; }
   // Cells entered since creation (a measure of the walk).
   std::uint64_t cells_walked() const { return cells_walked_; }
 

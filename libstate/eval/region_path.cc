@@ -1,5 +1,6 @@
 #include "eval/region_path.h"
 
+#include "playback/file_impl.h"
 #include "util/error.h"
 
 #include <cmath>
@@ -7,12 +8,24 @@
 namespace hapstate {
 namespace {
 
-// Whether every corner of the cursor's cell is stored; along an axis with a single
-// check-point the cell is flat and only its first corners count.
-bool corners_stored(const HapticCursor& cursor, const std::array<std::int32_t, 3>& dims) {
+// Whether configuration c was expanded: some transition decided (a partial expansion leaves
+// its frontier open, a configuration past F_max is never expanded).
+bool expanded(const PlaybackFile& file, std::int32_t c) {
+  const PlaybackFile::Impl& f = file.impl();
+  for (int d = 0; d < 26; ++d)
+    if (f.transitions[26 * static_cast<std::int64_t>(c) + d] != playback::kUndecided) return true;
+  return false;
+}
+
+// Whether every corner of the cursor's cell is stored and expanded, so that the corners of the
+// next cells come from the transitions of the side the cursor came from. Along an axis with a
+// single check-point the cell is flat and only its first corners count.
+bool corners_stored(const PlaybackFile& file, const HapticCursor& cursor) {
+  const auto dims = file.grid_dims();
   for (int c = 0; c < 8; ++c) {
     if ((dims[0] == 1 && (c & 4)) || (dims[1] == 1 && (c & 2)) || (dims[2] == 1 && (c & 1))) continue;
-    if (cursor.corner_source(c) != CornerSource::kStored) return false;
+    if (cursor.corner_source(c) != CornerSource::kStored || !expanded(file, cursor.corner_configuration(c)))
+      return false;
   }
   return true;
 }
@@ -31,7 +44,7 @@ class RegionWalker {
     for (int s = 1; s <= samples; ++s) {
       const Eigen::Vector3d q = a + (b - a) * (static_cast<double>(s) / samples);
       if (!cursor_.force({q.x(), q.y(), q.z()}).inside_grid) return false;
-      if (!corners_stored(cursor_, file_.grid_dims())) return false;
+      if (!corners_stored(file_, cursor_)) return false;
     }
     return true;
   }
@@ -45,7 +58,7 @@ class RegionWalker {
       p = q;
     }
   }
-  bool stored_here() const { return corners_stored(cursor_, file_.grid_dims()); }
+  bool stored_here() const { return corners_stored(file_, cursor_); }
 
  private:
   const PlaybackFile& file_;
@@ -53,10 +66,22 @@ class RegionWalker {
   double sample_;
 };
 
+// Unit vector from p to the nearest view node's reference position (zero if there is none).
+Eigen::Vector3d toward_body(const PlaybackFile& file, const Eigen::Vector3d& p) {
+  const auto ref = file.reference_positions();
+  Eigen::Vector3d best = Eigen::Vector3d::Zero();
+  double best_d2 = INFINITY;
+  for (std::size_t v = 0; v + 3 <= ref.size(); v += 3) {
+    const Eigen::Vector3d d(ref[v] - p.x(), ref[v + 1] - p.y(), ref[v + 2] - p.z());
+    if (d.squaredNorm() < best_d2) best_d2 = d.squaredNorm(), best = d;
+  }
+  return best.norm() > 0 ? Eigen::Vector3d(best.normalized()) : best;
+}
+
 }  // namespace
 
 ProbePath precomputed_random_path(const PlaybackFile& file, int steps, double step_length,
-                                  std::uint64_t seed) {
+                                  std::uint64_t seed, double pull) {
   const auto rest = file.rest_position();
   const Eigen::Vector3d start(rest[0], rest[1], rest[2]);
   RegionWalker walker(file);
@@ -74,6 +99,7 @@ ProbePath precomputed_random_path(const PlaybackFile& file, int steps, double st
     while (!moved && length > 1e-6 * step_length) {
       for (int attempt = 0; attempt < 200 && !moved; ++attempt) {
         Eigen::Vector3d direction = rng.direction();
+        if (file.is_contact()) direction += pull * toward_body(file, p);
         for (int a = 0; a < 3; ++a)
           if (dims[a] == 1) direction[a] = 0.0;
         if (direction.norm() < 1e-3) continue;

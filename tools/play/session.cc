@@ -90,6 +90,9 @@ SessionResult run_session(const PlaybackFile& file, const TickPath& path,
   r.latency_us.resize(static_cast<std::size_t>(n));
   if (o.record_ticks) r.ticks.resize(7 * static_cast<std::size_t>(n));
   HapticCursor cursor(file, o.scheme);
+  // The device starts at the path's first point with the body at rest (a contact probe
+  // anywhere clear of the body; the grab probe walks there from rest).
+  cursor.reset(TickPath::Sampler(path).position(0));
   const auto expected_frames = static_cast<std::int64_t>(std::ceil(n / rate * kFrameRate)) + 4;
   FrameRenderer renderer(file, cursor, expected_frames, o.frames_dir, o.frame_every, rate);
   Sync sync;
