@@ -2,7 +2,8 @@
 # README command 1: installs dependencies, builds, and runs the main job on the bundled default
 # scene (pipelines/liver): the whole pipeline import -> grid -> expand -> compact -> index, then
 # the paper's accuracy experiment (hapstate-eval: a seeded 20-step random path solved precisely
-# and played back with both interpolation schemes), its table and where the plot is.
+# and played back with both interpolation schemes), its table and where the plot is; then a
+# 5 s device loop, and the contact probe on the plate scene from both sides.
 # EXPAND_SECONDS limits the expansion (default: none; running the command again resumes it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,4 +26,13 @@ echo "Playback at 1 kHz (real-time paced) with a 60 Hz visual thread, 5 s along 
 "$build_dir"/tools/hapstate-play --playback "$state/playback.bin" --random 40 --seed 1 --speed 2 \
   --realtime --frames out/liver/frames --frame-every 30
 echo "frames for ParaView: out/liver/frames/frames.pvd"
+echo
+echo "Contact probe: the paper's plate touched from below and from above (pipelines/plate):"
+mkdir -p out/plate
+make -s -C pipelines/plate BUILD="$(realpath "$build_dir")" index > /dev/null
+for side in below above; do
+  echo "path entering from $side:"
+  "$build_dir"/tools/hapstate-eval --state pipelines/plate/state --path tools/paths/plate_from_$side.csv \
+    --csv out/plate/eval-$side.csv --plot out/plate/eval-$side.png 2> /dev/null
+done
 echo "total: $(( $(date +%s) - start )) s"

@@ -52,8 +52,9 @@ int main(int argc, char** argv) {
     if (!no_plot) {
       const std::filesystem::path png_file = png.empty() ? o.state / "eval.png" : std::filesystem::path(png);
       char title[160];
-      std::snprintf(title, sizeof title, "%zu-step random path, grid spacing %.3g, max |f*| %.3g N",
-                    r.steps.size(), r.spacing.minCoeff(), r.max_exact_force);
+      std::snprintf(title, sizeof title, "%zu-step %s, grid spacing %.3g, max |f*| %.3g N", r.steps.size(),
+                    path_file.empty() ? "random path" : std::filesystem::path(path_file).filename().c_str(),
+                    r.spacing.minCoeff(), r.max_exact_force);
       plot_eval(csv_file, png_file, title);
       std::printf("plot: %s\n", png_file.c_str());
     }

@@ -32,7 +32,7 @@ for s in schemes:
         col = s + "_deformation_error_surface"
     ax.plot(steps, [float(r[col]) for r in rows], "s" + ls, color="C3",
             label=s + ": deformation" + (" (surface)" if col.endswith("surface") else ""))
-ax.set_xlabel("step of the random probe path")
+ax.set_xlabel("step of the probe path")
 ax.set_ylabel("relative error")
 ax.set_xlim(min(steps) - 0.5, max(steps) + 0.5)
 ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
