@@ -213,7 +213,8 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
     double g = (probe[a] - m.origin[a]) / m.spacing[a];
     if (!std::isfinite(g)) g = last_q_[a];  // a NaN probe keeps the last position
     const double lo = m.lo[a], hi = m.lo[a] + m.dims[a] - 1;
-    if (g < lo || g > hi) out.inside_grid = false;
+    // A rounding error off a face (a path interpolated along a flat axis) is still inside.
+    if (g < lo - 1e-9 || g > hi + 1e-9) out.inside_grid = false;
     q[a] = std::clamp(g, lo, hi);
     p_clamped[a] = m.origin[a] + q[a] * m.spacing[a];
   }
