@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
     const std::filesystem::path csv_file = csv.empty() ? o.state / "eval.csv" : std::filesystem::path(csv);
     write_eval_csv(r, csv_file);
     std::printf("%s", eval_table(r).c_str());
+    if (r.max_exact_force == 0)
+      std::printf("note: the path never loaded the body (max |f*| = 0 N), so the errors measure nothing: "
+                  "expand further (a contact probe's region ends where the expansion stopped) or give --path\n");
     std::printf("per-step errors: %s\n", csv_file.c_str());
     if (!no_plot) {
       const std::filesystem::path png_file = png.empty() ? o.state / "eval.png" : std::filesystem::path(png);
