@@ -33,13 +33,16 @@ SquaredNorms squared_norms(const std::vector<float>& u, const Eigen::Matrix3Xd& 
   return s;
 }
 
-// ||u - u*|| / ||u*|| per step; a step where the body is at rest (u* = 0: a contact probe off
-// the body) is divided by the path's largest ||u*|| instead, like the force error.
+// ||u - u*|| / ||u*|| per step; a step where the body is (nearly) at rest, ||u*|| below
+// kNearRest of the path's largest ||u*|| (a contact probe off the body or just touching it), is
+// divided by the path's largest ||u*|| instead, like the force error.
+constexpr double kNearRest = 0.01;
+
 void relative_errors(const std::vector<SquaredNorms>& steps, std::vector<double*> out) {
   double largest = 0;
   for (const SquaredNorms& s : steps) largest = std::max(largest, s.exact);
   for (std::size_t k = 0; k < steps.size(); ++k) {
-    const double den = steps[k].exact > 0 ? steps[k].exact : largest;
+    const double den = steps[k].exact > kNearRest * kNearRest * largest ? steps[k].exact : largest;
     *out[k] = den > 0 ? std::sqrt(steps[k].diff / den) : 0.0;
   }
 }
