@@ -6,6 +6,7 @@
 // measures another playback file for the force queries and the liver frame.
 #include "playback_fixtures.h"
 #include "solver/path_solver.h"
+#include "util/distribution.h"
 
 #include <benchmark/benchmark.h>
 
@@ -29,12 +30,6 @@ const std::vector<std::array<double, 3>>& liver_path() {
   return path;
 }
 
-double percentile(std::vector<double>& v, double fraction) {
-  std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(v.size())));
-  return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
-}
-
 // Median and p99.9 of `samples` timed calls of `call` (steady_clock around each), as counters
 // "<prefix>median" and "<prefix>p99.9" in `unit` (1e9: ns, 1e6: us). The clock's own cost
 // (an empty timed region) is reported as "clock_ns".
@@ -53,9 +48,10 @@ void timed_counters(benchmark::State& state, int samples, double unit, const std
     const auto t1 = Clock::now();
     t[static_cast<std::size_t>(k)] = std::chrono::duration<double>(t1 - t0).count() * unit;
   }
-  state.counters[prefix + "median"] = percentile(t, 0.5);
-  state.counters[prefix + "p99.9"] = percentile(t, 0.999);
-  state.counters["clock_ns"] = percentile(empty, 0.5);
+  const Distribution d = summarize(t);
+  state.counters[prefix + "median"] = d.median;
+  state.counters[prefix + "p99.9"] = d.p999;
+  state.counters["clock_ns"] = summarize(empty).median;
 }
 
 void BM_ForceQuery(benchmark::State& state, Scheme scheme) {

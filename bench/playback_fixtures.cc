@@ -111,36 +111,36 @@ void write_synthetic(const std::filesystem::path& file) {
   playback::write_file(std::move(c), file);
 }
 
+// The playback file `make` returns the path of (made on first use), opened and verified; a
+// failure ends the benchmark with its message.
+template <typename Make>
+std::unique_ptr<PlaybackFile> open_verified(Make&& make) {
+  try {
+    auto f = std::make_unique<PlaybackFile>(make());
+    f->verify();
+    return f;
+  } catch (const std::exception& e) {
+    fatal(e.what());
+  }
+}
+
 }  // namespace
 
 const PlaybackFile& liver_playback() {
-  static const std::unique_ptr<PlaybackFile> file = [] {
+  static const std::unique_ptr<PlaybackFile> file = open_verified([] {
     const char* env = std::getenv("HAPSTATE_PLAYBACK");
-    const std::filesystem::path path = env && *env ? std::filesystem::path(env) : build_liver_playback();
-    try {
-      auto f = std::make_unique<PlaybackFile>(path);
-      f->verify();
-      return f;
-    } catch (const std::exception& e) {
-      fatal(e.what());
-    }
-  }();
+    return env && *env ? std::filesystem::path(env) : build_liver_playback();
+  });
   return *file;
 }
 
 const PlaybackFile& synthetic_playback() {
   static TempDir dir;
-  static const std::unique_ptr<PlaybackFile> file = [] {
+  static const std::unique_ptr<PlaybackFile> file = open_verified([] {
     const std::filesystem::path path = dir.path / "synthetic.bin";
-    try {
-      write_synthetic(path);
-      auto f = std::make_unique<PlaybackFile>(path);
-      f->verify();
-      return f;
-    } catch (const std::exception& e) {
-      fatal(e.what());
-    }
-  }();
+    write_synthetic(path);
+    return path;
+  });
   return *file;
 }
 

@@ -3,9 +3,9 @@
 // sampled at the device rate, a visual thread at 60 Hz, and a report of force-call latency,
 // frame times, missed deadlines and the largest force.
 #include "io/probe_path.h"
-#include "play/distribution.h"
 #include "play/session.h"
 #include "play/tick_path.h"
+#include "util/distribution.h"
 #include "util/main_guard.h"
 
 #include <hapstate/playback.h>
@@ -75,7 +75,7 @@ void write_tick_csv(const std::string& file, const std::vector<double>& ticks) {
     throw InputError(file + ": write failed");
 }
 
-void print_distribution(const char* name, play::Distribution d, bool with_p999) {
+void print_distribution(const char* name, Distribution d, bool with_p999) {
   if (with_p999)
     std::printf("%s: median %.3f p99 %.3f p99.9 %.3f max %.3f\n", name, d.median, d.p99, d.p999, d.max);
   else
@@ -109,9 +109,9 @@ int run(const Options& o) {
               o.realtime ? "realtime" : "fast", o.scheme.c_str(), o.rate, play::kFrameRate,
               r.wall_seconds);
   std::printf("force calls: %lld\n", static_cast<long long>(r.force_calls));
-  print_distribution("force latency us", play::summarize(r.latency_us), true);
+  print_distribution("force latency us", summarize(r.latency_us), true);
   std::printf("frames: %zu (%d written)\n", r.frame_us.size(), r.frames_written);
-  print_distribution("frame time us", play::summarize(r.frame_us), false);
+  print_distribution("frame time us", summarize(r.frame_us), false);
   if (o.realtime)
     std::printf("missed deadlines: %lld haptic ticks, %lld frames\n",
                 static_cast<long long>(r.missed_ticks), static_cast<long long>(r.missed_frames));

@@ -38,13 +38,15 @@ SquaredNorms squared_norms(const std::vector<float>& u, const Eigen::Matrix3Xd& 
 // divided by the path's largest ||u*|| instead, like the force error.
 constexpr double kNearRest = 0.01;
 
-void relative_errors(const std::vector<SquaredNorms>& steps, std::vector<double*> out) {
+std::vector<double> relative_errors(const std::vector<SquaredNorms>& steps) {
   double largest = 0;
   for (const SquaredNorms& s : steps) largest = std::max(largest, s.exact);
-  for (std::size_t k = 0; k < steps.size(); ++k) {
-    const double den = steps[k].exact > kNearRest * kNearRest * largest ? steps[k].exact : largest;
-    *out[k] = den > 0 ? std::sqrt(steps[k].diff / den) : 0.0;
+  std::vector<double> out;
+  for (const SquaredNorms& s : steps) {
+    const double den = s.exact > kNearRest * kNearRest * largest ? s.exact : largest;
+    out.push_back(den > 0 ? std::sqrt(s.diff / den) : 0.0);
   }
+  return out;
 }
 
 }  // namespace
@@ -89,7 +91,8 @@ EvalResult run_eval(const EvalOptions& options) {
     for (auto& cursor : cursors) cursor->reset({path.front().x(), path.front().y(), path.front().z()});
   }
   std::vector<float> u(3 * view_nodes.size());
-  std::vector<SquaredNorms> norms_all, norms_surface;
+  // Per scheme, per step.
+  std::vector<std::vector<SquaredNorms>> norms_all(cursors.size()), norms_surface(cursors.size());
 
   Progress progress("hapstate-eval: precise solves", static_cast<long long>(path.size()));
   long long failures = 0;
@@ -112,8 +115,8 @@ EvalResult run_eval(const EvalOptions& options) {
       Snapshot snap;
       cursors[s]->snapshot(&snap);
       displacements(file, snap, u);
-      if (result.has_all_nodes) norms_all.push_back(squared_norms(u, exact_u, view_nodes, all));
-      norms_surface.push_back(squared_norms(u, exact_u, view_nodes, surface));
+      norms_all[s].push_back(squared_norms(u, exact_u, view_nodes, all));
+      norms_surface[s].push_back(squared_norms(u, exact_u, view_nodes, surface));
       step.schemes.push_back(r);
     }
     if (step.solved) result.max_exact_force = std::max(result.max_exact_force, step.exact_force.norm());
@@ -121,24 +124,17 @@ EvalResult run_eval(const EvalOptions& options) {
     progress.update(static_cast<long long>(result.steps.size()), failures);
   }
   progress.finish();
-  for (std::size_t s = 0; s < result.schemes.size(); ++s) {
-    std::vector<SquaredNorms> all_s, surface_s;
-    std::vector<double*> all_out, surface_out;
-    const std::size_t n = result.schemes.size();
+  for (std::size_t s = 0; s < cursors.size(); ++s) {
+    const std::vector<double> all_error = relative_errors(norms_all[s]);
+    const std::vector<double> surface_error = relative_errors(norms_surface[s]);
     for (std::size_t k = 0; k < result.steps.size(); ++k) {
       SchemeResult& r = result.steps[k].schemes[s];
       r.force_error = result.max_exact_force > 0
                           ? (r.force - result.steps[k].exact_force).norm() / result.max_exact_force
                           : 0.0;
-      surface_s.push_back(norms_surface[k * n + s]);
-      surface_out.push_back(&r.deformation_error_surface);
-      if (result.has_all_nodes) {
-        all_s.push_back(norms_all[k * n + s]);
-        all_out.push_back(&r.deformation_error_all);
-      }
+      if (result.has_all_nodes) r.deformation_error_all = all_error[k];
+      r.deformation_error_surface = surface_error[k];
     }
-    relative_errors(surface_s, surface_out);
-    if (result.has_all_nodes) relative_errors(all_s, all_out);
   }
   return result;
 }

@@ -94,6 +94,9 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
   c.checkpoints.assign(2 * points, 0);
   for (std::int64_t p = 0; p < points; ++p) c.checkpoints[2 * p] = -1;
   std::map<std::int64_t, std::int32_t> index_of;  // configuration id -> file index
+  std::int32_t rest_point = 0;  // grid point of check-point (0, 0, 0), -1 if outside the grid
+  for (int a = 0; a < 3; ++a)
+    rest_point = -m.lo[a] < 0 || -m.lo[a] >= m.dims[a] || rest_point < 0 ? -1 : rest_point * m.dims[a] - m.lo[a];
   m.rest_configuration = -1;
   for (std::size_t k = 0; k < ordered.size(); ++k) {
     const auto& [p, conf] = ordered[k];
@@ -105,11 +108,7 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
     c.config_zero.push_back(conf.blob ? 0 : 1);  // no blob: the body at rest
     c.force.insert(c.force.end(), conf.force.begin(), conf.force.end());
     c.stiffness.insert(c.stiffness.end(), conf.stiffness.begin(), conf.stiffness.end());
-    if (!conf.blob && m.rest_configuration < 0) {
-      const Checkpoint cp = cat.read_checkpoint(conf.checkpoint);
-      if (cp.ijk == GridIndex{0, 0, 0} && conf.level.value() == 0)
-        m.rest_configuration = static_cast<std::int32_t>(k);
-    }
+    if (!conf.blob && p == rest_point && conf.level.value() == 0) m.rest_configuration = static_cast<std::int32_t>(k);
     g.configs.push_back(conf);
   }
   if (m.rest_configuration < 0)

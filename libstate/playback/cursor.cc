@@ -39,11 +39,10 @@ void HapticCursor::reset(const std::array<double, 3>& probe) {
   double best_d2 = -1.0;
   for (std::int32_t c = 0; c < m.num_configurations; ++c) {
     if (f.config_zero[c] != 1) continue;
-    const std::int32_t g = f.config_checkpoint[c];
-    const std::int32_t ijk[3] = {g / (m.dims[1] * m.dims[2]), (g / m.dims[2]) % m.dims[1], g % m.dims[2]};
+    const auto ijk = f.point_ijk(f.config_checkpoint[c]);
     double d2 = 0.0;
     for (int a = 0; a < 3; ++a) {
-      const double d = m.origin[a] + (m.lo[a] + ijk[a]) * m.spacing[a] - probe[a];
+      const double d = m.origin[a] + ijk[a] * m.spacing[a] - probe[a];
       d2 += d * d;
     }
     if (std::isfinite(d2) && (best_d2 < 0.0 || d2 < best_d2)) best = c, best_d2 = d2;
@@ -51,17 +50,12 @@ void HapticCursor::reset(const std::array<double, 3>& probe) {
   anchor_at(best);
 }
 
-// The cursor at the check-point of configuration `rest`, that corner from it and the others
-// resolved around it.
+// The cursor at the check-point of configuration `rest` (a zero configuration), that corner
+// from it and the others resolved around it.
 void HapticCursor::anchor_at(std::int32_t rest) {
   const PlaybackFile::Impl& f = file_.impl();
   const playback::Meta& m = *f.meta;
-  // Grid index of the rest configuration's check-point.
-  std::int32_t g = f.config_checkpoint[rest];
-  const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
-  if (g < 0 || g >= points) g = 0;  // damaged file: any point keeps the cursor defined
-  const std::array<std::int32_t, 3> ijk{m.lo[0] + g / (m.dims[1] * m.dims[2]),
-                                        m.lo[1] + (g / m.dims[2]) % m.dims[1], m.lo[2] + g % m.dims[2]};
+  const std::array<std::int32_t, 3> ijk = f.point_ijk(f.config_checkpoint[rest]);
   Corner root;
   root.configuration = rest;
   root.displacement = rest;

@@ -38,6 +38,16 @@ struct PlaybackFile::Impl {
     }
     return g;
   }
+  // Grid index ijk of linear grid point g, the inverse of point_index; a g out of range (a
+  // damaged file) gives the first grid point, so that callers stay defined.
+  std::array<std::int32_t, 3> point_ijk(std::int64_t g) const {
+    const std::int64_t points = std::int64_t(meta->dims[0]) * meta->dims[1] * meta->dims[2];
+    if (g < 0 || g >= points) g = 0;
+    const std::int64_t yz = std::int64_t(meta->dims[1]) * meta->dims[2];
+    return {meta->lo[0] + static_cast<std::int32_t>(g / yz),
+            meta->lo[1] + static_cast<std::int32_t>((g / meta->dims[2]) % meta->dims[1]),
+            meta->lo[2] + static_cast<std::int32_t>(g % meta->dims[2])};
+  }
   // Grid index of the last cell's first corner along axis a: a cell spans [base, base + 1];
   // with a single check-point along an axis the cell is degenerate there (s = 0 always).
   std::int32_t last_cell(int a) const { return meta->lo[a] + (meta->dims[a] > 1 ? meta->dims[a] - 2 : 0); }

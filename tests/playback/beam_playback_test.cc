@@ -2,11 +2,11 @@
 // hapstate-eval. Truths: the catalogue's stored forces and the blobs' displacements (read
 // through the state directory, not the playback file), the precise path solver, and the
 // documented change bound.
-#include "../stages/beam_state.h"
 #include "blobs/blob_store.h"
 #include "catalogue/catalogue.h"
 #include "eval/evaluation.h"
 #include "hapstate/playback.h"
+#include "state_suite.h"
 #include "util/error.h"
 #include "walk_bound.h"
 
@@ -17,26 +17,14 @@ namespace {
 
 using namespace test_util;
 
-class BeamPlayback : public ::testing::Test {
+class BeamPlayback : public StateSuite {
  protected:
   static void SetUpTestSuite() {
-    root_ = new fs::path(fs::temp_directory_path() / ("hapstate_beam_playback_" + std::to_string(::getpid())));
-    fs::create_directories(*root_);
-    state_ = new fs::path(*root_ / "state");
+    make_root("beam_playback");
     build_beam(*state_, kBeamScene, 2, *root_);
-    const StageResult r = run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "--nodes", "all"}, *root_);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
+    index_all_nodes();
   }
-  static void TearDownTestSuite() {
-    fs::remove_all(*root_);
-    delete root_;
-    delete state_;
-  }
-  static fs::path* root_;
-  static fs::path* state_;
 };
-fs::path* BeamPlayback::root_ = nullptr;
-fs::path* BeamPlayback::state_ = nullptr;
 
 TEST_F(BeamPlayback, SecondIndexRunIsUnchanged) {
   const auto before = fs::last_write_time(*state_ / "playback.bin");

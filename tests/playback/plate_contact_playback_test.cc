@@ -3,10 +3,10 @@
 // example: the same probe position holds the plate pushed up from below or down from above,
 // and the cursor must play back the level of the side it came from. Truths: the precise path
 // solver (hapstate-eval's experiment) and the catalogue's stored forces.
-#include "../stages/beam_state.h"
 #include "catalogue/catalogue.h"
 #include "eval/evaluation.h"
 #include "hapstate/playback.h"
+#include "state_suite.h"
 
 #include <gtest/gtest.h>
 
@@ -21,23 +21,15 @@ using namespace test_util;
 // The probe column: x = y = 2 cm; the plate spans z in [-0.1, 0.1] cm.
 constexpr double kColumn = 2.0;
 
-class PlatePlayback : public ::testing::Test {
+class PlatePlayback : public StateSuite {
  protected:
   static void SetUpTestSuite() {
-    root_ = new fs::path(fs::temp_directory_path() / ("hapstate_plate_playback_" + std::to_string(::getpid())));
-    fs::create_directories(*root_);
-    state_ = new fs::path(*root_ / "state");
+    make_root("plate_playback");
     const std::string scene = plate_variant(*root_, {});
     ASSERT_EQ(import_stage(*state_, scene, *root_).exit_code, 0);
     ASSERT_EQ(grid_stage(*state_, *root_).exit_code, 0);
     ASSERT_EQ(expand_stage(*state_, 2, *root_).exit_code, 0);
-    const StageResult r = run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "--nodes", "all"}, *root_);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-  }
-  static void TearDownTestSuite() {
-    fs::remove_all(*root_);
-    delete root_;
-    delete state_;
+    index_all_nodes();
   }
   // A straight path along the column from z0 to z1 in `steps` steps (z0 excluded).
   static fs::path column_path(const std::string& name, double z0, double z1, int steps) {
@@ -53,11 +45,7 @@ class PlatePlayback : public ::testing::Test {
     options.path_file = path;
     return run_eval(options);
   }
-  static fs::path* root_;
-  static fs::path* state_;
 };
-fs::path* PlatePlayback::root_ = nullptr;
-fs::path* PlatePlayback::state_ = nullptr;
 
 double max_force_error(const EvalResult& r, std::size_t scheme) {
   double e = 0;

@@ -1,7 +1,7 @@
 // hapstate-play's pieces: the device path sampled at the tick rate, the latency summary and
 // the surface VTU writer for frames.
 #include "io/surface_vtu.h"
-#include "play/distribution.h"
+#include "util/distribution.h"
 #include "play/tick_path.h"
 #include "util/error.h"
 

@@ -1,9 +1,9 @@
-#include "play/distribution.h"
+#include "util/distribution.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace hapstate::play {
+namespace hapstate {
 namespace {
 
 double nearest_rank(std::span<const double> sorted, double fraction) {
@@ -25,4 +25,4 @@ Distribution summarize(std::span<double> values) {
   return d;
 }
 
-}  // namespace hapstate::play
+}  // namespace hapstate

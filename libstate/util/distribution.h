@@ -1,9 +1,9 @@
-// Summary of a sample of timings (hapstate-play's report).
+// Summary of a sample of timings (hapstate-play's report, the playback benchmark).
 #pragma once
 
 #include <span>
 
-namespace hapstate::play {
+namespace hapstate {
 
 struct Distribution {
   double median = 0, p99 = 0, p999 = 0, max = 0;  // nearest-rank percentiles
@@ -12,4 +12,4 @@ struct Distribution {
 // Sorts `values` in place. All zero for an empty sample.
 Distribution summarize(std::span<double> values);
 
-}  // namespace hapstate::play
+}  // namespace hapstate
