@@ -52,7 +52,7 @@ TEST(LevelDistance, DifferentTouchedSetsAreNeverTheSameLevel) {
 
 TEST(LevelDistance, DefinitionAndBound) {
   const LevelTolerances tol{0.01, 0.002};
-  ConfigVectors a{std::vector<double>(9, 0.0), {0, 0, 0}, {0.1, 0.2, 0.3}};
+  ConfigVectors a{std::vector<double>(9, 0.0), {0, 0, 0}, {0.1, 0.2, 0.3}, {}};
   ConfigVectors b = a;
   EXPECT_EQ(level_distance(a, b, tol), 0.0);
   b.u[4] = 0.005;
