@@ -20,13 +20,13 @@ MaterialConstants resolve_material(const SceneMaterial& material);
 // a bad node id, a DOF both fixed and grabbed, ...) are reported at once in one InputError;
 // the rigid-body check runs only when there are no other problems. A contact probe gets
 // Problem::contact (candidate nodes: surface nodes with no fixed component); its sphere at rest
-// must not overlap the body's surface nodes, and the fixed DOFs alone must hold the body.
+// must not overlap the body's surface (its triangles), and the fixed DOFs alone must hold the body.
 Problem bind_scene(const Scene& scene, Mesh mesh);
 
-// The contact sphere of radius `radius` on `mesh`: candidates are the surface nodes none of
-// whose DOFs is fixed (`role`), ascending.
+// The contact sphere of radius `radius` with `friction` on `mesh`: candidates (used by the
+// sticking model) are the surface nodes none of whose DOFs is fixed (`role`), ascending.
 ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role,
-                                  double radius);
+                                  double radius, Friction friction);
 
 // load_mesh(scene.mesh.file, report) then bind_scene.
 Problem build_problem(const Scene& scene, MeshReport* report = nullptr);

@@ -4,6 +4,7 @@
 #include "scene/node_list.h"
 #include "scene/rigid_modes.h"
 #include "scene/select.h"
+#include "solver/triangle_distance.h"
 
 #include <sstream>
 
@@ -106,19 +107,22 @@ std::vector<int> select_grabbed(const SceneProbe& probe, const Mesh& mesh,
 // node cannot be held by the sticking sphere); the sphere at rest must not overlap the body.
 ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
                            const std::vector<DofRole>& role, Diagnostics& diagnostics) {
-  ContactSphere sphere = make_contact_sphere(mesh, role, *probe.radius);
+  ContactSphere sphere = make_contact_sphere(mesh, role, *probe.radius, probe.friction);
   if (sphere.candidates.empty()) {
     diagnostics.add(probe.line, "probe: contact: " + mesh_name(mesh) +
                                     " has no surface node without fixed components to touch");
   }
-  for (int n : surface_nodes(mesh)) {
-    const double distance = (mesh.nodes.col(n) - *probe.point).norm();
-    if (distance < sphere.radius) {
+  for (int t = 0; t < mesh.surface.cols(); ++t) {
+    const TrianglePoint tp = closest_point(mesh.nodes.col(mesh.surface(0, t)),
+                                           mesh.nodes.col(mesh.surface(1, t)),
+                                           mesh.nodes.col(mesh.surface(2, t)), *probe.point);
+    if (tp.distance < sphere.radius) {
       std::ostringstream os;
       os.precision(6);
       os << "probe: contact: the sphere at rest (centre " << format_point(*probe.point)
-         << ", radius " << sphere.radius << ") overlaps the body: surface node " << n
-         << " is at distance " << distance << "; put probe.point outside the body";
+         << ", radius " << sphere.radius << ") overlaps the body: the surface point "
+         << format_point(tp.closest) << " is at distance " << tp.distance
+         << "; put probe.point at least probe.radius away from the body";
       diagnostics.add(probe.line, os.str());
       break;
     }
@@ -129,9 +133,10 @@ ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
 }  // namespace
 
 ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role,
-                                  double radius) {
+                                  double radius, Friction friction) {
   ContactSphere sphere;
   sphere.radius = radius;
+  sphere.friction = friction;
   for (int n : surface_nodes(mesh)) {
     bool fixed = false;
     for (int k = 0; k < 3; ++k) fixed = fixed || role[static_cast<size_t>(3 * n + k)] != DofRole::kFree;

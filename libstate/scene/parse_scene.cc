@@ -227,7 +227,7 @@ std::vector<FixedSelector> parse_fixed_list(const TableReader& root, const Conte
 }
 
 SceneProbe parse_probe(const TableReader& r, const Context& context) {
-  r.allow_only({"mode", "point", "radius", "nodes", "group", "dofs", "max_force"});
+  r.allow_only({"mode", "point", "radius", "nodes", "group", "dofs", "max_force", "friction"});
   SceneProbe probe;
   probe.line = r.line();
   bool mode_ok = true;  // mode absent (grab) or valid
@@ -236,6 +236,12 @@ SceneProbe parse_probe(const TableReader& r, const Context& context) {
     mode_ok = name && (*name == "grab" || *name == "contact");
     if (name && !mode_ok) r.bad("mode", "must be one of grab, contact");
     if (mode_ok) probe.mode = *name == "grab" ? ProbeMode::kGrab : ProbeMode::kContact;
+  }
+  if (r.has("friction")) {
+    const auto name = r.string("friction");
+    if (name && *name != "none" && *name != "stick")
+      r.bad("friction", "must be one of none (frictionless sliding), stick");
+    else if (name) probe.friction = *name == "none" ? Friction::kNone : Friction::kStick;
   }
   probe.point = r.point("point");
   probe.radius = r.number("radius", positive());
@@ -262,6 +268,8 @@ SceneProbe parse_probe(const TableReader& r, const Context& context) {
     if (r.has("group")) r.bad("group", "only allowed with mode = \"grab\"");
     if (r.has("dofs")) r.bad("dofs", "only allowed with mode = \"grab\"");
   }
+  if (mode_ok && probe.mode == ProbeMode::kGrab && r.has("friction"))
+    r.bad("friction", "only allowed with mode = \"contact\"");
   return probe;
 }
 

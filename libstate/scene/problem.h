@@ -18,6 +18,10 @@ namespace hapstate {
 // Problem::probe_rest. See docs/contact.md for the model.
 struct ContactSphere {
   double radius = 0;            // mesh units, > 0
+  // kNone (default): frictionless sliding against the surface triangles
+  // (solver/sliding_contact.h); kStick: surface nodes stick to the sphere where it caught them
+  // (solver/contact_set.h).
+  Friction friction = Friction::kNone;
   std::vector<int> candidates;  // surface nodes the sphere may touch (none of their DOFs fixed),
                                 // ascending
 };

@@ -66,6 +66,7 @@ struct SceneProbe {
   std::optional<std::filesystem::path> nodes_file;
   std::optional<std::string> group;             // grab: every node of this physical group
   DofMask dofs{true, true, true};               // grab: components that follow the probe
+  Friction friction = Friction::kNone;          // contact: probe.friction
   double max_force = 0;                         // N, > 0
   int line = 0;                                 // line of the [probe] header
 };

@@ -3,6 +3,10 @@
 
 namespace hapstate {
 
+// The contact probe's friction (scene probe.friction): kNone, frictionless sliding against the
+// surface triangles (the default); kStick, surface nodes stick to the sphere where it caught them.
+enum class Friction { kNone, kStick };
+
 struct SolverOptions {
   int substeps = 4;              // incremental-load steps per move between check-points
   double tolerance = 1e-8;       // Newton: relative residual (w.r.t. the reference force scale)

@@ -6,15 +6,19 @@
 // the FEM works in metres (mesh units x Problem::unit); forces are in N.
 // Sign: force_felt() is the force the user feels, -sum over probe DOFs of the internal force
 // (h = dPi/du_P is the force the probe applies to the body; the user feels its opposite).
-// Contact probe (Problem::contact): the probe is a rigid sphere; the prescribed DOFs are those of
-// the touched nodes, decided at the end of every sub-step by the active-set loop of
-// solver/contact_set.h (docs/contact.md). t is then the displacement of the sphere centre.
+// Contact probe (Problem::contact): the probe is a rigid sphere and t the displacement of its
+// centre (docs/contact.md). Frictionless (default): no DOF is prescribed; the sphere loads the
+// surface triangles through the augmented Lagrangian of solver/sliding_contact.h, whose
+// multipliers are updated after each Newton solve until the gaps close. Sticking: the
+// prescribed DOFs are those of the touched nodes, decided at the end of every sub-step by the
+// active-set loop of solver/contact_set.h.
 // Not thread-safe: one PathSolver per thread.
 #pragma once
 
 #include "fem/assembler.h"
 #include "scene/problem.h"
 #include "solver/contact_set.h"
+#include "solver/sliding_contact.h"
 #include "solver/sparse_cholesky.h"
 
 #include <Eigen/Core>
@@ -46,7 +50,8 @@ struct MoveResult {
   int iterations = 0;            // Newton iterations (factorisations) over the whole move
   double residual = 0;           // final ||r_free|| [N]
   double wall_ms = 0;
-  int active_set_iterations = 0; // contact: touched-set changes over the whole move
+  int active_set_iterations = 0; // contact: touched-set changes (stick) or multiplier updates
+                                 // followed by a re-solve (frictionless) over the whole move
   std::vector<double> residual_history;  // ||r_free|| of the last Newton solve, per iteration
 };
 
@@ -85,6 +90,10 @@ class PathSolver {
   std::vector<int> touched_nodes() const;
   // Contact mode: collision-detection cost so far (nullptr in grab mode).
   const ContactTimings* contact_timings() const;
+  // Frictionless contact: the contact model (nullptr otherwise).
+  const SlidingContact* sliding_contact() const { return sliding_.get(); }
+  // The sphere centre of the current state [m] (contact mode).
+  Eigen::Vector3d centre_m() const { return centre_m(t_); }
   // Force felt by the user [N] at the current state.
   Eigen::Vector3d force_felt() const;
   // Reactions h at the probe DOFs [N]: the internal force the body resists the probe with, one
@@ -113,6 +122,10 @@ class PathSolver {
   void set_probe_translation(const Eigen::Vector3d& dt, Eigen::VectorXd* v) const;
   double free_norm(const Eigen::VectorXd& v) const;
   double reaction_norm(const Eigen::VectorXd& f) const;
+  Eigen::Vector3d centre_m(const Eigen::Vector3d& t) const { return (probe_rest_ + t) * unit_; }
+  double total_energy_and_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const;
+  bool settle_sliding(double rel_tol, bool last, MoveResult* result);
+  Eigen::Matrix3d sliding_stiffness();
 
   std::unique_ptr<Material> material_;
   std::unique_ptr<Assembler> assembler_;
@@ -121,7 +134,9 @@ class PathSolver {
   std::vector<int> probe_dof_component_;  // per DOF: component 0..2 if probe DOF, else -1
   std::vector<DofRole> base_role_;        // roles without touched nodes (contact mode)
   Eigen::VectorXd probe_base_;            // per probe DOF: u = probe_base_ + t (metres)
-  std::unique_ptr<ContactSet> contact_;   // contact mode only
+  std::unique_ptr<ContactSet> contact_;   // sticking contact only
+  std::unique_ptr<SlidingContact> sliding_;  // frictionless contact only
+  mutable ContactTimings sliding_timings_;
   Eigen::Vector3d probe_rest_;
   double unit_;
   int num_nodes_;
@@ -130,6 +145,7 @@ class PathSolver {
 
   Eigen::VectorXd u_;       // metres
   Eigen::Vector3d t_ = Eigen::Vector3d::Zero();  // mesh units
+  Eigen::Vector3d t_solve_ = Eigen::Vector3d::Zero();  // the probe of the solve under way
   // Workspace.
   Eigen::VectorXd f_, r_, du_, trial_, f_trial_;
   std::vector<double> k_values_;

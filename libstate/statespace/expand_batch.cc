@@ -11,18 +11,18 @@
 namespace hapstate {
 
 ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
-                                  int num_probe_dofs, bool contact) {
+                                  const VectorLayout& layout) {
   ConfigVectors v;
   if (!c.blob) {
     v.u.assign(num_dofs, 0.0);
-    v.t.assign(contact ? 0 : num_probe_dofs, 0.0);
-    v.h.assign(contact ? 0 : num_probe_dofs, 0.0);
+    v.t.assign(layout.t_size(0), 0.0);
+    v.h.assign(layout.h_size(0), 0.0);
     return v;
   }
   v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
   v.t = blobs.read(c.blob->segment, c.blob->name + "/t");
   v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
-  if (contact) {
+  if (layout.touched) {
     for (double n : blobs.read(c.blob->segment, c.blob->name + "/touched")) {
       if (n < 0 || n >= num_dofs / 3 || n != static_cast<int>(n) ||
           (!v.touched.empty() && n <= v.touched.back())) {
@@ -32,14 +32,14 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
       }
       v.touched.push_back(static_cast<int>(n));
     }
-    num_probe_dofs = 3 * static_cast<int>(v.touched.size());
   }
-  if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_probe_dofs) {
+  const int num_reactions = layout.h_size(v.touched.size());
+  if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_reactions) {
     throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
                      ": vectors of configuration " + std::to_string(c.id.value()) + " ('" +
                      c.blob->name + "') have " + std::to_string(v.u.size()) + " / " +
                      std::to_string(v.h.size()) + " values, the problem needs " +
-                     std::to_string(num_dofs) + " / " + std::to_string(num_probe_dofs));
+                     std::to_string(num_dofs) + " / " + std::to_string(num_reactions));
   }
   return v;
 }
@@ -47,7 +47,6 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
 TransitionSolver::TransitionSolver(const Problem& problem, const ProbeModel& probe,
                                    const BlobStore& blobs, int threads)
     : problem_(problem), probe_(probe), blobs_(blobs), threads_(std::max(1, threads)) {
-  for (DofRole r : problem.constraints.role) num_probe_dofs_ += r == DofRole::kProbe ? 1 : 0;
   solvers_.resize(threads_);
 }
 
@@ -63,12 +62,11 @@ TransitionSolve TransitionSolver::solve_one(PathSolver& solver, const Transition
     out.vectors.u.assign(solver.num_dofs(), 0.0);
     return out;
   }
-  const ConfigVectors source = load_config_vectors(blobs_, task.source, solver.num_dofs(),
-                                                   num_probe_dofs_, probe_.is_contact());
+  const ConfigVectors source = load_config_vectors(blobs_, task.source, solver.num_dofs(), probe_.layout());
   probe_.set_state(solver, source.u, source.touched, task.from);
   out.move = probe_.move_to(solver, task.to);
   if (!out.move.ok) return out;
-  out.vectors.touched = solver.touched_nodes();
+  if (probe_.stores_touched()) out.vectors.touched = solver.touched_nodes();
   const Eigen::VectorXd& u_m = solver.state_m();
   out.vectors.u.resize(u_m.size());
   for (Eigen::Index k = 0; k < u_m.size(); ++k) out.vectors.u[k] = u_m[k] / problem_.unit;

@@ -40,11 +40,11 @@ struct TransitionSolve {
 };
 
 // The vectors of a stored configuration: from its blob, or zeros for one without a blob (the
-// zero configuration: nothing touched). `contact`: t and h have 3 values per touched node, the
-// touched set is read from <name>/touched. Throws InputError naming the segment and vector if
-// they cannot be read.
+// zero configuration: nothing touched), laid out as `layout` says (the touched set read from
+// <name>/touched where it is stored). Throws InputError naming the segment and vector if they
+// cannot be read or have the wrong sizes.
 ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
-                                  int num_probe_dofs, bool contact = false);
+                                  const VectorLayout& layout);
 
 class TransitionSolver {
  public:
@@ -67,7 +67,6 @@ class TransitionSolver {
   const ProbeModel& probe_;
   const BlobStore& blobs_;
   int threads_;
-  int num_probe_dofs_ = 0;
   std::vector<std::unique_ptr<PathSolver>> solvers_;  // one per worker, created on first use
 };
 

@@ -46,7 +46,6 @@ class Expander {
         sketch_(ctx.problem),
         tolerances_(level_tolerances(ctx.scene)),
         max_force_(ctx.scene.probe.max_force) {
-    for (DofRole r : ctx.problem.constraints.role) num_probe_dofs_ += r == DofRole::kProbe ? 1 : 0;
     num_probe_nodes_ = std::max<int>(1, static_cast<int>(ctx.problem.constraints.probe_nodes.size()));
     num_dofs_ = 3 * ctx.problem.mesh.num_nodes();
     for (const Checkpoint& c : ctx.catalogue.read_all_checkpoints()) {
@@ -72,7 +71,7 @@ class Expander {
     for (const Configuration& c : cat.read_all_configurations()) {
       if (!c.blob || c.status == ConfigStatus::kMerged) continue;
       for (const char* v : {"/u", "/t", "/h", "/touched"}) {
-        if (std::string(v) == "/touched" && !probe_->is_contact()) continue;
+        if (std::string(v) == "/touched" && !probe_->stores_touched()) continue;
         if (!blobs_.contains(c.blob->segment, c.blob->name + v)) {
           throw InputError((blobs_.directory() / segment_file_name(c.blob->segment)).string() +
                            ": vector '" + c.blob->name + v + "' of configuration " +
@@ -192,11 +191,12 @@ class Expander {
       ConfigId best_id;
       auto consider = [&](const Configuration& level, const ConfigVectors* in_memory) {
         if (level.status == ConfigStatus::kMerged) return;
-        // Contact: levels with a different touched set are never equal, so the bound may use
-        // this result's touched count.
+        // Sticking contact: levels with a different touched set are never equal, so the bound
+        // may use this result's touched count; frictionless: h is the resultant force itself.
         const int probe_nodes =
-            probe_->is_contact() ? std::max<int>(1, static_cast<int>(solve.vectors.touched.size()))
-                                 : num_probe_nodes_;
+            probe_->stores_touched()
+                ? std::max<int>(1, static_cast<int>(solve.vectors.touched.size()))
+                : num_probe_nodes_;
         if (level_distance_bound(summary, solve.force, level.summary, level.force, tolerances_,
                                  probe_nodes) > 1.0)
           return;
@@ -245,7 +245,7 @@ class Expander {
         writer.write(n.config.blob->name + "/u", n.vectors->u);
         writer.write(n.config.blob->name + "/t", n.vectors->t);
         writer.write(n.config.blob->name + "/h", n.vectors->h);
-        if (probe_->is_contact()) {
+        if (probe_->stores_touched()) {
           const std::vector<double> touched(n.vectors->touched.begin(), n.vectors->touched.end());
           writer.write(n.config.blob->name + "/touched", touched);
         }
@@ -270,8 +270,7 @@ class Expander {
     if (it != cache_.end()) return it->second;
     if (cache_.size() >= kMaxCached) cache_.clear();
     return cache_
-        .emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, num_probe_dofs_,
-                                           probe_->is_contact()))
+        .emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, probe_->layout()))
         .first->second;
   }
 
@@ -284,7 +283,6 @@ class Expander {
   LevelSketch sketch_;
   LevelTolerances tolerances_;
   double max_force_;
-  int num_probe_dofs_ = 0;
   int num_probe_nodes_ = 1;
   int num_dofs_ = 0;
   GridIndexOf grid_;

@@ -21,6 +21,23 @@ struct ConfigVectors {
   std::vector<int> touched;
 };
 
+// What a configuration stores besides u (ProbeModel::layout(): one definition for the loader,
+// the writer and the level comparison). Grab: t and h have a value per grabbed DOF; sticking
+// contact: the touched set is stored ("<blob>/touched") and t and h have 3 values per touched
+// node; frictionless contact: t is empty and h the 3 components of the sphere's force on the
+// body.
+struct VectorLayout {
+  bool touched = false;   // "<blob>/touched" is stored; t and h: 3 values per touched node
+  int load_size = 0;      // otherwise: the values of t
+  int reaction_size = 0;  // otherwise: the values of h
+  int t_size(std::size_t touched_nodes) const {
+    return touched ? 3 * static_cast<int>(touched_nodes) : load_size;
+  }
+  int h_size(std::size_t touched_nodes) const {
+    return touched ? 3 * static_cast<int>(touched_nodes) : reaction_size;
+  }
+};
+
 class LevelSketch {
  public:
   static constexpr int kMaxSampleNodes = 16;

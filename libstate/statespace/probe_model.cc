@@ -1,6 +1,7 @@
 #include "statespace/probe_model.h"
 
 #include "solver/sphere_query.h"
+#include "solver/triangle_distance.h"
 #include "util/error.h"
 
 #include <algorithm>
@@ -35,10 +36,6 @@ class GrabProbe final : public ProbeModel {
     solver.set_state(metres(u, problem_.unit), p - problem_.probe_rest);
   }
 
-  MoveResult move_to(PathSolver& solver, const Eigen::Vector3d& p) const override {
-    return solver.move_to(p - problem_.probe_rest);
-  }
-
   bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
     return p == problem_.probe_rest;
   }
@@ -46,6 +43,9 @@ class GrabProbe final : public ProbeModel {
     return false;
   }
   bool is_contact() const override { return false; }
+  VectorLayout layout() const override {
+    return {false, static_cast<int>(dofs_.size()), static_cast<int>(dofs_.size())};
+  }
 
  private:
   const Problem& problem_;
@@ -84,10 +84,6 @@ class ContactProbe final : public ProbeModel {
     solver.set_state(metres(u, problem_.unit), p - problem_.probe_rest, touched);
   }
 
-  MoveResult move_to(PathSolver& solver, const Eigen::Vector3d& p) const override {
-    return solver.move_to(p - problem_.probe_rest);
-  }
-
   bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
     std::vector<int> inside;
     index_.inside(p, reach_, &inside);
@@ -109,6 +105,7 @@ class ContactProbe final : public ProbeModel {
     return true;
   }
   bool is_contact() const override { return true; }
+  VectorLayout layout() const override { return {true, 0, 0}; }
 
  private:
   const Problem& problem_;
@@ -117,9 +114,66 @@ class ContactProbe final : public ProbeModel {
   SphereQuery index_;
 };
 
+// Frictionless contact (solver/sliding_contact.h). "Touches" uses the solver's own criterion:
+// a surface triangle closer to the centre than the radius. Triangles are found through a grid
+// hash of their centroids (cell = radius), queried with the radius plus the largest distance
+// of a corner from its centroid.
+class SlidingProbe final : public ProbeModel {
+ public:
+  explicit SlidingProbe(const Problem& problem) : problem_(problem), radius_(problem.contact->radius) {
+    const Triangles& tri = problem.mesh.surface;
+    centroids_.resize(3, tri.cols());
+    for (int t = 0; t < tri.cols(); ++t) {
+      Eigen::Vector3d m = Eigen::Vector3d::Zero();
+      for (int i = 0; i < 3; ++i) m += problem.mesh.nodes.col(tri(i, t)) / 3.0;
+      centroids_.col(t) = m;
+      for (int i = 0; i < 3; ++i)
+        spread_ = std::max(spread_, (problem.mesh.nodes.col(tri(i, t)) - m).norm());
+    }
+    index_.build(centroids_, std::max(radius_, spread_));
+  }
+
+  Eigen::Vector3d rest_position() const override { return problem_.probe_rest; }
+  ProbeLoad load_of(const PathSolver&, const Eigen::Vector3d&) const override { return {}; }
+
+  void set_state(PathSolver& solver, const std::vector<double>& u, const std::vector<int>&,
+                 const Eigen::Vector3d& p) const override {
+    solver.set_state(metres(u, problem_.unit), p - problem_.probe_rest);
+  }
+
+  bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
+    return trivial_move(p, p);
+  }
+
+  // Both ends free and the segment farther than the radius from every surface triangle.
+  bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override {
+    std::vector<int> near;
+    index_.inside(0.5 * (a + b), radius_ + spread_ + 0.5 * (b - a).norm(), &near);
+    const Triangles& tri = problem_.mesh.surface;
+    const Eigen::Matrix3Xd& x = problem_.mesh.nodes;
+    for (int t : near) {
+      const double d =
+          segment_triangle_distance(a, b, x.col(tri(0, t)), x.col(tri(1, t)), x.col(tri(2, t)));
+      if (d < radius_) return false;
+    }
+    return true;
+  }
+  bool is_contact() const override { return true; }
+  VectorLayout layout() const override { return {false, 0, 3}; }
+
+ private:
+  const Problem& problem_;
+  double radius_;
+  double spread_ = 0;          // largest distance of a triangle corner from its centroid
+  Eigen::Matrix3Xd centroids_;  // rest centroids of the surface triangles
+  SphereQuery index_;
+};
+
 }  // namespace
 
 std::unique_ptr<ProbeModel> make_probe_model(const Problem& problem) {
+  if (problem.contact && problem.contact->friction == Friction::kNone)
+    return std::make_unique<SlidingProbe>(problem);
   if (problem.contact) return std::make_unique<ContactProbe>(problem);
   return std::make_unique<GrabProbe>(problem);
 }

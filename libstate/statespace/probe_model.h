@@ -5,6 +5,7 @@
 #include "scene/problem.h"
 #include "scene/scene.h"
 #include "solver/path_solver.h"
+#include "statespace/level_match.h"
 
 #include <Eigen/Core>
 
@@ -34,7 +35,9 @@ class ProbeModel {
   virtual void set_state(PathSolver& solver, const std::vector<double>& u,
                          const std::vector<int>& touched, const Eigen::Vector3d& p) const = 0;
   // Moves the probe of `solver` from its current state to position p.
-  virtual MoveResult move_to(PathSolver& solver, const Eigen::Vector3d& p) const = 0;
+  MoveResult move_to(PathSolver& solver, const Eigen::Vector3d& p) const {
+    return solver.move_to(p - rest_position());
+  }
   // Whether the probe at p leaves the body undeformed: such a check-point holds a zero
   // configuration (grab: only the rest position; contact: every p whose sphere touches no
   // surface node of the rest shape).
@@ -43,10 +46,14 @@ class ProbeModel {
   // needs no solve (grab: never; contact: the sphere sweeps past every surface node).
   virtual bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const = 0;
   virtual bool is_contact() const = 0;
+
+  // What a configuration stores besides u (statespace/level_match.h).
+  virtual VectorLayout layout() const = 0;
+  bool stores_touched() const { return layout().touched; }
 };
 
-// The probe of `problem` (grab, or contact when problem.contact is set). Keeps a reference to
-// `problem`, which must outlive it.
+// The probe of `problem` (grab; contact when problem.contact is set, frictionless or sticking).
+// Keeps a reference to `problem`, which must outlive it.
 std::unique_ptr<ProbeModel> make_probe_model(const Problem& problem);
 
 }  // namespace hapstate

@@ -36,6 +36,9 @@ NamedHashes scene_identity(const Scene& scene, const Problem& problem,
     h.update(static_cast<std::int64_t>(scene.probe.mode));
     // Contact: the sphere radius decides every configuration (grab hashes stay as they were).
     if (problem.contact) h.update(problem.contact->radius);
+    // Sliding contact is a different model: its states differ from sticking ones.
+    if (problem.contact && problem.contact->friction == Friction::kNone)
+      h.update(std::string_view("frictionless"));
     parts.emplace_back("probe", h.value());
   }
   {
@@ -80,7 +83,7 @@ std::string describe_scene_part(const std::string& part) {
   if (part == "mesh") return "the mesh file's content";
   if (part == "problem") return "the mesh geometry or the fixed/grabbed nodes ([[fixed]], [probe])";
   if (part == "material") return "the material ([material] or mesh.unit)";
-  if (part == "probe") return "the probe mode (probe.mode) or the contact sphere's radius";
+  if (part == "probe") return "the probe mode (probe.mode), the contact sphere's radius or its friction";
   if (part == "solver") return "the solver options ([solver])";
   if (part == "levels") return "the level tolerances ([levels])";
   if (part == "grid.spacing") return "the grid spacing (grid.spacing or grid.dims with grid.box)";

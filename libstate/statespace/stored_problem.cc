@@ -119,7 +119,8 @@ Problem load_stored_problem(const StateDir& dir, const Scene& scene, const Conte
   p.solver = scene.solver;
   p.max_force = scene.probe.max_force;
   if (scene.probe.mode == ProbeMode::kContact)
-    p.contact = make_contact_sphere(p.mesh, p.constraints.role, *scene.probe.radius);
+    p.contact = make_contact_sphere(p.mesh, p.constraints.role, *scene.probe.radius,
+                                   scene.probe.friction);
   return p;
 }
 

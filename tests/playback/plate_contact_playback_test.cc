@@ -25,7 +25,9 @@ class PlatePlayback : public StateSuite {
  protected:
   static void SetUpTestSuite() {
     make_root("plate_playback");
-    const std::string scene = plate_variant(*root_, {});
+    // The column through the middle of the bundled scene's 3-D workspace.
+    const std::string scene = plate_variant(
+        *root_, {{"box = [[1.8, 1.8, -1.0], [2.2, 2.2, 1.0]]", "box = [[1.9, 1.9, -1.0], [2.1, 2.1, 1.0]]"}});
     ASSERT_EQ(import_stage(*state_, scene, *root_).exit_code, 0);
     ASSERT_EQ(grid_stage(*state_, *root_).exit_code, 0);
     ASSERT_EQ(expand_stage(*state_, 2, *root_).exit_code, 0);

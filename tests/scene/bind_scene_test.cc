@@ -267,14 +267,14 @@ TEST_F(BindScene, ContactProbeCandidatesAreTheSurfaceNodesWithoutFixedComponents
 }
 
 TEST_F(BindScene, ContactSphereOverlappingTheBodyAtRestIsAnError) {
-  // Centre 0.4 above the top face: node (1, 1, 2) is inside the sphere of radius 0.5.
+  // Centre 0.4 above the top face: the face point (1, 1, 2) is inside the sphere of radius 0.5.
   EXPECT_EQ(error_of([&] {
               bind_scene(scene(kFixX0, "mode = \"contact\"\npoint = [1, 1, 2.4]\nradius = 0.5"),
                          cube_);
             }),
             at(10, "probe: contact: the sphere at rest (centre [1, 1, 2.4], radius 0.5) overlaps "
-                   "the body: surface node 22 is at distance 0.4; put probe.point outside the "
-                   "body"));
+                   "the body: the surface point [1, 1, 2] is at distance 0.4; put probe.point at "
+                   "least probe.radius away from the body"));
 }
 
 TEST_F(BindScene, ContactProbeNeedsFixedNodesThatHoldTheBody) {
