@@ -87,7 +87,9 @@ EvalResult run_eval(const EvalOptions& options) {
   // A contact path may start anywhere the sphere is clear of the body: the body at rest, the
   // probe there (the precise solver and the cursors alike). Otherwise both start at rest.
   if (!path.empty() && probe->is_contact() && probe->holds_zero_configuration(path.front())) {
-    probe->set_state(solver, std::vector<double>(3 * ctx.problem.mesh.nodes.cols(), 0.0), {}, path.front());
+    ConfigVectors rest;
+    rest.u.assign(3 * ctx.problem.mesh.nodes.cols(), 0.0);
+    probe->set_state(solver, rest, path.front());
     for (auto& cursor : cursors) cursor->reset({path.front().x(), path.front().y(), path.front().z()});
   }
   std::vector<float> u(3 * view_nodes.size());

@@ -29,8 +29,8 @@ ConfigVectors read_level_vectors(const BlobStore& blobs, const Configuration& c)
 
 double compaction_level_distance(const ConfigVectors& a, const ConfigVectors& b,
                                  const LevelTolerances& tolerances) {
-  ConfigVectors x{or_zeros(a.u, b.u), {}, or_zeros(a.h, b.h), a.touched};
-  ConfigVectors y{or_zeros(b.u, a.u), {}, or_zeros(b.h, a.h), b.touched};
+  ConfigVectors x{or_zeros(a.u, b.u), {}, or_zeros(a.h, b.h), a.touched, {}};
+  ConfigVectors y{or_zeros(b.u, a.u), {}, or_zeros(b.h, a.h), b.touched, {}};
   if (x.u.size() != y.u.size() || x.h.size() != y.h.size()) {
     return std::numeric_limits<double>::infinity();
   }

@@ -13,7 +13,12 @@ struct SolverOptions {
   double absolute_tolerance = 1e-12;  // Newton: absolute residual floor [N]
   int max_iterations = 30;       // Newton iterations per sub-step target
   int max_cutbacks = 8;          // halvings of a sub-step after a failed Newton solve
-  int max_active_set_iterations = 20;  // contact: touched-set changes per sub-step
+  int max_active_set_iterations = 20;  // contact: touched-set changes (stick) or multiplier
+                                       // updates (frictionless) per sub-step
+  // Frictionless contact: a converged state has no surface point deeper inside the sphere than
+  // gap_tolerance x radius, and no force on a triangle farther than that from it (not a scene
+  // key; tests that difference equilibrium energies tighten it).
+  double gap_tolerance = 1e-6;
 };
 
 }  // namespace hapstate

@@ -1,5 +1,7 @@
 #include "solver/path_solver.h"
 
+#include "util/error.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -28,10 +30,13 @@ constexpr double kIntermediateRelTol = 1e-2;
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxLineSearch = 12;
 // Frictionless contact: the penalty k of the augmented Lagrangian is this multiple of the median
-// diagonal stiffness of the free surface DOFs at rest. Measured on the block tests: with 100 the
-// multiplier updates contract nearly redundant gaps (neighbouring faces wrapped around the
-// sphere) only 2-fold each (12 re-solves per move); with 1000, 1-2 re-solves and Newton still
-// converges quadratically; 10^4 gains no re-solve and costs Newton iterations.
+// diagonal stiffness of the free surface DOFs at rest. A soft penalty needs many multiplier
+// updates: nearly redundant gaps (neighbouring faces wrapped around the sphere) contract only
+// about twofold per update with 100x (12 re-solves per pressing move on the block tests, and
+// 20 updates were not enough on some sliding moves); a stiff one turns the small linearisation
+// error of a sliding sub-step into a large residual (more Newton iterations). Measured: with
+// 1000x, 1-3 re-solves per move and every test move converges; 300x fails to close sliding
+// gaps to 1e-7 r within 20 updates; 10^4x gains no re-solve and costs Newton iterations.
 constexpr double kPenaltyFactor = 1000;
 // ... and the haptic stiffness treats the active gaps with this multiple of k, as the exact
 // constraints they converge to.
@@ -127,11 +132,13 @@ void PathSolver::reset() {
 }
 
 void PathSolver::set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t,
-                           const std::vector<int>& touched) {
+                           const std::vector<int>& touched,
+                           const std::vector<double>& multipliers) {
+  if (sliding_ && !sliding_->set_sparse_multipliers(multipliers))
+    throw InputError("contact multipliers: expected pairs (surface triangle index, value >= 0)");
   u_ = u_m;
   t_ = t;
   t_solve_ = t;
-  if (sliding_) sliding_->reset_multipliers();
   if (!contact_) return;
   contact_->assign(touched, u_, unit_, probe_rest_ + t_);
   apply_contact_roles();
@@ -159,10 +166,10 @@ double PathSolver::total_energy_and_force(const Eigen::VectorXd& u, Eigen::Vecto
 
 // Frictionless contact after a Newton solve at t_solve_: the multiplier updates. An intermediate
 // sub-step only updates them (a warm start for the next); the final one re-solves until every
-// gap is closed to kGapTolerance x radius. Nothing touched: the body is at rest, exactly.
+// gap is closed to options_.gap_tolerance x radius. Nothing touched: the body is at rest, exactly.
 bool PathSolver::settle_sliding(double rel_tol, bool last, MoveResult* result) {
   const Eigen::Vector3d centre = centre_m(t_solve_);
-  const double tolerance = kGapTolerance * sliding_->radius();
+  const double tolerance = options_.gap_tolerance * sliding_->radius();
   for (int it = 0;; ++it) {
     if (!last) {
       sliding_->update_multipliers(u_, centre);

@@ -82,10 +82,18 @@ class PathSolver {
   Eigen::Matrix3Xd displacements() const;
   // Raw state vector (metres, DOF order 3*node + component) and its setter.
   const Eigen::VectorXd& state_m() const { return u_; }
-  // Contact mode: `touched` are the nodes the sphere holds in that state (anchors are taken
-  // from u_m); without it, the touched set is empty.
+  // Sticking contact: `touched` are the nodes the sphere holds in that state (anchors are taken
+  // from u_m); without it, the touched set is empty. Frictionless contact: `multipliers` are the
+  // state's contact multipliers (contact_multipliers() of the state; without them, zero: the
+  // next move then rebuilds the contact forces). Throws InputError for a touched node that is
+  // not a candidate or multipliers that do not fit the mesh.
   void set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t,
-                 const std::vector<int>& touched = {});
+                 const std::vector<int>& touched = {},
+                 const std::vector<double>& multipliers = {});
+  // Frictionless contact: the non-zero multipliers, pairs (surface triangle, N); else empty.
+  std::vector<double> contact_multipliers() const {
+    return sliding_ ? sliding_->sparse_multipliers() : std::vector<double>{};
+  }
   // Contact mode: the nodes the sphere holds, ascending (empty in grab mode).
   std::vector<int> touched_nodes() const;
   // Contact mode: collision-detection cost so far (nullptr in grab mode).
@@ -137,6 +145,7 @@ class PathSolver {
   std::unique_ptr<ContactSet> contact_;   // sticking contact only
   std::unique_ptr<SlidingContact> sliding_;  // frictionless contact only
   mutable ContactTimings sliding_timings_;
+
   Eigen::Vector3d probe_rest_;
   double unit_;
   int num_nodes_;

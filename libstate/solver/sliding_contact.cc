@@ -2,9 +2,12 @@
 
 #include "solver/triangle_distance.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cassert>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 namespace hapstate {
@@ -118,7 +121,14 @@ void SlidingContact::add_tangent(const Eigen::VectorXd& u_m, const Eigen::Vector
                                  double hessian_penalty) const {
   const double k = hessian_penalty > 0 ? hessian_penalty : penalty_;
   for (const Active& a : active(u_m, centre_m)) {
-    const Mat12d local = term_hessian(a, centre_m, k, psd_only);
+    Eigen::Matrix<double, 9, 9> local = term_hessian(a, centre_m, k, false).topLeftCorner<9, 9>();
+    if (psd_only) {
+      // The curvature term makes a term indefinite (a face tilting around the sphere): keep
+      // the positive part of its spectrum, a descent direction for Newton.
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> eig(local);
+      local = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
+              eig.eigenvectors().transpose();
+    }
     const auto& index = scatter_[static_cast<std::size_t>(a.triangle)];
     int e = 0;
     for (int p = 0; p < 9; ++p)
@@ -146,6 +156,30 @@ Eigen::Vector3d SlidingContact::force_on_probe(const Eigen::VectorXd& u_m,
     if (tp.distance > 0) force += a.lambda_hat * (centre_m - tp.closest) / tp.distance;
   }
   return force;
+}
+
+std::vector<double> SlidingContact::sparse_multipliers() const {
+  std::vector<double> pairs;
+  for (std::size_t t = 0; t < lambda_.size(); ++t)
+    if (lambda_[t] > 0) {
+      pairs.push_back(static_cast<double>(t));
+      pairs.push_back(lambda_[t]);
+    }
+  return pairs;
+}
+
+bool SlidingContact::set_sparse_multipliers(const std::vector<double>& pairs) {
+  if (pairs.size() % 2 != 0) return false;
+  std::vector<double> lambda(lambda_.size(), 0.0);
+  for (std::size_t k = 0; k < pairs.size(); k += 2) {
+    const double t = pairs[k], l = pairs[k + 1];
+    if (!(t >= 0 && t < static_cast<double>(lambda.size()) && t == std::floor(t) &&
+          std::isfinite(l) && l >= 0))
+      return false;
+    lambda[static_cast<std::size_t>(t)] = l;
+  }
+  lambda_ = std::move(lambda);
+  return true;
 }
 
 double SlidingContact::violation(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const {

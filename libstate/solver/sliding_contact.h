@@ -7,7 +7,8 @@
 // whose force on the body, -lambda^_T grad_x d_T with lambda^_T = max(0, lambda_T - k g_T) >= 0,
 // acts along the sphere's normal at the closest point (no tangential part, no adhesion), spread
 // on the triangle's corners by the closest point's barycentric weights. After each Newton
-// solve the multipliers are updated (lambda_T <- lambda^_T) until the gaps close to a tolerance.
+// solve the multipliers are updated (lambda_T <- lambda^_T) until the gaps close to
+// SolverOptions::gap_tolerance.
 // The solver works in metres: positions, u and the centre are in metres here, forces in N.
 // Not thread-safe: one per PathSolver.
 #pragma once
@@ -23,10 +24,6 @@
 
 namespace hapstate {
 
-// The gap tolerance: a converged state has no surface point deeper inside the sphere than
-// kGapTolerance x radius, and no multiplier on a triangle farther than that from it.
-inline constexpr double kGapTolerance = 1e-6;
-
 class SlidingContact {
  public:
   // `positions_m`: reference node positions [m]; `radius_m` [m]; `penalty` k [N/m] (> 0);
@@ -40,6 +37,12 @@ class SlidingContact {
   void reset_multipliers() { std::fill(lambda_.begin(), lambda_.end(), 0.0); }
   const std::vector<double>& multipliers() const { return lambda_; }
   void set_multipliers(const std::vector<double>& m) { lambda_ = m; }
+  // The non-zero multipliers as pairs (triangle index, lambda [N]), ascending by triangle: what a
+  // stored configuration keeps to warm-start a later move.
+  std::vector<double> sparse_multipliers() const;
+  // Sets them from such pairs (all others zero); returns false (nothing changed) if a pair is
+  // not (an index of a surface triangle, a finite lambda >= 0).
+  bool set_sparse_multipliers(const std::vector<double>& pairs);
 
   // Psi at (u, c) with the multipliers held [J].
   double energy(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const;

@@ -33,6 +33,7 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
       v.touched.push_back(static_cast<int>(n));
     }
   }
+  if (layout.multipliers) v.multipliers = blobs.read(c.blob->segment, c.blob->name + "/multipliers");
   const int num_reactions = layout.h_size(v.touched.size());
   if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_reactions) {
     throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
@@ -63,10 +64,11 @@ TransitionSolve TransitionSolver::solve_one(PathSolver& solver, const Transition
     return out;
   }
   const ConfigVectors source = load_config_vectors(blobs_, task.source, solver.num_dofs(), probe_.layout());
-  probe_.set_state(solver, source.u, source.touched, task.from);
+  probe_.set_state(solver, source, task.from);
   out.move = probe_.move_to(solver, task.to);
   if (!out.move.ok) return out;
   if (probe_.stores_touched()) out.vectors.touched = solver.touched_nodes();
+  if (probe_.layout().multipliers) out.vectors.multipliers = solver.contact_multipliers();
   const Eigen::VectorXd& u_m = solver.state_m();
   out.vectors.u.resize(u_m.size());
   for (Eigen::Index k = 0; k < u_m.size(); ++k) out.vectors.u[k] = u_m[k] / problem_.unit;

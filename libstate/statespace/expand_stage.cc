@@ -70,8 +70,9 @@ class Expander {
     }
     for (const Configuration& c : cat.read_all_configurations()) {
       if (!c.blob || c.status == ConfigStatus::kMerged) continue;
-      for (const char* v : {"/u", "/t", "/h", "/touched"}) {
+      for (const char* v : {"/u", "/t", "/h", "/touched", "/multipliers"}) {
         if (std::string(v) == "/touched" && !probe_->stores_touched()) continue;
+        if (std::string(v) == "/multipliers" && !probe_->layout().multipliers) continue;
         if (!blobs_.contains(c.blob->segment, c.blob->name + v)) {
           throw InputError((blobs_.directory() / segment_file_name(c.blob->segment)).string() +
                            ": vector '" + c.blob->name + v + "' of configuration " +
@@ -245,6 +246,8 @@ class Expander {
         writer.write(n.config.blob->name + "/u", n.vectors->u);
         writer.write(n.config.blob->name + "/t", n.vectors->t);
         writer.write(n.config.blob->name + "/h", n.vectors->h);
+        if (probe_->layout().multipliers)
+          writer.write(n.config.blob->name + "/multipliers", n.vectors->multipliers);
         if (probe_->stores_touched()) {
           const std::vector<double> touched(n.vectors->touched.begin(), n.vectors->touched.end());
           writer.write(n.config.blob->name + "/touched", touched);

@@ -112,6 +112,13 @@ GridReport run_grid(const GridOptions& options) {
         ++report.checkpoints_added;
       }
   report.checkpoints_total = cat.num_checkpoints();
+  if (probe->is_contact() && free_ids.size() == workspace_ids.size()) {
+    throw InputError(ctx.scene.path.string() + ": grid.box: the sphere (probe.radius " +
+                     std::to_string(ctx.problem.contact->radius) + ") is clear of the body at "
+                     "every one of the " + std::to_string(workspace_ids.size()) +
+                     " workspace check-points, so the probe could never touch it; draw the "
+                     "workspace (or move probe.point) over the body's surface");
+  }
 
   // The zero configuration at the rest check-point.
   const auto rest = workspace_ids.find(GridIndex{0, 0, 0});

@@ -31,9 +31,9 @@ class GrabProbe final : public ProbeModel {
     return load;
   }
 
-  void set_state(PathSolver& solver, const std::vector<double>& u, const std::vector<int>&,
+  void set_state(PathSolver& solver, const ConfigVectors& v,
                  const Eigen::Vector3d& p) const override {
-    solver.set_state(metres(u, problem_.unit), p - problem_.probe_rest);
+    solver.set_state(metres(v.u, problem_.unit), p - problem_.probe_rest);
   }
 
   bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
@@ -79,9 +79,9 @@ class ContactProbe final : public ProbeModel {
     return load;
   }
 
-  void set_state(PathSolver& solver, const std::vector<double>& u,
-                 const std::vector<int>& touched, const Eigen::Vector3d& p) const override {
-    solver.set_state(metres(u, problem_.unit), p - problem_.probe_rest, touched);
+  void set_state(PathSolver& solver, const ConfigVectors& v,
+                 const Eigen::Vector3d& p) const override {
+    solver.set_state(metres(v.u, problem_.unit), p - problem_.probe_rest, v.touched);
   }
 
   bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
@@ -136,9 +136,9 @@ class SlidingProbe final : public ProbeModel {
   Eigen::Vector3d rest_position() const override { return problem_.probe_rest; }
   ProbeLoad load_of(const PathSolver&, const Eigen::Vector3d&) const override { return {}; }
 
-  void set_state(PathSolver& solver, const std::vector<double>& u, const std::vector<int>&,
+  void set_state(PathSolver& solver, const ConfigVectors& v,
                  const Eigen::Vector3d& p) const override {
-    solver.set_state(metres(u, problem_.unit), p - problem_.probe_rest);
+    solver.set_state(metres(v.u, problem_.unit), p - problem_.probe_rest, {}, v.multipliers);
   }
 
   bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
@@ -159,7 +159,7 @@ class SlidingProbe final : public ProbeModel {
     return true;
   }
   bool is_contact() const override { return true; }
-  VectorLayout layout() const override { return {false, 0, 3}; }
+  VectorLayout layout() const override { return {false, 0, 3, true}; }
 
  private:
   const Problem& problem_;

@@ -30,10 +30,10 @@ class ProbeModel {
   // The prescribed DOFs and values of `solver`'s current state, its probe at p (grab: the
   // grabbed DOFs, t = p - rest; contact: the three DOFs of every touched node).
   virtual ProbeLoad load_of(const PathSolver& solver, const Eigen::Vector3d& p) const = 0;
-  // Puts `solver` into the state of a stored configuration: displacements u (mesh units, 3 per
-  // node) with the probe at position p; contact: `touched` are the nodes the sphere holds.
-  virtual void set_state(PathSolver& solver, const std::vector<double>& u,
-                         const std::vector<int>& touched, const Eigen::Vector3d& p) const = 0;
+  // Puts `solver` into the state of a stored configuration `v` (u in mesh units, 3 per node;
+  // sticking: the touched set; frictionless: the multipliers) with the probe at position p.
+  virtual void set_state(PathSolver& solver, const ConfigVectors& v,
+                         const Eigen::Vector3d& p) const = 0;
   // Moves the probe of `solver` from its current state to position p.
   MoveResult move_to(PathSolver& solver, const Eigen::Vector3d& p) const {
     return solver.move_to(p - rest_position());

@@ -54,7 +54,7 @@ void expect_consistent(const std::filesystem::path& dir) {
 
 TEST(LevelCompare, DistanceInToleranceUnitsWithZeroStates) {
   const LevelTolerances tol{0.01, 0.05};
-  const ConfigVectors a{{0.0, 1.0}, {}, {0.0, 0.0, 0.0}, {}};
+  const ConfigVectors a{{0.0, 1.0}, {}, {0.0, 0.0, 0.0}, {}, {}};
   EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.005, 1.0}, {}, {0.0, 0.0, 0.0}, {}}, tol), 0.5);
   EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.0, 1.0}, {}, {0.03, 0.04, 0.0}, {}}, tol), 1.0);
   EXPECT_TRUE(std::isinf(compaction_level_distance(a, {{0.0}, {}, {0.0, 0.0, 0.0}, {}}, tol)));

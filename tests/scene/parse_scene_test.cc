@@ -169,6 +169,10 @@ TEST_F(ParseScene, GridSpacingPerAxisAndContactProbe) {
   EXPECT_EQ(s.grid.spacing, Eigen::Vector3d(0.5, 0.25, 1));
   EXPECT_EQ(s.probe.mode, ProbeMode::kContact);
   EXPECT_EQ(s.probe.radius, 0.3);
+  EXPECT_EQ(s.probe.friction, Friction::kNone);  // frictionless sliding by default
+  EXPECT_EQ(parse(replace_once(text, "radius = 0.3", "radius = 0.3\nfriction = \"stick\""))
+                .probe.friction,
+            Friction::kStick);
 }
 
 // One replacement in the base scene -> exactly one problem at `line`.
@@ -351,7 +355,12 @@ TEST_F(ParseScene, ContactProbeKeys) {
   EXPECT_EQ(error(contact), at(13, "missing key 'probe.radius' (contact: the sphere radius)"));
   EXPECT_EQ(error(replace_once(contact, "max_force = 3.0", "max_force = 3.0\nradius = 1\n"
                                                            "dofs = \"x\"")),
-            at(18, "key 'probe.dofs' = \"x\": only allowed with mode = \"grab\""));
+            at(18, "key 'probe.dofs' = \"x\": only allowed with mode = \"grab\""));  EXPECT_EQ(error(replace_once(contact, "max_force = 3.0", "max_force = 3.0\nradius = 1\n"
+                                                           "friction = \"coulomb\"")),
+            at(18, "key 'probe.friction' = \"coulomb\": must be one of none (frictionless "
+                   "sliding), stick"));
+  EXPECT_EQ(error(replace_once(kBase, "max_force = 3.0", "max_force = 3.0\nfriction = \"none\"")),
+            at(16, "key 'probe.friction' = \"none\": only allowed with mode = \"contact\""));
 }
 
 TEST_F(ParseScene, MissingFilesAreReportedUnlessDisabled) {

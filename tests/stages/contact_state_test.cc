@@ -118,6 +118,32 @@ TEST_F(ContactState, PlateColumnHoldsBothSidesAndLeavingGivesTheZeroConfiguratio
   EXPECT_EQ(left, 2);
 }
 
+// A 3-D workspace over the plate, frictionless: the expansion completes, and no check-point
+// holds more than the two genuine levels (pushed from below, from above); sliding does not
+// multiply them as sticking did (~680 levels at one check-point on a 3 x 3 x 11 grid).
+TEST_F(ContactState, ThreeDimensionalWorkspaceHasAtMostTwoLevelsPerCheckpoint) {
+  run_all(plate_variant(dir_, {{kBundledBox, "box = [[1.6, 1.6, -1.2], [2.4, 2.4, 1.2]]"},
+                               {"spacing = 0.2", "spacing = 0.4"}}));
+  Catalogue cat(state() / "catalogue.sqlite", OpenMode::kReadOnly);
+  std::map<CheckpointId, int> levels;
+  for (const Configuration& c : cat.read_all_configurations())
+    if (c.status != ConfigStatus::kMerged) ++levels[c.checkpoint];
+  std::map<int, int> histogram;
+  for (const auto& [checkpoint, count] : levels) ++histogram[count];
+  for (const auto& [count, checkpoints] : histogram)
+    std::printf("%d level(s): %d check-points\n", count, checkpoints);
+  ASSERT_FALSE(histogram.empty());
+  EXPECT_LE(histogram.rbegin()->first, 2);
+  EXPECT_GT(histogram[2], 0);  // the plate's swept region: both sides
+  int open = 0, failed = 0;
+  for (const Configuration& c : cat.read_all_configurations())
+    open += c.status == ConfigStatus::kOpen && force_of(c).norm() <= 0.5 ? 1 : 0;
+  for (const Transition& t : cat.read_all_transitions())
+    failed += t.outcome == TransitionOutcome::kFailed ? 1 : 0;
+  EXPECT_EQ(open, 0);  // complete: every expandable configuration expanded
+  EXPECT_EQ(failed, 0);
+}
+
 // Free check-points side by side (the layer z = -1.0 of a 3 x 3 grid): their zero
 // configurations are joined without a solve; moves into the plate are solved.
 TEST_F(ContactState, MovesBetweenFreeCheckpointsNeedNoSolve) {

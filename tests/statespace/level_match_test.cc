@@ -41,7 +41,7 @@ TEST(LevelSketch, SixteenNodesNoneFullyFixed) {
 // sets are different levels, equal sets compare as usual.
 TEST(LevelDistance, DifferentTouchedSetsAreNeverTheSameLevel) {
   const LevelTolerances tol{0.01, 0.002};
-  const ConfigVectors a{std::vector<double>(9, 0.0), {0, 0, 0}, {0.1, 0.2, 0.3}, {2}};
+  const ConfigVectors a{std::vector<double>(9, 0.0), {0, 0, 0}, {0.1, 0.2, 0.3}, {2}, {}};
   ConfigVectors b = a;
   EXPECT_EQ(level_distance(a, b, tol), 0.0);
   b.touched = {1};
@@ -52,7 +52,7 @@ TEST(LevelDistance, DifferentTouchedSetsAreNeverTheSameLevel) {
 
 TEST(LevelDistance, DefinitionAndBound) {
   const LevelTolerances tol{0.01, 0.002};
-  ConfigVectors a{std::vector<double>(9, 0.0), {0, 0, 0}, {0.1, 0.2, 0.3}, {}};
+  ConfigVectors a{std::vector<double>(9, 0.0), {0, 0, 0}, {0.1, 0.2, 0.3}, {}, {}};
   ConfigVectors b = a;
   EXPECT_EQ(level_distance(a, b, tol), 0.0);
   b.u[4] = 0.005;
