@@ -19,6 +19,9 @@ struct SolverOptions {
   // gap_tolerance x radius, and no force on a triangle farther than that from it (not a scene
   // key; tests that difference equilibrium energies tighten it).
   double gap_tolerance = 1e-6;
+  // Frictionless contact: the augmented Lagrangian's penalty, as a multiple of the median
+  // diagonal stiffness of the free surface DOFs at rest (not a scene key; see path_solver.cc).
+  double contact_penalty = 300;
 };
 
 }  // namespace hapstate

@@ -29,15 +29,14 @@ constexpr double kIntermediateRelTol = 1e-2;
 // Armijo sufficient-decrease constant and line-search halvings.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxLineSearch = 12;
-// Frictionless contact: the penalty k of the augmented Lagrangian is this multiple of the median
-// diagonal stiffness of the free surface DOFs at rest. A soft penalty needs many multiplier
-// updates: nearly redundant gaps (neighbouring faces wrapped around the sphere) contract only
-// about twofold per update with 100x (12 re-solves per pressing move on the block tests, and
-// 20 updates were not enough on some sliding moves); a stiff one turns the small linearisation
-// error of a sliding sub-step into a large residual (more Newton iterations). Measured: with
-// 1000x, 1-3 re-solves per move and every test move converges; 300x fails to close sliding
-// gaps to 1e-7 r within 20 updates; 10^4x gains no re-solve and costs Newton iterations.
-constexpr double kPenaltyFactor = 1000;
+// Frictionless contact: the penalty k of the augmented Lagrangian is
+// SolverOptions::contact_penalty x the median diagonal stiffness of the free surface DOFs at
+// rest. A stiff penalty turns the small linearisation error of a sliding sub-step into a large
+// residual (more Newton iterations, line-search cuts and failed moves); a soft one needs more
+// multiplier updates (nearly redundant gaps of faces wrapped around the sphere contract slowly).
+// Measured: the plate's pressing and sliding moves (factorisations over a 7-move path) 100x 179,
+// 300x 198, 1000x 271; the liver's 3-D expansion 300x 10 failed moves of 14 896, 1000x over 117
+// (and slower); the block's pressing moves need up to 8 updates with 100x, 2-3 with 300x.
 // ... and the haptic stiffness treats the active gaps with this multiple of k, as the exact
 // constraints they converge to.
 constexpr double kStiffnessPenaltyFactor = 1e3;
@@ -108,7 +107,8 @@ PathSolver::PathSolver(const Problem& problem)
   if (problem.contact && problem.contact->friction == Friction::kStick) {
     contact_ = std::make_unique<ContactSet>(problem.mesh.nodes, *problem.contact, probe_rest_);
   } else if (problem.contact) {
-    const double penalty = kPenaltyFactor * surface_stiffness(*assembler_, problem.mesh, role_);
+    const double penalty =
+        options_.contact_penalty * surface_stiffness(*assembler_, problem.mesh, role_);
     sliding_ = std::make_unique<SlidingContact>(positions_m, problem.mesh.surface,
                                                 problem.contact->radius * unit_, penalty,
                                                 assembler_->pattern());

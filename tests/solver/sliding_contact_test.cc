@@ -135,8 +135,10 @@ TEST(SlidingContact, PressingMeetsTheContactConditionsAndLeavingRestoresRest) {
 // term vanishes at convergence): central differences.
 TEST(SlidingContact, FeltForceIsMinusTheEnergyDerivativeAndStiffnessItsDerivative) {
   Problem p = block_problem(8, Friction::kNone);
-  // Differences of equilibrium energies over 1e-4: the gaps must be closed far tighter.
+  // Differences of equilibrium energies over 1e-4: the gaps must be closed far tighter (and a
+  // stiffer penalty closes them in a few updates).
   p.solver.gap_tolerance = 1e-10;
+  p.solver.contact_penalty = 1000;
   const Independent truth(p);
   PathSolver solver(p);
   const Eigen::Vector3d t0(0.13, -0.07, -0.75);
