@@ -144,6 +144,20 @@ TEST_F(ContactState, ThreeDimensionalWorkspaceHasAtMostTwoLevelsPerCheckpoint) {
   EXPECT_EQ(failed, 0);
 }
 
+// A workspace where the sphere never reaches the body is bad input naming grid.box; nothing is
+// added to the state directory.
+TEST_F(ContactState, WorkspaceThatNeverTouchesIsRefused) {
+  const std::string scene =
+      plate_variant(dir_, {{kBundledBox, "box = [[1.8, 1.8, -1.4], [2.2, 2.2, -1.0]]"}});
+  ASSERT_EQ(import_stage(state(), scene, dir_).exit_code, 0);
+  const StageResult g = grid_stage(state(), dir_);
+  EXPECT_EQ(g.exit_code, 2) << g.err;
+  EXPECT_NE(g.err.find("grid.box: the sphere (probe.radius 0.8"), std::string::npos) << g.err;
+  EXPECT_NE(g.err.find("could never touch it"), std::string::npos) << g.err;
+  Catalogue cat(state() / "catalogue.sqlite", OpenMode::kReadOnly);
+  EXPECT_TRUE(cat.read_all_configurations().empty());  // the grid transaction rolled back
+}
+
 // Free check-points side by side (the layer z = -1.0 of a 3 x 3 grid): their zero
 // configurations are joined without a solve; moves into the plate are solved.
 TEST_F(ContactState, MovesBetweenFreeCheckpointsNeedNoSolve) {
