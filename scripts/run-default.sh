@@ -29,7 +29,8 @@ echo "frames for ParaView: out/liver/frames/frames.pvd"
 echo
 echo "Contact probe: the paper's plate touched from below and from above (pipelines/plate):"
 mkdir -p out/plate
-make -s -C pipelines/plate BUILD="$(realpath "$build_dir")" index > /dev/null
+OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 make -s -C pipelines/plate BUILD="$(realpath "$build_dir")" \
+  THREADS=2 index > /dev/null
 for side in below above; do
   echo "path entering from $side:"
   "$build_dir"/tools/hapstate-eval --state pipelines/plate/state --path tools/paths/plate_from_$side.csv \
