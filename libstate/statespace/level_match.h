@@ -14,8 +14,9 @@
 namespace hapstate {
 
 // The vectors of a configuration: u (3 per node, mesh units), t (probe DOFs, mesh units),
-// h (reactions at the probe DOFs, N); contact probe: touched (the nodes the sphere holds,
-// ascending; their 3 DOFs each are the probe DOFs of t and h, in that order).
+// h (reactions at the probe DOFs, N); sticking contact: touched (the nodes the sphere holds,
+// ascending; their 3 DOFs each are the probe DOFs of t and h, in that order); frictionless
+// contact: h is the sphere's resultant force on the body (VectorLayout below).
 struct ConfigVectors {
   std::vector<double> u, t, h;
   std::vector<int> touched;

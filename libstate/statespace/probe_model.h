@@ -28,7 +28,8 @@ class ProbeModel {
   // The probe position at rest (mesh units); the grid is aligned on it.
   virtual Eigen::Vector3d rest_position() const = 0;
   // The prescribed DOFs and values of `solver`'s current state, its probe at p (grab: the
-  // grabbed DOFs, t = p - rest; contact: the three DOFs of every touched node).
+  // grabbed DOFs, t = p - rest; sticking contact: the three DOFs of every touched node;
+  // frictionless contact: none).
   virtual ProbeLoad load_of(const PathSolver& solver, const Eigen::Vector3d& p) const = 0;
   // Puts `solver` into the state of a stored configuration `v` (u in mesh units, 3 per node;
   // sticking: the touched set; frictionless: the multipliers) with the probe at position p.
@@ -39,11 +40,13 @@ class ProbeModel {
     return solver.move_to(p - rest_position());
   }
   // Whether the probe at p leaves the body undeformed: such a check-point holds a zero
-  // configuration (grab: only the rest position; contact: every p whose sphere touches no
-  // surface node of the rest shape).
+  // configuration (grab: only the rest position; contact: every p whose sphere touches nothing
+  // of the rest shape: no surface triangle within the radius when frictionless, no candidate
+  // node when sticking).
   virtual bool holds_zero_configuration(const Eigen::Vector3d& p) const = 0;
   // Whether moving the probe from a to b with the body at rest keeps it at rest, so the move
-  // needs no solve (grab: never; contact: the sphere sweeps past every surface node).
+  // needs no solve (grab: never; contact: the sphere sweeps past the rest shape: every surface
+  // triangle when frictionless, every candidate node when sticking).
   virtual bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const = 0;
   virtual bool is_contact() const = 0;
 
