@@ -1,5 +1,5 @@
 // Level comparison for compaction, on top of the state space's rule (statespace/level_match.h,
-// DESIGN.md section 3): max(||u - u'||_inf / u_tol, ||h - h'||_2 / h_tol) <= 1 is one level.
+// docs/state-space.md): max(||u - u'||_inf / u_tol, ||h - h'||_2 / h_tol) <= 1 is one level.
 // Adds what compaction meets and the expand stage does not: configurations without a blob
 // and vectors of unequal lengths.
 #pragma once

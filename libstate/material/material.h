@@ -35,7 +35,7 @@ class Material {
 enum class Law { kLinear, kStvk, kNeoHooke, kMooney };
 
 // Constants of every law. linear/stvk use mu, lambda; neohooke uses c10, d1;
-// mooney uses c10, c01, d1 (Abaqus/CalculiX forms, see DESIGN.md section 2).
+// mooney uses c10, c01, d1 (Abaqus/CalculiX forms, docs/mechanics.md and docs/calculix.md).
 struct MaterialConstants {
   Law law = Law::kStvk;
   double mu = 0, lambda = 0;          // Pa

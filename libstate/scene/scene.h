@@ -1,4 +1,4 @@
-// The scene file (DESIGN.md section 7, docs/scene.md) as a plain, validated struct.
+// The scene file (docs/scene.md) as a plain, validated struct.
 // Lengths are in mesh units; `mesh.unit` converts them to metres. Forces in N, stresses in Pa.
 #pragma once
 

@@ -1,5 +1,5 @@
 // The expand stage (hapstate-expand): breadth-first waves of transitions from the zero
-// configuration (DESIGN.md section 3, docs/state-space.md).
+// configuration (docs/state-space.md).
 #pragma once
 
 #include "catalogue/records.h"

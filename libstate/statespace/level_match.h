@@ -1,4 +1,4 @@
-// Level comparison (DESIGN.md section 3, docs/state-space.md): two configurations at a
+// Level comparison (docs/state-space.md): two configurations at a
 // check-point are the same level iff
 //   distance = max(||u - u'||_inf / u_tol, ||h - h'||_2 / h_tol) <= 1
 // with the scene's level tolerances. A cheap lower bound from stored fields (force and a sketch
