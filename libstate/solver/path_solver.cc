@@ -37,7 +37,7 @@ constexpr int kMaxLineSearch = 12;
 // Measured: the plate's pressing and sliding moves (factorisations over a 7-move path) 100x 179,
 // 300x 198, 1000x 271; the liver's 3-D expansion 300x 10 failed moves of 14 896, 1000x over 117
 // (and slower); the block's pressing moves need up to 8 updates with 100x, 2-3 with 300x.
-// ... and the haptic stiffness treats the active gaps with this multiple of k, as the exact
+// The haptic stiffness treats the active gaps with this multiple of k, as the exact
 // constraints they converge to.
 constexpr double kStiffnessPenaltyFactor = 1e3;
 // A frictionless sub-step moves the sphere by at most this fraction of its radius, so that
@@ -170,11 +170,8 @@ double PathSolver::total_energy_and_force(const Eigen::VectorXd& u, Eigen::Vecto
 bool PathSolver::settle_sliding(double rel_tol, bool last, MoveResult* result) {
   const Eigen::Vector3d centre = centre_m(t_solve_);
   const double tolerance = options_.gap_tolerance * sliding_->radius();
-  for (int it = 0;; ++it) {
-    if (!last) {
-      sliding_->update_multipliers(u_, centre);
-      break;
-    }
+  if (!last) sliding_->update_multipliers(u_, centre);
+  for (int it = 0; last; ++it) {
     const double violation = sliding_->violation(u_, centre);
     if (violation <= tolerance) break;
     if (it >= options_.max_active_set_iterations) {

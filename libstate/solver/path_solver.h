@@ -98,10 +98,6 @@ class PathSolver {
   std::vector<int> touched_nodes() const;
   // Contact mode: collision-detection cost so far (nullptr in grab mode).
   const ContactTimings* contact_timings() const;
-  // Frictionless contact: the contact model (nullptr otherwise).
-  const SlidingContact* sliding_contact() const { return sliding_.get(); }
-  // The sphere centre of the current state [m] (contact mode).
-  Eigen::Vector3d centre_m() const { return centre_m(t_); }
   // Force felt by the user [N] at the current state.
   Eigen::Vector3d force_felt() const;
   // Reactions h at the probe DOFs [N]: the internal force the body resists the probe with, one

@@ -78,16 +78,9 @@ const std::vector<SlidingContact::Active>& SlidingContact::active(
   return active_;
 }
 
-double SlidingContact::energy(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const {
-  // Triangles with lambda^ = 0 contribute -lambda^2 / 2k; they are summed over all multipliers.
-  double e = 0;
-  for (double l : lambda_) e -= l * l;
-  for (const Active& a : active(u_m, centre_m)) e += a.lambda_hat * a.lambda_hat;
-  return e / (2 * penalty_);
-}
-
 double SlidingContact::add_force(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m,
                                  Eigen::VectorXd* f) const {
+  // Triangles with lambda^ = 0 contribute -lambda^2 / 2k: summed over all multipliers.
   double e = 0;
   for (double l : lambda_) e -= l * l;
   for (const Active& a : active(u_m, centre_m)) {
@@ -182,19 +175,27 @@ bool SlidingContact::set_sparse_multipliers(const std::vector<double>& pairs) {
   return true;
 }
 
-double SlidingContact::violation(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const {
+std::vector<double> SlidingContact::updated(const Eigen::VectorXd& u_m,
+                                            const Eigen::Vector3d& centre_m,
+                                            double* worst_change) const {
   std::vector<double> hat(lambda_.size(), 0.0);
   for (const Active& a : active(u_m, centre_m)) hat[static_cast<std::size_t>(a.triangle)] = a.lambda_hat;
   double worst = 0;
   for (std::size_t t = 0; t < lambda_.size(); ++t) worst = std::max(worst, std::abs(hat[t] - lambda_[t]));
-  return worst / penalty_;
+  *worst_change = worst / penalty_;
+  return hat;
+}
+
+double SlidingContact::violation(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const {
+  double worst = 0;
+  updated(u_m, centre_m, &worst);
+  return worst;
 }
 
 double SlidingContact::update_multipliers(const Eigen::VectorXd& u_m,
                                           const Eigen::Vector3d& centre_m) {
-  const double worst = violation(u_m, centre_m);
-  std::fill(lambda_.begin(), lambda_.end(), 0.0);
-  for (const Active& a : active_) lambda_[static_cast<std::size_t>(a.triangle)] = a.lambda_hat;
+  double worst = 0;
+  lambda_ = updated(u_m, centre_m, &worst);
   return worst;
 }
 

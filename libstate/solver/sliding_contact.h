@@ -44,9 +44,7 @@ class SlidingContact {
   // not (an index of a surface triangle, a finite lambda >= 0).
   bool set_sparse_multipliers(const std::vector<double>& pairs);
 
-  // Psi at (u, c) with the multipliers held [J].
-  double energy(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const;
-  // Adds dPsi/du to f [N]; returns Psi.
+  // Adds dPsi/du to f [N]; returns Psi, the contact energy with the multipliers held [J].
   double add_force(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m,
                    Eigen::VectorXd* f) const;
   // Adds d2Psi/du2 to the upper-triangle values `k_values` (pattern order). `psd_only`: only the
@@ -85,6 +83,9 @@ class SlidingContact {
   };
   Mat12d term_hessian(const Active& a, const Eigen::Vector3d& centre_m, double k,
                       bool psd_only) const;
+  // lambda^ of every triangle at (u, c), and the largest |lambda^ - lambda| / k [m].
+  std::vector<double> updated(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m,
+                              double* worst_change) const;
   // The triangles whose lambda^ > 0 at (u, c) (a scan with a bounding-box cull).
   const std::vector<Active>& active(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const;
 
