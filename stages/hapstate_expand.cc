@@ -2,6 +2,7 @@
 #include "statespace/expand_stage.h"
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
+#include "util/stop_request.h"
 
 #include <CLI/CLI.hpp>
 
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
       "probe.max_force has its 26 directions decided. Interrupt it at any time (even kill -9) "
       "and run it again to resume; the result does not depend on --threads or on interruptions.\n"
       "Exit codes: 0 complete, partial (a --max-* limit was reached) or nothing to do; 1 "
-      "internal error; 2 bad options or state directory (not imported, grid out of date, "
+      "internal error; 130 stopped by Ctrl-C or SIGTERM (resumable); 2 bad options or state directory (not imported, grid out of date, "
       "missing or damaged segment, newer catalogue): nothing changed. Failed solves do not "
       "change the exit code: they are recorded as transitions with outcome 'failed'."};
   app.add_option("--state", state, "state directory (after hapstate-grid)")->required();
@@ -55,6 +56,9 @@ int main(int argc, char** argv) {
     if (mt->count()) o.max_transitions = max_transitions;
     if (ms->count()) o.max_seconds = max_seconds;
     o.progress = quiet ? nullptr : stderr;
+    install_stop_request_handler(
+        "\nhapstate-expand: stopping after the current batch (Ctrl-C again stops at once; "
+        "either way, run the same command again to resume)\n");
     const ExpandReport r = run_expand(o);
     if (r.garbage_segments)
       std::fprintf(stderr, "hapstate-expand: removed %zu unreferenced segment(s) left by an "
@@ -82,6 +86,10 @@ int main(int argc, char** argv) {
                     r.trivial, 1e3 * t.contact_detection / static_cast<double>(t.contact_queries),
                     t.contact_queries, cpu > 0 ? 100 * t.contact_detection / cpu : 0.0);
       }
+    }
+    if (r.stopped_by_signal) {
+      std::fprintf(stderr, "hapstate-expand: stopped; run the same command again to resume\n");
+      return kExitInterrupted;
     }
     return kExitOk;
   });

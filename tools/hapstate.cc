@@ -8,6 +8,7 @@
 #include "statespace/import_stage.h"
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
+#include "util/stop_request.h"
 
 #include <CLI/CLI.hpp>
 
@@ -31,6 +32,11 @@ struct RunOptions {
   bool quiet = false;
 };
 
+int stopped() {
+  std::printf("hapstate run: stopped; run the same command again to resume\n");
+  return kExitInterrupted;
+}
+
 int run_pipeline(const RunOptions& o) {
   const std::filesystem::path scene = o.scene;
   const std::filesystem::path state =
@@ -41,7 +47,9 @@ int run_pipeline(const RunOptions& o) {
   for (const auto& w : imported.warnings) std::fprintf(stderr, "hapstate run: import: %s\n", w.c_str());
   std::printf("  import:  %s\n", imported.message.c_str());
 
+  if (stop_requested()) return stopped();
   std::printf("  grid:    %s\n", run_grid(GridOptions{state}).message.c_str());
+  if (stop_requested()) return stopped();
 
   ExpandOptions expand;
   expand.state = state;
@@ -50,6 +58,7 @@ int run_pipeline(const RunOptions& o) {
   expand.progress = o.quiet ? nullptr : stderr;
   const ExpandReport expanded = run_expand(expand);
   std::printf("  expand:  %s\n", expanded.message.c_str());
+  if (expanded.stopped_by_signal) return stopped();
   if (expanded.outcome == StageOutcome::kPartial) {
     std::printf("hapstate run: expansion stopped at --max-seconds; run again to continue\n");
     return kExitOk;
@@ -74,9 +83,11 @@ int run_pipeline(const RunOptions& o) {
 int main(int argc, char** argv) {
   using namespace hapstate;
   limit_math_threads();
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // stage lines and the progress line in order
   RunOptions o;
   CLI::App app{"hapstate: the precomputation in one command. See docs/state-space.md.\n"
-               "Exit codes: 0 ok (or stopped at --max-seconds); 1 internal error; 2 bad scene, "
+               "Exit codes: 0 ok (or stopped at --max-seconds); 1 internal error; 130 stopped by Ctrl-C "
+               "or SIGTERM (resumable); 2 bad scene, "
                "mesh or state directory (the stage that found it changed nothing)."};
   app.require_subcommand(1);
   CLI::App* run = app.add_subcommand(
@@ -98,5 +109,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kExitOk : kExitBadInput;
   }
+  install_stop_request_handler(
+      "\nhapstate run: stopping after the current step (Ctrl-C again stops at once; either way, "
+      "run the same command again to resume)\n");
   return guarded_main("hapstate", [&] { return run_pipeline(o); });
 }

@@ -22,7 +22,19 @@ std::string text_at(const std::vector<QueryValue>& row, std::size_t c) {
   return v != nullptr ? *v : "";
 }
 
+// A run recorded as running while no process holds the directory's lock was killed.
+Json run_json(const StageRun& run, bool busy) {
+  Json j = stage_run_json(run);
+  if (run.outcome == StageOutcome::kRunning && !busy) {
+    j["outcome"] = "interrupted";
+    j["message"] = "the process ended before finishing (Ctrl-C, kill, crash); run it again to "
+                   "resume";
+  }
+  return j;
+}
+
 Json summary_json(const StateDir& dir, Catalogue& cat) {
+  const bool busy = state_dir_busy(dir);
   Json j;
   j["state"] = dir.root.string();
   j["schema_version"] = cat.schema_version();
@@ -41,13 +53,13 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
                                              "GROUP BY stage ORDER BY min(id)").rows) {
     stages.push_back({{"stage", text_at(row, 0)},
                       {"runs", int_at(row, 1)},
-                      {"last", stage_run_json(cat.read_stage_run(StageRunId(int_at(row, 2))))}});
+                      {"last", run_json(cat.read_stage_run(StageRunId(int_at(row, 2))), busy)}});
   }
   j["stages"] = stages;
   Json last = Json::array();
   for (const auto& row : cat.query_read_only("SELECT id FROM stage_run ORDER BY id DESC LIMIT " +
                                              std::to_string(kLastRuns)).rows) {
-    last.push_back(stage_run_json(cat.read_stage_run(StageRunId(int_at(row, 0)))));
+    last.push_back(run_json(cat.read_stage_run(StageRunId(int_at(row, 0))), busy));
   }
   j["last_runs"] = last;
 

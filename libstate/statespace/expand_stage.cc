@@ -10,12 +10,14 @@
 #include "statespace/stage_record.h"
 #include "util/error.h"
 #include "util/progress.h"
+#include "util/stop_request.h"
 
 #include <algorithm>
 #include <initializer_list>
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <set>
 #include <unordered_map>
 
 namespace hapstate {
@@ -107,6 +109,29 @@ class Expander {
     for (int w = 0; w <= *max_wave; ++w)
       if (!ctx_.catalogue.frontier(w).empty()) return w;
     return std::nullopt;
+  }
+
+  // An estimate of the transitions still to decide, for the progress line: `open_tasks` of the
+  // current wave `w`, 26 for each open configuration of a later wave, and for each workspace
+  // check-point no configuration has reached yet, 26 x the expandable configurations per
+  // reached check-point so far. It assumes every check-point will be reached (an over-estimate
+  // where probe.max_force ends the expansion first) with as many levels as so far.
+  long long estimate_remaining(int w, long long open_tasks) {
+    std::set<CheckpointId> reached;
+    long long expandable = 0, later = 0;
+    for (const Configuration& c : ctx_.catalogue.read_all_configurations()) {
+      if (c.status == ConfigStatus::kMerged) continue;
+      reached.insert(c.checkpoint);
+      if (!c.expandable) continue;
+      ++expandable;
+      if (c.status == ConfigStatus::kOpen && c.wave > w) ++later;
+    }
+    long long unreached = 0;
+    for (const auto& [ijk, c] : grid_.by_ijk)
+      if (is_workspace(c.classification) && !reached.count(c.id)) ++unreached;
+    const double per_checkpoint = reached.empty() ? 1.0 : double(expandable) / reached.size();
+    return open_tasks + Direction::kCount * later +
+           std::llround(Direction::kCount * per_checkpoint * unreached);
   }
 
   // Undecided (source, direction) pairs of wave w, canonical order; sources with nothing left
@@ -374,12 +399,23 @@ ExpandReport run_expand(const ExpandOptions& options) {
     TransitionSolver solver(ctx.problem, expander.probe(), expander.blobs(), options.threads);
     bool stopped = false;
     auto limit_reached = [&] {
+      if (stop_requested()) {
+        report.stopped_by_signal = true;
+        return true;
+      }
       if (options.max_transitions && report.decided >= *options.max_transitions) return true;
       if (options.max_seconds &&
           std::chrono::duration<double>(SteadyClock::now() - start).count() >= *options.max_seconds)
         return true;
       return false;
     };
+    const long long decided_before = cat.num_transitions();
+    if (options.progress && decided_before > 0)
+      std::fprintf(options.progress, "hapstate-expand: resuming: %lld transitions were decided by "
+                   "earlier runs\n", decided_before);
+    // One line for the whole expansion; its total is re-estimated at each wave.
+    Progress progress("hapstate-expand: transitions", 0, options.progress);
+    progress.set_resumed(decided_before);
     while (!stopped) {
       const std::optional<int> wave = expander.next_wave();
       if (!wave) break;
@@ -390,9 +426,12 @@ ExpandReport run_expand(const ExpandOptions& options) {
         for (ConfigId id : complete) cat.update_configuration_status(id, ConfigStatus::kExpanded);
         tx.commit();
       }
-      Progress progress("hapstate-expand: wave " + std::to_string(*wave), 
-                        static_cast<long long>(tasks.size()), options.progress);
-      long long done = 0, failures = 0;
+      if (options.progress) {
+        const long long remaining =
+            expander.estimate_remaining(*wave, static_cast<long long>(tasks.size()));
+        progress.set_total(decided_before + report.decided + remaining, true);
+        progress.set_note("wave " + std::to_string(*wave));
+      }
       for (std::size_t b = 0; b < tasks.size(); b += options.batch_size) {
         if (limit_reached()) {
           stopped = true;
@@ -403,16 +442,17 @@ ExpandReport run_expand(const ExpandOptions& options) {
         const auto solve_start = SteadyClock::now();
         const std::vector<TransitionSolve> solves = solver.solve(batch);
         const auto store_start = SteadyClock::now();
-        const long long failed_before = report.failed;
         expander.commit_batch(batch, solves, &report);
         report.solve_wall_s += std::chrono::duration<double>(store_start - solve_start).count();
         report.store_wall_s +=
             std::chrono::duration<double>(SteadyClock::now() - store_start).count();
-        done += static_cast<long long>(batch.size());
-        failures += report.failed - failed_before;
-        progress.update(done, failures);
+        progress.update(decided_before + report.decided, report.failed);
       }
-      if (options.progress) progress.finish();
+    }
+    if (options.progress) {
+      if (!stopped) progress.set_total(decided_before + report.decided, false);
+      progress.set_note(stopped ? "stopped" : "complete");
+      progress.finish();
     }
     report.outcome = stopped ? StageOutcome::kPartial : StageOutcome::kOk;
     report.solver = solver.timings();
@@ -421,7 +461,9 @@ ExpandReport run_expand(const ExpandOptions& options) {
                   "%s: %lld transitions decided (%lld solved, %lld failed, %lld outside the "
                   "workspace), %lld new configurations, %lld reached an existing level; now %lld "
                   "configurations, %lld transitions",
-                  stopped ? "partial (a limit was reached; run again to continue)" : "complete",
+                  report.stopped_by_signal ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
+                  : stopped                ? "partial (a limit was reached; run again to continue)"
+                                           : "complete",
                   report.decided, report.solved, report.failed, report.outside,
                   report.new_configurations, report.reused_levels,
                   static_cast<long long>(cat.num_configurations()),

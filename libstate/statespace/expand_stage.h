@@ -25,6 +25,7 @@ struct ExpandOptions {
 
 struct ExpandReport {
   StageOutcome outcome = StageOutcome::kOk;  // kOk (nothing undecided left), kPartial, kUnchanged
+  bool stopped_by_signal = false;  // kPartial because stop_requested() (Ctrl-C, SIGTERM)
   long long decided = 0;          // transitions decided in this run
   long long solved = 0;           // of which solved (reached or failed)
   long long trivial = 0;          // of the solved: contact moves between free check-points at
@@ -45,7 +46,8 @@ struct ExpandReport {
 };
 
 // Runs the expansion until every expandable configuration has all 26 directions decided, or
-// a limit is reached (then outcome kPartial). Batches of `batch_size` undecided (source,
+// a limit is reached or stop_requested() (Ctrl-C, see util/stop_request.h; then outcome
+// kPartial). Batches of `batch_size` undecided (source,
 // direction) pairs, taken in canonical order (wave, source id, direction), are solved in
 // parallel and then decided and stored in that order: new vectors into a new segment that is
 // closed (fsynced) before the one catalogue transaction referencing it commits. So the

@@ -37,6 +37,14 @@ StateDirLock::~StateDirLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the lock
 }
 
+bool state_dir_busy(const StateDir& dir) {
+  const int fd = ::open((dir.root / StateDirLock::kFileName).c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;  // no stage ever locked it
+  const bool busy = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);  // releases the shared lock if we got it
+  return busy;
+}
+
 bool is_hapstate_catalogue_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::array<unsigned char, 100> header{};

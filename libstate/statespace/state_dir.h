@@ -41,6 +41,10 @@ class StateDirLock {
   int fd_ = -1;
 };
 
+// Whether a live process holds `dir`'s lock now (a stage is working there). A stage run the
+// catalogue records as running while nobody holds the lock was killed.
+bool state_dir_busy(const StateDir& dir);
+
 // Whether `file` starts like a hapstate catalogue: an SQLite header whose application_id is
 // Catalogue::kApplicationId. Reads 100 bytes; false for a missing or short file.
 bool is_hapstate_catalogue_file(const std::filesystem::path& file);

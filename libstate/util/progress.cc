@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace hapstate {
@@ -23,10 +24,20 @@ Progress::Progress(std::string label, long long total, std::FILE* out, double in
     : label_(std::move(label)),
       total_(total),
       out_(out),
-      interval_s_(interval_s),
       tty_(out != nullptr && isatty(fileno(out))),
+      interval_s_(tty_ ? interval_s : std::max(interval_s, 10.0)),
       start_(std::chrono::steady_clock::now()),
       last_print_(start_) {}
+
+void Progress::set_resumed(long long done_before) {
+  done_before_ = done_before;
+  if (done_ < done_before) done_ = done_before;
+}
+
+void Progress::set_total(long long total, bool estimate) {
+  total_ = total;
+  estimate_ = estimate;
+}
 
 void Progress::update(long long done, long long failures) {
   done_ = done;
@@ -44,13 +55,17 @@ void Progress::print(bool final) {
   if (out_ == nullptr) return;
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double rate = elapsed > 0 ? done_ / elapsed : 0;
-  const double pct = total_ > 0 ? 100.0 * done_ / total_ : 100.0;
-  std::string tail = final ? "elapsed " + format_duration(elapsed)
-                           : "ETA " + format_duration(rate > 0 ? (total_ - done_) / rate : -1);
-  std::fprintf(out_, "%s%s: %lld/%lld (%.0f%%), %.2f/s, %s, failures %lld%s", tty_ ? "\r" : "",
-               label_.c_str(), done_, total_, pct, rate, tail.c_str(), failures_,
-               tty_ && !final ? "   " : "\n");
+  const double rate = elapsed > 0 ? (done_ - done_before_) / elapsed : 0;
+  const long long total = std::max(total_, done_);
+  const double pct = total > 0 ? 100.0 * done_ / total : 100.0;
+  const char* approx = estimate_ && done_ < total ? "~" : "";
+  const std::string tail =
+      final ? "elapsed " + format_duration(elapsed)
+            : std::string("ETA ") + approx + format_duration(rate > 0 ? (total - done_) / rate : -1);
+  std::string failures = failures_ > 0 ? ", failures " + std::to_string(failures_) : "";
+  std::fprintf(out_, "%s%s: %lld/%s%lld (%.0f%%), %.2f/s, %s%s%s%s%s", tty_ ? "\r" : "",
+               label_.c_str(), done_, approx, total, pct, rate, tail.c_str(), failures.c_str(),
+               note_.empty() ? "" : ", ", note_.c_str(), tty_ && !final ? "   " : "\n");
   std::fflush(out_);
 }
 

@@ -1,6 +1,6 @@
 // A progress line for long work: "label: done/total (pct), rate/s, ETA, failures".
 // Printed to a stream at most once per `interval_s` (and at finish()); on a terminal the line
-// is rewritten in place, otherwise one line per update. Not thread-safe.
+// is rewritten in place, otherwise one line per update and at most one per 10 s (a log). Not thread-safe.
 #pragma once
 
 #include <chrono>
@@ -12,7 +12,15 @@ namespace hapstate {
 class Progress {
  public:
   Progress(std::string label, long long total, std::FILE* out = stderr, double interval_s = 1.0);
-  // Records that `done` items are finished (cumulative) and `failures` of them failed.
+  // Work finished before this process started (a resumed run): counted in done/total, not in
+  // the rate.
+  void set_resumed(long long done_before);
+  // A new estimate of the whole job; `estimate` prints it as "~total" and the ETA as "ETA ~".
+  void set_total(long long total, bool estimate);
+  // Text printed after the numbers (for example the current wave).
+  void set_note(std::string note) { note_ = std::move(note); }
+  // Records that `done` items are finished (cumulative, resumed ones included) and `failures`
+  // of them failed.
   void update(long long done, long long failures = 0);
   // Prints the final line (always) with the total elapsed time.
   void finish();
@@ -20,11 +28,12 @@ class Progress {
  private:
   void print(bool final);
 
-  std::string label_;
-  long long total_, done_ = 0, failures_ = 0;
+  std::string label_, note_;
+  long long total_, done_ = 0, done_before_ = 0, failures_ = 0;
+  bool estimate_ = false;
   std::FILE* out_;
-  double interval_s_;
   bool tty_;
+  double interval_s_;
   std::chrono::steady_clock::time_point start_, last_print_;
 };
 
