@@ -4,9 +4,34 @@
 
 #include <cctype>
 #include <cstring>
+#include <initializer_list>
 
 namespace hapstate {
 namespace {
+
+bool equals_ignoring_case(const char* a, const char* b) {
+  for (; *a != '\0' && *b != '\0'; ++a, ++b)
+    if (std::tolower(static_cast<unsigned char>(*a)) != std::tolower(static_cast<unsigned char>(*b)))
+      return false;
+  return *a == *b;
+}
+
+// Whether a PRAGMA only reads. With an argument, only the schema and check pragmas, whose
+// argument names a table or index or a limit (PRAGMA table_info(configuration)); any other
+// pragma with an argument sets something (user_version = 7). Without one, every pragma reads
+// except those that act (checkpoint, optimize, free memory or pages).
+bool pragma_reads(const char* name, bool has_argument) {
+  if (has_argument) {
+    for (const char* reader : {"table_info", "table_xinfo", "table_list", "index_info",
+                               "index_xinfo", "index_list", "foreign_key_list",
+                               "foreign_key_check", "integrity_check", "quick_check"})
+      if (equals_ignoring_case(name, reader)) return true;
+    return false;
+  }
+  for (const char* actor : {"optimize", "wal_checkpoint", "shrink_memory", "incremental_vacuum"})
+    if (equals_ignoring_case(name, actor)) return false;
+  return true;
+}
 
 // Called by SQLite for every action a statement being prepared would take. Denies whatever
 // changes the connection or the files even though sqlite3_stmt_readonly calls it a read.
@@ -23,8 +48,9 @@ int deny_non_reads(void* reason_out, int action, const char* arg1, const char* a
       *reason = "transaction control";
       return SQLITE_DENY;
     case SQLITE_PRAGMA:
-      if (arg2 != nullptr) {
-        *reason = std::string("PRAGMA ") + (arg1 != nullptr ? arg1 : "") + " with a value";
+      if (arg1 == nullptr || !pragma_reads(arg1, arg2 != nullptr)) {
+        *reason = std::string("PRAGMA ") + (arg1 != nullptr ? arg1 : "") +
+                  (arg2 != nullptr ? " with a value" : " changes state");
         return SQLITE_DENY;
       }
       return SQLITE_OK;

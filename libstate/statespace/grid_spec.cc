@@ -9,6 +9,9 @@ namespace hapstate {
 namespace {
 
 constexpr double kRelativeTolerance = 1e-9;  // of a spacing
+// A box edge this close to the lattice (in spacings) counts as on it: the check-point is kept
+// and the workspace grows to it (a box written with rounded numbers).
+constexpr double kSnapTolerance = 1e-3;
 constexpr double kDefaultWorkspaceSpacings = 4;
 
 std::string point_text(const Eigen::Vector3d& p) {
@@ -79,10 +82,35 @@ GridSpec resolve_grid(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
   }
   for (int a = 0; a < 3; ++a) {
     const double h = g.spacing[a];
-    g.lo[a] = static_cast<int>(std::ceil((g.workspace.min[a] - probe_rest[a]) / h - kRelativeTolerance));
-    g.hi[a] = static_cast<int>(std::floor((g.workspace.max[a] - probe_rest[a]) / h + kRelativeTolerance));
+    g.lo[a] = static_cast<int>(std::ceil((g.workspace.min[a] - probe_rest[a]) / h - kSnapTolerance));
+    g.hi[a] = static_cast<int>(std::floor((g.workspace.max[a] - probe_rest[a]) / h + kSnapTolerance));
+    g.workspace.min[a] = std::min(g.workspace.min[a], probe_rest[a] + g.lo[a] * h);
+    g.workspace.max[a] = std::max(g.workspace.max[a], probe_rest[a] + g.hi[a] * h);
   }
   return g;
+}
+
+std::vector<std::string> grid_short_axes(const SceneGrid& grid, const GridSpec& spec,
+                                         const std::string& scene_label) {
+  std::vector<std::string> notes;
+  if (!grid.dims || !grid.box) return notes;
+  for (int a = 0; a < 3; ++a) {
+    const int have = spec.hi[a] - spec.lo[a] + 1, want = (*grid.dims)[a];
+    if (have >= want) continue;
+    const double h = spec.spacing[a], rest = spec.origin[a], edge = grid.box->min[a];
+    const double shift = rest + std::round((edge - rest) / h) * h - edge;
+    const char axis = "xyz"[a];
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%s: [grid] dims asks for %d check-points along %c but box holds %d: they lie "
+                  "at the probe's rest position %c = %.9g plus multiples of the spacing %.9g, and "
+                  "the box's %c edges are %.3g spacings off that lattice (more than the %g "
+                  "snapped); shift grid.box by %.9g along %c, or give grid.spacing instead",
+                  scene_label.c_str(), want, axis, have, axis, rest, h, axis,
+                  std::abs(shift) / h, kSnapTolerance, shift, axis);
+    notes.emplace_back(buf);
+  }
+  return notes;
 }
 
 }  // namespace hapstate

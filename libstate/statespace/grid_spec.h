@@ -1,7 +1,8 @@
 // The check-point grid of a scene (docs/state-space.md): P_ijk = origin + (i, j, k) * spacing
 // with origin = the probe's rest position, so the rest position is check-point (0, 0, 0) and
 // indices may be negative. The check-points are those inside the workspace box (closed, with a
-// tolerance of 1e-9 spacings). Enlarging the workspace keeps every index and position.
+// tolerance of 1e-9 spacings); a box edge within 1e-3 spacings of the lattice is snapped to it
+// (the workspace grows to include that check-point). Enlarging the workspace keeps every index and position.
 #pragma once
 
 #include "util/hash.h"
@@ -11,6 +12,8 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace hapstate {
 
@@ -38,6 +41,12 @@ Eigen::Vector3d grid_spacing(const SceneGrid& grid);
 
 // The workspace: grid.box, or 4 spacings each way around `probe_rest`.
 Box grid_workspace(const SceneGrid& grid, const Eigen::Vector3d& probe_rest);
+
+// Axes on which grid.dims asks for more check-points than grid.box holds (the probe's rest
+// position is not on the box's lattice): one message per axis saying what was lost and how far
+// to shift the box. Empty when grid.dims is not given.
+std::vector<std::string> grid_short_axes(const SceneGrid& grid, const GridSpec& spec,
+                                         const std::string& scene_label);
 
 // Resolves the grid of a scene around the probe rest position. Throws InputError (naming
 // `scene_label`) if the rest position lies outside grid.box.

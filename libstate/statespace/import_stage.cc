@@ -94,6 +94,8 @@ ImportReport run_import(const ImportOptions& options) {
 
   ImportReport report;
   report.warnings = mesh_report.warnings;
+  for (std::string& note : grid_short_axes(scene.grid, grid, options.scene.string()))
+    report.warnings.push_back(std::move(note));
   const std::string summary = std::to_string(problem.mesh.num_nodes()) + " nodes, " +
                               std::to_string(problem.mesh.num_tets()) + " tets, " +
                               std::to_string(grid.num_checkpoints()) + " check-points";

@@ -183,6 +183,13 @@ TEST_F(Inspect, SqlReads) {
   EXPECT_EQ(s["rows"], json::parse(R"([[{"blob":"0102ff"},null,2.5,"text"]])"));
   EXPECT_EQ(inspect("sql " + quote("SELECT x'0102ff' AS b, NULL AS n")).out, "b\tn\nx'0102ff'\tNULL\n");
   EXPECT_EQ(inspect_json("sql " + quote("PRAGMA user_version"))["rows"], json::parse("[[1]]"));
+  // Pragmas that only read, with an argument naming a table or index.
+  const json columns = inspect_json("sql " + quote("PRAGMA table_info(configuration)"));
+  EXPECT_EQ(columns["columns"][1], "name");
+  EXPECT_EQ(columns["rows"][0][1], "id");
+  EXPECT_EQ(inspect_json("sql " + quote("pragma INTEGRITY_CHECK"))["rows"], json::parse(R"([["ok"]])"));
+  EXPECT_FALSE(inspect_json("sql " + quote("PRAGMA index_list(transition)"))["rows"].is_null());
+  EXPECT_EQ(inspect("sql " + quote("PRAGMA foreign_key_check(transition)")).exit_code, 0);
 }
 
 TEST_F(Inspect, SqlRefusesWrites) {
@@ -192,6 +199,8 @@ TEST_F(Inspect, SqlRefusesWrites) {
         "DELETE FROM transition", "UPDATE configuration SET status = 2",
         "ATTACH DATABASE '" + (dir_.path() / "other.db").string() + "' AS other",
         "PRAGMA user_version = 7", "PRAGMA journal_mode = DELETE", "DROP TABLE transition",
+        "PRAGMA user_version(7)", "PRAGMA wal_checkpoint", "PRAGMA optimize",
+        "PRAGMA schema_version = 3",
         "BEGIN", "SELECT 1; DELETE FROM transition", "VACUUM"}) {
     const ToolRun r = inspect("sql " + quote(sql));
     EXPECT_EQ(r.exit_code, 2) << sql << "\n" << r.out << r.err;

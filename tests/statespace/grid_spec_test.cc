@@ -52,6 +52,39 @@ TEST(GridSpec, DimsGiveTheSpacing) {
   EXPECT_EQ(g.num_checkpoints(), 5 * 3 * 2);
 }
 
+// A box written with rounded numbers: its edges miss the lattice through the rest position by
+// 1e-4 of a spacing. dims are kept (snapped within 1e-3 spacings) and the workspace grows to
+// the snapped check-points; nothing is reported.
+TEST(GridSpec, RoundedBoxEdgesSnapToTheLattice) {
+  SceneGrid s;
+  s.dims = std::array<int, 3>{3, 3, 3};
+  s.box = Box{{0, 0, 0}, {1, 1, 1}};
+  const GridSpec g = resolve_grid(s, Eigen::Vector3d(0.50005, 0.49995, 0.5), "s");
+  EXPECT_EQ(g.num_checkpoints(), 27);
+  EXPECT_TRUE(g.in_workspace(g.position(g.lo)));
+  EXPECT_TRUE(g.in_workspace(g.position(g.hi)));
+  EXPECT_NEAR(g.workspace.max.x(), 1.00005, 1e-12);
+  EXPECT_NEAR(g.workspace.min.y(), -0.00005, 1e-12);
+  EXPECT_TRUE(grid_short_axes(s, g, "s").empty());
+}
+
+// Beyond the snapping tolerance the axis loses check-points, and the message says which axis,
+// how many, and by how much to shift the box.
+TEST(GridSpec, ShortAxisIsReported) {
+  SceneGrid s;
+  s.dims = std::array<int, 3>{3, 3, 3};
+  s.box = Box{{0, 0, 0}, {1, 1, 1}};
+  const GridSpec g = resolve_grid(s, Eigen::Vector3d(0.5, 0.3, 0.5), "scene.toml");
+  EXPECT_EQ(g.num_checkpoints(), 3 * 2 * 3);
+  const std::vector<std::string> notes = grid_short_axes(s, g, "scene.toml");
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("scene.toml: [grid] dims asks for 3 check-points along y but box holds "
+                          "2"), std::string::npos) << notes[0];
+  EXPECT_NE(notes[0].find("rest position y = 0.3"), std::string::npos) << notes[0];
+  EXPECT_NE(notes[0].find("0.4 spacings off"), std::string::npos) << notes[0];
+  EXPECT_NE(notes[0].find("shift grid.box by -0.2 along y"), std::string::npos) << notes[0];
+}
+
 TEST(GridSpec, EnlargingTheWorkspaceKeepsPositionsAndHash) {
   const Eigen::Vector3d rest(0.3, 0.1, 0.2);
   const GridSpec small = resolve_grid(spacing_grid(0.1, Box{{0.1, 0.0, 0.0}, {0.5, 0.2, 0.4}}), rest, "s");
