@@ -13,7 +13,7 @@ MAX_SECONDS ?=
 STAGES := $(BUILD)/stages
 
 .PHONY: all import grid expand compact index eval inspect clean
-NODES ?= surface
+NODES ?= all
 all: index
 
 import:

@@ -3,6 +3,8 @@
 #include "maintenance/compact.h"
 #include "util/main_guard.h"
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -20,6 +22,7 @@ int main(int argc, char** argv) {
       "removes unreferenced segments and VACUUMs the catalogue. Crash-safe at any instant.\n"
       "Exit codes: 0 ok (also when there was nothing to do), 1 internal error, 2 bad input or "
       "state (missing state directory, no scene, unreadable blob)."};
+  use_hapstate_help(app);
   app.add_option("--state", state, "state directory")->required();
   app.add_flag("--dry-run", options.dry_run, "report what would be done; change nothing");
   app.add_option("--segment-values", options.repack.max_segment_values,

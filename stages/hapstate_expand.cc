@@ -4,6 +4,8 @@
 #include "util/main_guard.h"
 #include "util/stop_request.h"
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -26,6 +28,7 @@ int main(int argc, char** argv) {
       "internal error; 130 stopped by Ctrl-C or SIGTERM (resumable); 2 bad options or state directory (not imported, grid out of date, "
       "missing or damaged segment, newer catalogue): nothing changed. Failed solves do not "
       "change the exit code: they are recorded as transitions with outcome 'failed'."};
+  use_hapstate_help(app);
   app.add_option("--state", state, "state directory (after hapstate-grid)")->required();
   app.add_option("--threads", o.threads, "worker threads, one FEM solver each")
       ->check(CLI::Range(1, 1024));
@@ -35,11 +38,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000000));
   auto* mt = app.add_option("--max-transitions", max_transitions,
                             "stop at the first batch boundary after N transitions (exit 0, "
-                            "outcome partial)")
+                            "outcome partial; default: no limit)")
                  ->check(CLI::Range(1LL, 1LL << 60));
   auto* ms = app.add_option("--max-seconds", max_seconds,
                             "stop at the first batch boundary after S seconds (exit 0, outcome "
-                            "partial)")
+                            "partial; default: no limit)")
                  ->check(CLI::PositiveNumber);
   app.add_flag("-q,--quiet", quiet, "no progress line");
   bool timings = false;

@@ -3,6 +3,8 @@
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -17,6 +19,7 @@ int main(int argc, char** argv) {
       "Re-running after the workspace was enlarged adds check-points and keeps the old ones.\n"
       "Exit codes: 0 done or unchanged; 1 internal error; 2 bad options or state directory "
       "(not imported, inconsistent): nothing changed."};
+  use_hapstate_help(app);
   app.add_option("--state", state, "state directory (after hapstate-import)")->required();
   try {
     app.parse(argc, argv);

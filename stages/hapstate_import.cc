@@ -3,6 +3,8 @@
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -19,6 +21,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 imported, updated or unchanged; 1 internal error; 2 bad scene, mesh, "
       "options or state directory (e.g. a state directory of another scene without --fresh): "
       "nothing changed."};
+  use_hapstate_help(app);
   app.add_option("scene", scene, "scene file (TOML)")->required();
   app.add_option("--state", state, "state directory (created if missing)")->required();
   app.add_flag("--fresh", o.fresh,

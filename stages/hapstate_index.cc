@@ -3,6 +3,8 @@
 #include "index/index_stage.h"
 #include "util/main_guard.h"
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -18,15 +20,17 @@ int main(int argc, char** argv) {
       "by the runtime (include/hapstate/playback.h). Skips when the file is up to date.\n"
       "Exit codes: 0 written or unchanged; 1 internal error; 2 bad options or state directory "
       "(not expanded, inconsistent): an existing playback file is left intact."};
-  auto* state_opt = app.add_option("--state", state, "state directory (after hapstate-expand)");
+  use_hapstate_help(app);
+  auto* state_opt = app.add_option("--state", state, "state directory (after hapstate-expand; required unless --verify; default: none)");
   app.add_option("--verify", verify,
                  "only check an existing playback file: header, section table, every checksum and "
-                 "cross-reference; print its contents")
+                 "cross-reference; print its contents (default: write one)")
       ->excludes(state_opt);
   app.add_option("-o,--output", output, "playback file (default <state>/playback.bin)");
   app.add_option("--nodes", options.view,
-                 "whose displacements to store: surface (for the viewer) or all (for hapstate-eval's "
-                 "all-node error)")
+                 "whose displacements to store: all (default; hapstate-eval's deformation error "
+                 "needs them) or surface (a smaller file for a renderer)")
+      ->option_text(choices({"all", "surface"}))
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, ViewNodes>{{"surface", ViewNodes::kSurface}, {"all", ViewNodes::kAll}}));
   try {

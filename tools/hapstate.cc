@@ -10,6 +10,8 @@
 #include "util/main_guard.h"
 #include "util/stop_request.h"
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -28,7 +30,7 @@ struct RunOptions {
   std::optional<double> max_seconds;
   bool fresh = false;
   bool no_compact = false;
-  ViewNodes view = ViewNodes::kSurface;
+  ViewNodes view = ViewNodes::kAll;
   bool quiet = false;
 };
 
@@ -89,6 +91,7 @@ int main(int argc, char** argv) {
                "Exit codes: 0 ok (or stopped at --max-seconds); 1 internal error; 130 stopped by Ctrl-C "
                "or SIGTERM (resumable); 2 bad scene, "
                "mesh or state directory (the stage that found it changed nothing)."};
+  use_hapstate_help(app, true);
   app.require_subcommand(1);
   CLI::App* run = app.add_subcommand(
       "run", "import -> grid -> expand -> compact -> index; each stage skips what is up to date");
@@ -96,11 +99,16 @@ int main(int argc, char** argv) {
   run->add_option("--state", o.state, "state directory (default: 'state' beside the scene)");
   run->add_option("--threads", o.threads, "expansion worker threads")->check(CLI::Range(1, 1024));
   run->add_option("--max-seconds", o.max_seconds,
-                  "stop the expansion cleanly after about this long (resume by running again)")
+                  "stop the expansion cleanly after about this long (resume by running again; "
+                  "default: no limit)")
       ->check(CLI::PositiveNumber);
   run->add_flag("--fresh", o.fresh, "start the state directory anew (after validating the scene)");
   run->add_flag("--no-compact", o.no_compact, "skip the compaction stage");
-  run->add_option("--nodes", o.view, "index: store displacements of the surface (default) or all nodes")
+  run->add_option("--nodes", o.view,
+                  "index: store the displacements of all nodes (default; hapstate-eval's "
+                  "deformation error needs them) or of the surface nodes only (a smaller file "
+                  "for a renderer)")
+      ->option_text(choices({"all", "surface"}))
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, ViewNodes>{{"surface", ViewNodes::kSurface}, {"all", ViewNodes::kAll}}));
   run->add_flag("-q,--quiet", o.quiet, "no progress line");

@@ -5,6 +5,8 @@
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -22,6 +24,7 @@ int main(int argc, char** argv) {
       "step, write them as CSV and plot them like the paper's Fig. 2.\n"
       "Exit codes: 0 done; 1 internal error; 2 bad options, state directory or playback file; "
       "3 a precise solve failed (the other steps are still reported)."};
+  use_hapstate_help(app);
   app.add_option("--state", state, "state directory (after hapstate-index)")->required();
   app.add_option("--playback", playback, "playback file (default <state>/playback.bin; "
                                          "index with --nodes all for the all-node error)");
@@ -30,7 +33,7 @@ int main(int argc, char** argv) {
   app.add_option("--step-length", o.step_length,
                  "length of a step, mesh units (default half the smallest grid spacing)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--path", path_file, "probe path CSV (x,y,z) instead of the random path")
+  app.add_option("--path", path_file, "probe path CSV (x,y,z) instead of the random path (default: the random path)")
       ->check(CLI::ExistingFile);
   app.add_option("--csv", csv, "per-step CSV (default <state>/eval.csv)");
   app.add_option("--plot", png, "PNG plot (default <state>/eval.png)");

@@ -3,6 +3,8 @@
 #include "maintenance/inspect.h"
 #include "util/main_guard.h"
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -65,6 +67,7 @@ int main(int argc, char** argv) {
       "with --json (shapes in docs/inspect.md).\n"
       "Exit codes: 0 ok, 1 internal error, 2 bad input (usage, missing state directory, unknown "
       "id, refused SQL)."};
+  use_hapstate_help(app, true);
   app.fallthrough();  // --state / --json may also follow the command
   app.require_subcommand(1);
   app.add_option("--state", o.state, "state directory")->required();
@@ -75,7 +78,7 @@ int main(int argc, char** argv) {
                      "levels per check-point, transitions by outcome, failures by reason, disk use");
   auto* checkpoint = app.add_subcommand("checkpoint", "one check-point and its configurations (levels)");
   auto* ijk = checkpoint->add_option("ijk", o.ijk, "grid index I J K")->expected(3);
-  checkpoint->add_option("--id", o.checkpoint_id, "check-point id instead of I J K")
+  checkpoint->add_option("--id", o.checkpoint_id, "check-point id instead of I J K (default: give I J K)")
       ->check(CLI::NonNegativeNumber)
       ->excludes(ijk);
   auto* config = app.add_subcommand("config", "one configuration in detail");

@@ -10,6 +10,8 @@
 
 #include <hapstate/playback.h>
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -135,10 +137,13 @@ int main(int argc, char** argv) {
       "largest force.\n"
       "Exit codes: 0 ok, 1 internal error, 2 bad options or input (missing or corrupt playback "
       "file, malformed path)."};
+  use_hapstate_help(app);
   app.add_option("--playback", o.playback, "playback file (hapstate-index)")->required();
-  auto* path = app.add_option("--path", o.path_csv, "probe path: CSV with header x,y,z, mesh units");
+  auto* path = app.add_option("--path", o.path_csv, "probe path: CSV with header x,y,z, mesh units (one of --path "
+                              "and --random; default: none)");
   auto* random = app.add_option("--random", o.random_points,
-                                "probe path: random walk of N steps from rest inside the grid box")
+                                "probe path: random walk of N steps from rest inside the grid box "
+                                "(default: none)")
                      ->check(CLI::Range(1, 100'000'000));
   path->excludes(random);
   app.add_option("--seed", o.seed, "random walk seed")->needs(random);
@@ -149,14 +154,16 @@ int main(int argc, char** argv) {
   app.add_option("--speed", o.speed, "probe speed along the path, mesh units per second")
       ->check(CLI::PositiveNumber);
   app.add_option("--scheme", o.scheme, "force interpolation")
+      ->option_text(choices({"trilinear", "hermite"}))
       ->check(CLI::IsMember({"trilinear", "hermite"}));
   app.add_flag("--realtime", o.realtime,
                "pace ticks and frames with absolute deadlines (default: as fast as possible)");
-  auto* frames = app.add_option("--frames", o.frames, "write frames as VTU surfaces (+ frames.pvd) here");
+  auto* frames = app.add_option("--frames", o.frames, "write frames as VTU surfaces (+ frames.pvd) here "
+                                                             "(default: none)");
   app.add_option("--frame-every", o.frame_every, "write every K-th frame")
       ->check(CLI::Range(1, 1'000'000))
       ->needs(frames);
-  app.add_option("--csv", o.csv, "write t,x,y,z,fx,fy,fz per tick");
+  app.add_option("--csv", o.csv, "write t,x,y,z,fx,fy,fz per tick (default: not written)");
   try {
     app.parse(argc, argv);
     if (o.path_csv.empty() && o.random_points == 0)

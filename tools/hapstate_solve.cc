@@ -9,6 +9,8 @@
 #include "util/main_guard.h"
 #include "util/progress.h"
 
+#include "help_format.h"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -165,21 +167,23 @@ int main(int argc, char** argv) {
   CLI::App app{"hapstate-solve: precise non-linear FEM solve of a probe path (the reference the "
                "playback is measured against).\nExit codes: 0 ok, 1 internal error, 2 bad input, "
                "3 some path point failed to converge (reported, run completed)."};
+  use_hapstate_help(app);
   app.add_option("scene", o.scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   auto* path_opt = app.add_option("--path", o.path_csv,
                                   "probe path CSV with header x,y,z: absolute probe positions "
-                                  "(scene units), solved in order starting from rest")
+                                  "(scene units), solved in order starting from rest (the path: one of --path, "
+                                  "--straight, --by, --random; default: none)")
                        ->check(CLI::ExistingFile);
   auto* straight_opt = app.add_option("--straight", o.straight,
-                                      "straight path from the rest position to X Y Z")
+                                      "straight path from the rest position to X Y Z (default: none)")
                            ->expected(3);
   auto* by_opt = app.add_option("--by", o.by,
-                                "straight path from the rest position by DX DY DZ (scene units)")
+                                "straight path from the rest position by DX DY DZ (scene units; default: none)")
                      ->expected(3);
   app.add_option("--steps", o.steps, "points on a --straight or --by path")->check(CLI::Range(1, 100000000));
   auto* random_opt = app.add_option("--random", o.random_steps,
                                     "seeded random walk of N points from the rest position, "
-                                    "inside the grid workspace")
+                                    "inside the grid workspace (default: none)")
                          ->check(CLI::Range(1, 100000000));
   app.add_option("--seed", o.seed, "seed of --random");
   app.add_option("--step-length", o.step_length,
@@ -191,13 +195,16 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", o.output,
                  "output CSV: step,x,y,z,fx,fy,fz,residual,iterations,substeps,cutbacks,wall_ms,"
                  "status (f = force felt by the user, N); a contact probe adds touched (nodes "
-                 "the sphere holds) and active_set_changes");
+                 "the sphere holds) and active_set_changes (default: none; needed unless "
+                 "--export-ccx)");
   app.add_option("--displacements", o.displacements,
-                 "also write every node's displacement per step: CSV step,node,ux,uy,uz");
-  app.add_option("--vtu", o.vtu_dir, "also write the deformed mesh per step as VTU + path.pvd");
+                 "also write every node's displacement per step: CSV step,node,ux,uy,uz "
+                 "(default: not written)");
+  app.add_option("--vtu", o.vtu_dir, "also write the deformed mesh per step as VTU + path.pvd (default: not "
+                 "written)");
   app.add_option("--export-ccx", o.ccx_dir,
                  "write the same problem as a CalculiX deck (DIR/problem.inp, see "
-                 "tools/ccx_compare.py)");
+                 "tools/ccx_compare.py; default: not written)");
   app.add_flag("-q,--quiet", o.quiet, "no progress line");
   app.add_flag("--timings", o.timings,
                "print time per assembly / factorisation / solve and the symbolic analysis (and, for a "

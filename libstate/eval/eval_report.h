@@ -12,8 +12,10 @@ namespace hapstate {
 // _deformation_error_all,_deformation_error_surface.
 void write_eval_csv(const EvalResult& result, const std::filesystem::path& file);
 
-// The accuracy table: per scheme max / mean force error and deformation errors, failures,
-// mean precise solve time and mean force query time.
+// The accuracy table: what the errors mean, per scheme max / mean force error and deformation
+// errors, a verdict against the paper's bounds, failures and the mean precise solve time.
+// (Query cost is not here: one timed call per step says nothing; hapstate-play and
+// bench/playback_bench measure it.)
 std::string eval_table(const EvalResult& result);
 
 // Renders the CSV as a PNG with matplotlib (python3 from Debian's python3-matplotlib): relative

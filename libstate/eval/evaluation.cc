@@ -110,9 +110,7 @@ EvalResult run_eval(const EvalOptions& options) {
     const Eigen::Matrix3Xd exact_u = solver.displacements();
     for (std::size_t s = 0; s < cursors.size(); ++s) {
       SchemeResult r;
-      const auto t0 = std::chrono::steady_clock::now();
       const Force f = cursors[s]->force({p.x(), p.y(), p.z()});
-      r.query_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
       r.force = Eigen::Vector3d(f.value[0], f.value[1], f.value[2]);
       Snapshot snap;
       cursors[s]->snapshot(&snap);

@@ -30,7 +30,6 @@ struct SchemeResult {
   double force_error = 0;             // |f - f*| / max over the path of |f*|
   double deformation_error_all = -1;  // ||u - u*|| / ||u*|| over all nodes (-1: not stored)
   double deformation_error_surface = 0;
-  double query_us = 0;                // time of the force call, microseconds
 };
 
 struct EvalStep {

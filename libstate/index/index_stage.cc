@@ -163,6 +163,18 @@ bool up_to_date(const std::filesystem::path& file, const ContentHash& fingerprin
   }
 }
 
+// What an existing playback file holds, for the message when it is replaced ("" if none).
+std::string describe_existing(const std::filesystem::path& file) {
+  if (!std::filesystem::exists(file)) return "";
+  try {
+    PlaybackFile f(file);
+    return std::to_string(f.num_configurations()) + " configurations, " +
+           (f.view_is_all_nodes() ? "all nodes" : "surface nodes");
+  } catch (const std::exception&) {
+    return "an unreadable or older file";
+  }
+}
+
 // The index needs an expansion, complete or partial (stopped by --max-*): the transitions a
 // partial one left undecided are stored as kUndecided and the cursor extends past them.
 void require_expansion(StageContext& ctx) {
@@ -197,6 +209,7 @@ IndexReport run_index(const IndexOptions& options) {
                      std::to_string(report.configurations) + " configurations)";
     run.outcome = StageOutcome::kUnchanged;
   } else {
+    const std::string replaced = describe_existing(report.output);
     BlobStore blobs(ctx.dir.blobs());
     const int num_nodes = ctx.problem.mesh.num_nodes();
     const std::vector<std::int32_t> view_nodes = g.content.view_nodes;
@@ -224,6 +237,7 @@ IndexReport run_index(const IndexOptions& options) {
                   static_cast<long long>(report.configurations),
                   static_cast<long long>(report.view_nodes), report.bytes / 1e6);
     report.message = "wrote " + report.output.string() + ": " + text;
+    if (!replaced.empty()) report.message += " (replaced the previous file: " + replaced + ")";
   }
   run.ended = now_ms();
   run.message = report.message;

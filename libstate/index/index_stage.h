@@ -13,7 +13,7 @@ enum class ViewNodes { kSurface, kAll };
 struct IndexOptions {
   std::filesystem::path state;
   std::filesystem::path output;         // "" = <state>/playback.bin
-  ViewNodes view = ViewNodes::kSurface;  // whose displacements are stored
+  ViewNodes view = ViewNodes::kAll;  // whose displacements are stored
 };
 
 struct IndexReport {

@@ -55,11 +55,11 @@ void expect_consistent(const std::filesystem::path& dir) {
 TEST(LevelCompare, DistanceInToleranceUnitsWithZeroStates) {
   const LevelTolerances tol{0.01, 0.05};
   const ConfigVectors a{{0.0, 1.0}, {}, {0.0, 0.0, 0.0}, {}, {}};
-  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.005, 1.0}, {}, {0.0, 0.0, 0.0}, {}}, tol), 0.5);
-  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.0, 1.0}, {}, {0.03, 0.04, 0.0}, {}}, tol), 1.0);
-  EXPECT_TRUE(std::isinf(compaction_level_distance(a, {{0.0}, {}, {0.0, 0.0, 0.0}, {}}, tol)));
+  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.005, 1.0}, {}, {0.0, 0.0, 0.0}, {}, {}}, tol), 0.5);
+  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.0, 1.0}, {}, {0.03, 0.04, 0.0}, {}, {}}, tol), 1.0);
+  EXPECT_TRUE(std::isinf(compaction_level_distance(a, {{0.0}, {}, {0.0, 0.0, 0.0}, {}, {}}, tol)));
   // No blob: zeros of the other's length.
-  EXPECT_DOUBLE_EQ(compaction_level_distance({}, {{0.004, -0.002}, {}, {0.0, 0.0, 0.01}, {}}, tol), 0.4);
+  EXPECT_DOUBLE_EQ(compaction_level_distance({}, {{0.004, -0.002}, {}, {0.0, 0.0, 0.01}, {}, {}}, tol), 0.4);
 }
 
 TEST(LevelCompare, BoundFromSummariesAndForces) {

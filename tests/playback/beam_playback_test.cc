@@ -34,7 +34,8 @@ TEST_F(BeamPlayback, SecondIndexRunIsUnchanged) {
   EXPECT_EQ(fs::last_write_time(*state_ / "playback.bin"), before);
   // Other options are another file.
   const StageResult s = run_stage(HAPSTATE_INDEX_EXE,
-                                  {"--state", state_->string(), "-o", (*root_ / "surface.bin").string()}, *root_);
+                                  {"--state", state_->string(), "-o", (*root_ / "surface.bin").string(),
+                                   "--nodes", "surface"}, *root_);
   EXPECT_EQ(s.exit_code, 0) << s.err;
   EXPECT_NE(s.out.find("wrote"), std::string::npos) << s.out;
   const StageResult v = run_stage(HAPSTATE_INDEX_EXE, {"--verify", (*root_ / "surface.bin").string()}, *root_);
@@ -44,8 +45,22 @@ TEST_F(BeamPlayback, SecondIndexRunIsUnchanged) {
   const StageResult t = run_stage(HAPSTATE_INDEX_EXE, {"--verify", (*root_ / "surface.bin").string()}, *root_);
   EXPECT_EQ(t.exit_code, 2);
   EXPECT_NE(t.err.find("truncated"), std::string::npos) << t.err;
-  ASSERT_EQ(run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "-o", (*root_ / "surface.bin").string()},
-                      *root_).exit_code, 0);
+  // Rewriting a damaged file says what it replaced; so does replacing a file of other options.
+  const StageResult rewritten = run_stage(
+      HAPSTATE_INDEX_EXE,
+      {"--state", state_->string(), "-o", (*root_ / "surface.bin").string(), "--nodes", "surface"}, *root_);
+  ASSERT_EQ(rewritten.exit_code, 0) << rewritten.err;
+  EXPECT_NE(rewritten.out.find("(replaced the previous file: an unreadable or older file)"),
+            std::string::npos) << rewritten.out;
+  const StageResult all = run_stage(
+      HAPSTATE_INDEX_EXE, {"--state", state_->string(), "-o", (*root_ / "all.bin").string()}, *root_);
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_TRUE(PlaybackFile(*root_ / "all.bin").view_is_all_nodes());  // the default
+  fs::copy_file(*root_ / "surface.bin", *root_ / "all.bin", fs::copy_options::overwrite_existing);
+  const StageResult replaced = run_stage(
+      HAPSTATE_INDEX_EXE, {"--state", state_->string(), "-o", (*root_ / "all.bin").string()}, *root_);
+  EXPECT_NE(replaced.out.find("(replaced the previous file: 45 configurations, surface nodes)"),
+            std::string::npos) << replaced.out;
   PlaybackFile surface(*root_ / "surface.bin");
   EXPECT_FALSE(surface.view_is_all_nodes());
   EXPECT_LT(surface.num_view_nodes(), surface.num_mesh_nodes());

@@ -1,0 +1,56 @@
+#include "help_format.h"
+
+#include <memory>
+
+namespace hapstate {
+namespace {
+
+class HelpFormatter : public CLI::Formatter {
+ public:
+  HelpFormatter() { column_width(34); }
+
+  // " INT", " TEXT REQUIRED", " surface|all": the type without the validators' descriptions.
+  std::string make_option_opts(const CLI::Option* opt) const override {
+    if (opt->get_type_size() == 0) return "";
+    std::string out = " ";
+    if (!opt->get_option_text().empty()) {
+      out += opt->get_option_text();
+    } else {
+      const std::string type = opt->get_type_name();
+      out += type.substr(0, type.find(':'));
+    }
+    if (opt->get_expected_max() == CLI::detail::expected_max_vector_size) out += " ...";
+    else if (opt->get_expected_min() > 1) out += " x " + std::to_string(opt->get_expected());
+    if (opt->get_required()) out += " REQUIRED";
+    return out;
+  }
+
+  std::string make_option_desc(const CLI::Option* opt) const override {
+    std::string desc = opt->get_description();
+    const std::string value = opt->get_default_str();
+    if (opt->get_type_size() != 0 && !opt->get_required() && !value.empty() && value != "[]" &&
+        desc.find("default") == std::string::npos)
+      desc += " (default " + value + ")";
+    return desc;
+  }
+};
+
+}  // namespace
+
+void use_hapstate_help(CLI::App& app, bool help_all) {
+  app.formatter(std::make_shared<HelpFormatter>());
+  app.option_defaults()->always_capture_default();
+  if (help_all) {
+    app.set_help_flag();
+    app.set_help_all_flag("-h,--help", "Print this help message (with every subcommand's options) "
+                                       "and exit");
+  }
+}
+
+std::string choices(std::initializer_list<const char*> names) {
+  std::string out;
+  for (const char* name : names) out += (out.empty() ? "" : "|") + std::string(name);
+  return out;
+}
+
+}  // namespace hapstate
