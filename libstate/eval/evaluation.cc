@@ -98,7 +98,10 @@ EvalResult run_eval(const EvalOptions& options) {
 
   Progress progress("hapstate-eval: precise solves", static_cast<long long>(path.size()));
   long long failures = 0;
-  for (const Eigen::Vector3d& p : path) {
+  const bool contact = probe->is_contact();
+  double travel_in_contact = 0;  // path length since the last step off the body
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const Eigen::Vector3d& p = path[k];
     EvalStep step;
     step.probe = p;
     const MoveResult move = probe->move_to(solver, p);
@@ -107,6 +110,11 @@ EvalResult run_eval(const EvalOptions& options) {
     step.solve_ms = move.wall_ms;
     failures += move.ok ? 0 : 1;
     step.exact_force = solver.force_felt();
+    if (contact) {
+      const bool free = step.exact_force.norm() == 0;
+      travel_in_contact = free || k == 0 ? 0 : travel_in_contact + (p - path[k - 1]).norm();
+      step.contact_onset = !free && travel_in_contact < result.spacing.minCoeff();
+    }
     const Eigen::Matrix3Xd exact_u = solver.displacements();
     for (std::size_t s = 0; s < cursors.size(); ++s) {
       SchemeResult r;

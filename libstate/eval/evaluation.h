@@ -38,6 +38,10 @@ struct EvalStep {
   bool solved = true;
   std::string failure;                // the solver's reason if !solved
   double solve_ms = 0;
+  // Contact probe: in contact, less than one grid spacing of path travelled since the last
+  // step off the body. u* is small there and the relative deformation error large, so the
+  // deformation statistics leave these steps out (the CSV keeps them).
+  bool contact_onset = false;
   std::vector<SchemeResult> schemes;  // one per EvalResult::schemes
 };
 
