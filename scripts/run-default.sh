@@ -15,6 +15,7 @@ echo "== Building the executables into $build_dir/ (Release; about 6 minutes on 
 bash scripts/build.sh apps
 echo "build: $(( $(date +%s) - start )) s"
 state=pipelines/liver/state
+threads=$(nproc)  # before the export below: nproc honours OMP_NUM_THREADS
 # One BLAS thread per worker: the expansion runs one solver per core (docs/state-space.md).
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 section() { echo; echo "== $1"; }
@@ -23,7 +24,7 @@ section "1. Precomputation of pipelines/liver/scene.toml (neo-Hooke liver held a
    surface node grabbed, a 7 x 7 x 7 workspace): the state space of equilibrium deformations.
    Each stage skips what is up to date; the progress line estimates the whole expansion."
 job=$(date +%s)
-"$build_dir"/tools/hapstate run pipelines/liver/scene.toml --threads "$(nproc)" \
+"$build_dir"/tools/hapstate run pipelines/liver/scene.toml --threads "$threads" \
   ${EXPAND_SECONDS:+--max-seconds "$EXPAND_SECONDS"}
 echo "precomputation: $(( $(date +%s) - job )) s"
 
@@ -48,7 +49,7 @@ echo "frames for ParaView: out/liver/frames/frames.pvd"
 section "5. Contact: a frictionless sphere on the paper's clamped plate (pipelines/plate), a 3-D
    workspace on both sides of it. Where the sphere can reach the plate from below and from
    above, a check-point keeps two levels (pushed up or pushed down): genuine history."
-"$build_dir"/tools/hapstate run pipelines/plate/scene.toml --threads "$(nproc)"
+"$build_dir"/tools/hapstate run pipelines/plate/scene.toml --threads "$threads"
 "$build_dir"/tools/hapstate-inspect --state pipelines/plate/state summary | grep "levels per"
 mkdir -p out/plate
 for side in below above; do

@@ -459,7 +459,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "%s: %lld transitions decided (%lld solved, %lld failed, %lld outside the "
-                  "workspace), %lld new configurations, %lld reached an existing level; now %lld "
+                  "grid), %lld new configurations, %lld reached an existing level; now %lld "
                   "configurations, %lld transitions",
                   report.stopped_by_signal ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
                   : stopped                ? "partial (a limit was reached; run again to continue)"
