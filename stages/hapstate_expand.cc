@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <map>
 
 int main(int argc, char** argv) {
   using namespace hapstate;
@@ -44,6 +45,13 @@ int main(int argc, char** argv) {
                             "stop at the first batch boundary after S seconds (exit 0, outcome "
                             "partial; default: no limit)")
                  ->check(CLI::PositiveNumber);
+  app.add_option("--algorithm", o.algorithm,
+                 "fast (default): one sub-step per move where it converges and modified Newton; "
+                 "reference: the paper's fixed sub-steps with full Newton (for comparisons). The "
+                 "same tolerance, so the same state space within it")
+      ->option_text(choices({"fast", "reference"}))
+      ->transform(CLI::CheckedTransformer(std::map<std::string, SolverAlgorithm>{
+          {"fast", SolverAlgorithm::kFast}, {"reference", SolverAlgorithm::kReference}}));
   app.add_flag("-q,--quiet", quiet, "no progress line");
   bool timings = false;
   app.add_flag("--timings", timings,
@@ -76,12 +84,13 @@ int main(int argc, char** argv) {
       std::printf("hapstate-expand: timings: wall %.2f s = solves %.2f s (%.0f%%) + storing %.2f s "
                   "(%.0f%%) + other %.2f s; in the solvers (summed over %d threads): assembly "
                   "%.0f%%, factorisation %.0f%%, solve %.0f%% of %.2f s; %.1f transitions/s, "
-                  "%.1f ms per solved transition\n",
+                  "%.1f ms per solved transition, %.2f factorisations per solved transition\n",
                   r.wall_s, r.solve_wall_s, 100 * r.solve_wall_s / r.wall_s, r.store_wall_s,
                   100 * r.store_wall_s / r.wall_s, r.wall_s - r.solve_wall_s - r.store_wall_s,
                   o.threads, cpu > 0 ? 100 * t.assembly / cpu : 0,
                   cpu > 0 ? 100 * t.factorize / cpu : 0, cpu > 0 ? 100 * t.solve / cpu : 0, cpu,
-                  r.decided / r.wall_s, r.solved ? 1e3 * r.wall_s / r.solved : 0.0);
+                  r.decided / r.wall_s, r.solved ? 1e3 * r.wall_s / r.solved : 0.0,
+                  r.solved ? double(r.factorisations) / r.solved : 0.0);
       if (t.contact_queries > 0) {
         std::printf("hapstate-expand: timings: contact: %lld of the solved transitions were moves "
                     "between free check-points (no solve); collision detection %.4f ms per "

@@ -83,6 +83,8 @@ def main():
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--meshes", default=",".join(BOXES))
+    ap.add_argument("--algorithm", default="fast", choices=["fast", "reference"],
+                    help="hapstate-solve's algorithm (reference: the paper's fixed sub-steps)")
     args = ap.parse_args()
     solve = os.path.join(args.build, "tools", "hapstate-solve")
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
@@ -102,7 +104,8 @@ def main():
             d = [-1.0, 1.0, 0.5]
             n = sum(x * x for x in d) ** 0.5
             cmd = [solve, scene, "--by"] + ["%.9g" % (length * x / n) for x in d] + [
-                "--steps", "10", "-o", os.path.join(tmp, "ours.csv"), "--timings", "-q"]
+                "--steps", "10", "-o", os.path.join(tmp, "ours.csv"), "--timings", "-q",
+                "--algorithm", args.algorithm]
             run(cmd + ["--export-ccx", ccx_dir], env=env)
             ours, ccx, timings = [], [], None
             for _ in range(args.repeat):

@@ -46,7 +46,7 @@ int run_pipeline(const RunOptions& o) {
   std::printf("hapstate run: scene %s, state directory %s\n", scene.c_str(), state.c_str());
 
   const ImportReport imported = run_import(ImportOptions{scene, state, o.fresh});
-  for (const auto& w : imported.warnings) std::fprintf(stderr, "hapstate run: import: %s\n", w.c_str());
+  for (const auto& w : imported.warnings) std::fprintf(stderr, "hapstate run: import: warning: %s\n", w.c_str());
   std::printf("  import:  %s\n", imported.message.c_str());
 
   if (stop_requested()) return stopped();
@@ -75,6 +75,7 @@ int run_pipeline(const RunOptions& o) {
   IndexOptions index;
   index.state = state;
   index.view = o.view;
+  index.progress = o.quiet ? nullptr : stderr;
   std::printf("  index:   %s\n", run_index(index).message.c_str());
   return kExitOk;
 }

@@ -13,6 +13,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <map>
+
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -36,6 +38,7 @@ struct Options {
   std::string ccx_dir;
   bool quiet = false;
   bool timings = false;
+  SolverAlgorithm algorithm = SolverAlgorithm::kFast;
 };
 
 ProbePath make_path(const Options& o, const Scene& scene, const Problem& problem) {
@@ -92,6 +95,7 @@ int run(const Options& o) {
   if (!o.vtu_dir.empty()) std::filesystem::create_directories(o.vtu_dir);
 
   PathSolver solver(problem);
+  solver.set_algorithm(o.algorithm);
   Progress progress("hapstate-solve", static_cast<long long>(path.size()),
                     o.quiet ? nullptr : stderr);
   long long failures = 0;
@@ -206,6 +210,12 @@ int main(int argc, char** argv) {
                  "write the same problem as a CalculiX deck (DIR/problem.inp, see "
                  "tools/ccx_compare.py; default: not written)");
   app.add_flag("-q,--quiet", o.quiet, "no progress line");
+  app.add_option("--algorithm", o.algorithm,
+                 "fast (default): one sub-step per move where it converges and modified Newton; "
+                 "reference: the paper's fixed sub-steps with full Newton (for comparisons)")
+      ->option_text(choices({"fast", "reference"}))
+      ->transform(CLI::CheckedTransformer(std::map<std::string, SolverAlgorithm>{
+          {"fast", SolverAlgorithm::kFast}, {"reference", SolverAlgorithm::kReference}}));
   app.add_flag("--timings", o.timings,
                "print time per assembly / factorisation / solve and the symbolic analysis (and, for a "
                "contact probe, collision detection)");

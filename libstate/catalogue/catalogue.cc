@@ -76,7 +76,8 @@ void check_schema_state(const SchemaState& s, OpenMode mode, const std::string& 
   if (s.version < supported && mode != OpenMode::kMigrate) {
     throw InputError(label + " has schema version " + std::to_string(s.version) +
                      ", this hapstate needs " + std::to_string(supported) +
-                     ": migrate it first (the stages' --migrate option)");
+                     ": run any writing stage on it (hapstate-expand, -compact, -index, or hapstate run) "
+                     "and it is migrated");
   }
   if (s.version < 1) throw InputError(label + ": invalid schema version " + std::to_string(s.version));
 }

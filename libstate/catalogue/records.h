@@ -121,6 +121,7 @@ struct Transition {
   ConfigId target;              // valid iff outcome == kReached
   int substeps = 0;
   int newton_iterations = 0;
+  int factorisations = 0;       // numeric factorisations spent (schema 2; 0 in older rows)
   double final_residual = 0.0;  // N
   double wall_ms = 0.0;
   std::string failure_reason;   // "" unless kFailed

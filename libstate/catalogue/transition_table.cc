@@ -7,10 +7,10 @@ namespace {
 
 #define HAPSTATE_TRANSITION_COLUMNS                                                       \
   "source, direction, outcome, target, substeps, newton_iterations, final_residual, " \
-  "wall_ms, failure_reason"
+  "wall_ms, failure_reason, factorisations"
 
 constexpr const char* kInsert = "INSERT INTO transition (" HAPSTATE_TRANSITION_COLUMNS
-                                ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)";
+                                ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
 constexpr const char* kRead = "SELECT " HAPSTATE_TRANSITION_COLUMNS
                               " FROM transition WHERE source = ? AND direction = ?";
 constexpr const char* kOfSource = "SELECT " HAPSTATE_TRANSITION_COLUMNS
@@ -34,6 +34,7 @@ Transition row_to_transition(const catalogue_detail::Statement& s) {
   t.final_residual = s.column_double(6);
   t.wall_ms = s.column_double(7);
   t.failure_reason = s.column_text(8);
+  t.factorisations = static_cast<int>(s.column_int(9));
   return t;
 }
 
@@ -54,6 +55,7 @@ void Catalogue::insert_transition(const Transition& t) {
   s->bind(7, t.final_residual);
   s->bind(8, t.wall_ms);
   s->bind(9, t.failure_reason);
+  s->bind(10, t.factorisations);
   s->run();
 }
 

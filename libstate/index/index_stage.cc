@@ -214,7 +214,8 @@ IndexReport run_index(const IndexOptions& options) {
     const int num_nodes = ctx.problem.mesh.num_nodes();
     const std::vector<std::int32_t> view_nodes = g.content.view_nodes;
     const std::vector<Configuration>& configs = g.configs;
-    Progress progress("hapstate-index: displacements", static_cast<long long>(configs.size()));
+    Progress progress("hapstate-index: displacements", static_cast<long long>(configs.size()),
+                      options.progress);
     g.content.displacements = [&](std::int32_t k, std::span<float> out) {
       const Configuration& conf = configs[k];
       if (conf.blob) {

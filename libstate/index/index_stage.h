@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
@@ -14,6 +15,7 @@ struct IndexOptions {
   std::filesystem::path state;
   std::filesystem::path output;         // "" = <state>/playback.bin
   ViewNodes view = ViewNodes::kAll;  // whose displacements are stored
+  std::FILE* progress = stderr;         // progress line; nullptr: none
 };
 
 struct IndexReport {

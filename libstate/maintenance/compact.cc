@@ -86,7 +86,7 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     if (options.fault_point) options.fault_point(point);
   };
   std::optional<Catalogue> catalogue_slot;
-  catalogue_slot.emplace(dir.catalogue(), options.dry_run ? OpenMode::kReadOnly : OpenMode::kReadWrite);
+  catalogue_slot.emplace(dir.catalogue(), options.dry_run ? OpenMode::kReadOnly : OpenMode::kMigrate);
   Catalogue& catalogue = *catalogue_slot;
   BlobStore blobs(dir.blobs());
   ContentHash scene_hash;

@@ -163,7 +163,7 @@ InspectOutput inspect_transitions(const StateDir& dir, ConfigId id) {
   std::ostringstream s;
   s << "configuration " << id.value() << " (check-point " << c.checkpoint.value() << ", level "
     << c.level.value() << "):\n"
-    << "  dir  offset      outcome       target  level  substeps  iters  residual    wall_ms  reason\n";
+    << "  dir  offset      outcome       target  level  substeps  iters  factors  residual    wall_ms  reason\n";
   for (int d = 0; d < Direction::kCount; ++d) {
     const Direction dir_d(d);
     Json e;
@@ -183,16 +183,18 @@ InspectOutput inspect_transitions(const StateDir& dir, ConfigId id) {
     e["target_checkpoint"] = target_cp;
     e["substeps"] = t ? Json(t->substeps) : Json(nullptr);
     e["newton_iterations"] = t ? Json(t->newton_iterations) : Json(nullptr);
+    e["factorisations"] = t ? Json(t->factorisations) : Json(nullptr);
     e["final_residual"] = t ? Json(t->final_residual) : Json(nullptr);
     e["wall_ms"] = t ? Json(t->wall_ms) : Json(nullptr);
     e["failure_reason"] = t ? t->failure_reason : "";
     char line[256];
     const auto o = dir_d.offset();
-    std::snprintf(line, sizeof line, "  %3d  (%2d,%2d,%2d)  %-12s  %6s  %5s  %8s  %5s  %-10s  %7s  %s\n", d,
+    std::snprintf(line, sizeof line, "  %3d  (%2d,%2d,%2d)  %-12s  %6s  %5s  %8s  %5s  %7s  %-10s  %7s  %s\n", d,
                   o[0], o[1], o[2], e["outcome"].get<std::string>().c_str(),
                   target.is_null() ? "-" : target.dump().c_str(), level.is_null() ? "-" : level.dump().c_str(),
                   t ? std::to_string(t->substeps).c_str() : "-",
                   t ? std::to_string(t->newton_iterations).c_str() : "-",
+                  t ? std::to_string(t->factorisations).c_str() : "-",
                   t ? num(t->final_residual).c_str() : "-", t ? num(t->wall_ms).c_str() : "-",
                   t ? t->failure_reason.c_str() : "");
     s << line;

@@ -78,6 +78,10 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
     configs[config_status_name(static_cast<ConfigStatus>(int_at(row, 0)))] = int_at(row, 1);
   }
   configs["expandable"] = query_int(cat, "SELECT count(*) FROM configuration WHERE expandable = 1");
+  // Open but never to be expanded: the felt force is above probe.max_force (or the check-point
+  // is outside the workspace).
+  configs["open_not_expandable"] =
+      query_int(cat, "SELECT count(*) FROM configuration WHERE status = 0 AND expandable = 0");
   const auto max_wave = cat.max_wave();
   configs["max_wave"] = max_wave ? Json(*max_wave) : Json(nullptr);
   j["configurations"] = configs;
@@ -99,6 +103,16 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
        cat.query_read_only("SELECT outcome, count(*) FROM transition GROUP BY 1").rows) {
     transitions[transition_outcome_name(static_cast<TransitionOutcome>(int_at(row, 0)))] = int_at(row, 1);
   }
+  // The cost of the solved ones (reached or failed; 0 in rows older than schema 2).
+  const QueryResult cost = cat.query_read_only(
+      "SELECT avg(newton_iterations), avg(factorisations) FROM transition WHERE outcome != 1");
+  const auto average = [&](std::size_t c) -> Json {
+    if (cost.rows.empty()) return nullptr;
+    const auto* v = std::get_if<double>(&cost.rows.front().at(c));
+    return v != nullptr ? Json(*v) : Json(nullptr);
+  };
+  transitions["mean_newton_iterations"] = average(0);
+  transitions["mean_factorisations"] = average(1);
   j["transitions"] = transitions;
   Json failures = Json::array();
   for (const auto& row : cat.query_read_only("SELECT failure_reason, count(*) FROM transition "
@@ -140,14 +154,22 @@ std::string summary_text(const Json& j) {
     if (n.get<std::int64_t>() > 0) s << ", " << n << " " << name;
   }
   const Json& c = j["configurations"];
-  s << "\nconfigurations: " << c["total"] << " (" << c["open"] << " open, " << c["expanded"]
-    << " expanded, " << c["merged"] << " merged; " << c["expandable"] << " expandable; max wave "
-    << (c["max_wave"].is_null() ? std::string("-") : c["max_wave"].dump()) << ")\n";
+  const std::int64_t not_expandable = c["open_not_expandable"].get<std::int64_t>();
+  s << "\nconfigurations: " << c["total"] << " (" << c["expanded"] << " expanded, "
+    << c["open"].get<std::int64_t>() - not_expandable << " still to expand, " << not_expandable
+    << " not expanded: force above probe.max_force or outside the workspace; " << c["merged"]
+    << " merged; max wave " << (c["max_wave"].is_null() ? std::string("-") : c["max_wave"].dump())
+    << ")\n";
   s << "levels per check-point:";
   for (const auto& h : j["levels_per_checkpoint"]) s << "  " << h["levels"] << ": " << h["checkpoints"];
   const Json& t = j["transitions"];
   s << "\ntransitions: " << t["total"] << " (" << t["reached"] << " reached, " << t["outside_grid"]
-    << " outside the grid, " << t["failed"] << " failed)\n";
+    << " outside the grid, " << t["failed"] << " failed)";
+  if (!t["mean_factorisations"].is_null())
+    s << "; per solved transition " << num(t["mean_newton_iterations"].get<double>())
+      << " Newton iterations, " << num(t["mean_factorisations"].get<double>())
+      << " factorisations";
+  s << "\n";
   for (const auto& f : j["failures_by_reason"]) {
     s << "  failed " << f["count"] << "x: " << f["reason"].get<std::string>() << "\n";
   }

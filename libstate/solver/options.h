@@ -7,8 +7,18 @@ namespace hapstate {
 // surface triangles (the default); kStick, surface nodes stick to the sphere where it caught them.
 enum class Friction { kNone, kStick };
 
+// How a move is solved. kFast: grab probes start with one sub-step for the whole move (halved
+// on failure, grown back after two successes) and reuse a factorisation across Newton
+// iterations while the residual contracts at least 2x per iteration (modified Newton);
+// contact probes, whose touched set or multipliers evolve along the move, solve as kReference.
+// kReference: the paper's algorithm, `substeps` fixed sub-steps with full Newton (a
+// factorisation per iteration); kept for tests and comparisons. Both converge to the same
+// tolerance, so they store the same state space within it.
+enum class SolverAlgorithm { kFast, kReference };
+
 struct SolverOptions {
-  int substeps = 4;              // incremental-load steps per move between check-points
+  SolverAlgorithm algorithm = SolverAlgorithm::kFast;  // not a scene key: tool option
+  int substeps = 4;              // incremental-load steps per move (kReference; contact)
   double tolerance = 1e-8;       // Newton: relative residual (w.r.t. the reference force scale)
   double absolute_tolerance = 1e-12;  // Newton: absolute residual floor [N]
   int max_iterations = 30;       // Newton iterations per sub-step target

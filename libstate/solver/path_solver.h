@@ -47,7 +47,8 @@ struct MoveResult {
   std::string reason;            // human-readable failure reason (empty if ok)
   int substeps = 0;              // accepted sub-steps
   int cutbacks = 0;              // sub-step halvings
-  int iterations = 0;            // Newton iterations (factorisations) over the whole move
+  int iterations = 0;            // Newton iterations (linear solves, predictors included)
+  int factorisations = 0;        // numeric factorisations, PSD fallbacks included
   double residual = 0;           // final ||r_free|| [N]
   double wall_ms = 0;
   int active_set_iterations = 0; // contact: touched-set changes (stick) or multiplier updates
@@ -111,12 +112,18 @@ class PathSolver {
   const SolverTimings& timings() const { return timings_; }
   const SparseCholesky& linear_solver() const { return *cholesky_; }
   const SolverOptions& options() const { return options_; }
+  void set_algorithm(SolverAlgorithm algorithm) { options_.algorithm = algorithm; }
 
  private:
   struct Newton;
   bool substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t_to, double rel_tol,
                MoveResult* result);
-  bool newton(double rel_tol, MoveResult* result);
+  // have_factor: the factorisation in cholesky_ is of a nearby state (the predictor's) and may
+  // be reused by modified Newton.
+  bool newton(double rel_tol, MoveResult* result, bool have_factor = false);
+  bool modified_newton() const {
+    return options_.algorithm == SolverAlgorithm::kFast && !contact_ && !sliding_;
+  }
   void assemble(const Eigen::VectorXd& u, bool project_psd, double* energy);
   void constrain_values();
   bool factorize_with_fallback(const Eigen::VectorXd& u);

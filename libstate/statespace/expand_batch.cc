@@ -46,8 +46,12 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
 }
 
 TransitionSolver::TransitionSolver(const Problem& problem, const ProbeModel& probe,
-                                   const BlobStore& blobs, int threads)
-    : problem_(problem), probe_(probe), blobs_(blobs), threads_(std::max(1, threads)) {
+                                   const BlobStore& blobs, int threads, SolverAlgorithm algorithm)
+    : problem_(problem),
+      probe_(probe),
+      blobs_(blobs),
+      threads_(std::max(1, threads)),
+      algorithm_(algorithm) {
   solvers_.resize(threads_);
 }
 
@@ -77,30 +81,28 @@ TransitionSolve TransitionSolver::solve_one(PathSolver& solver, const Transition
   out.vectors.h.assign(h.data(), h.data() + h.size());
   const Eigen::Vector3d f = solver.force_felt();
   out.force = {f.x(), f.y(), f.z()};
-  const Eigen::Matrix3d k = solver.haptic_stiffness();
-  for (int r = 0; r < 3; ++r)
-    for (int s = 0; s < 3; ++s) out.stiffness[3 * r + s] = std::isfinite(k(r, s)) ? k(r, s) : 0.0;
   return out;
 }
 
-std::vector<TransitionSolve> TransitionSolver::solve(const std::vector<TransitionTask>& tasks) {
-  std::vector<TransitionSolve> results(tasks.size());
+template <typename Body>
+void TransitionSolver::for_each_parallel(std::size_t count, Body&& body) {
   std::atomic<std::size_t> next{0};
   std::exception_ptr error;
   std::mutex error_mutex;
   auto work = [&](int worker) {
     try {
-      if (!solvers_[worker]) solvers_[worker] = std::make_unique<PathSolver>(problem_);
-      for (std::size_t k = next++; k < tasks.size(); k = next++) {
-        results[k] = solve_one(*solvers_[worker], tasks[k]);
+      if (!solvers_[worker]) {
+        solvers_[worker] = std::make_unique<PathSolver>(problem_);
+        solvers_[worker]->set_algorithm(algorithm_);
       }
+      for (std::size_t k = next++; k < count; k = next++) body(*solvers_[worker], k);
     } catch (...) {
       std::lock_guard<std::mutex> lock(error_mutex);
       if (!error) error = std::current_exception();
-      next = tasks.size();
+      next = count;
     }
   };
-  const int workers = static_cast<int>(std::min<std::size_t>(threads_, std::max<std::size_t>(1, tasks.size())));
+  const int workers = static_cast<int>(std::min<std::size_t>(threads_, std::max<std::size_t>(1, count)));
   if (workers <= 1) {
     work(0);
   } else {
@@ -109,6 +111,27 @@ std::vector<TransitionSolve> TransitionSolver::solve(const std::vector<Transitio
     for (auto& t : pool) t.join();
   }
   if (error) std::rethrow_exception(error);
+}
+
+std::vector<TransitionSolve> TransitionSolver::solve(const std::vector<TransitionTask>& tasks) {
+  std::vector<TransitionSolve> results(tasks.size());
+  for_each_parallel(tasks.size(), [&](PathSolver& solver, std::size_t k) {
+    results[k] = solve_one(solver, tasks[k]);
+  });
+  return results;
+}
+
+std::vector<StiffnessResult> TransitionSolver::stiffnesses(const std::vector<StiffnessTask>& tasks) {
+  std::vector<StiffnessResult> results(tasks.size());
+  for_each_parallel(tasks.size(), [&](PathSolver& solver, std::size_t k) {
+    probe_.set_state(solver, *tasks[k].vectors, tasks[k].position);
+    const long long before = solver.timings().factorizations;
+    const Eigen::Matrix3d stiffness = solver.haptic_stiffness();
+    results[k].factorisations = static_cast<int>(solver.timings().factorizations - before);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        results[k].stiffness[3 * r + c] = std::isfinite(stiffness(r, c)) ? stiffness(r, c) : 0.0;
+  });
   return results;
 }
 

@@ -36,7 +36,17 @@ struct TransitionSolve {
   MoveResult move;
   ConfigVectors vectors;              // when move.ok
   std::array<double, 3> force{};      // felt by the user, N
+};
+
+// The haptic stiffness of a configuration about to be stored (only new configurations need
+// one: computing it for every solved transition would cost a factorisation each).
+struct StiffnessTask {
+  const ConfigVectors* vectors = nullptr;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // its check-point, mesh units
+};
+struct StiffnessResult {
   std::array<double, 9> stiffness{};  // row-major, N per mesh unit (0 if not computable)
+  int factorisations = 0;
 };
 
 // The vectors of a stored configuration: from its blob, or zeros for one without a blob (the
@@ -50,23 +60,30 @@ class TransitionSolver {
  public:
   // Keeps references to problem, probe and blobs (they must outlive it). threads >= 1.
   TransitionSolver(const Problem& problem, const ProbeModel& probe, const BlobStore& blobs,
-                   int threads);
+                   int threads, SolverAlgorithm algorithm = SolverAlgorithm::kFast);
   ~TransitionSolver();
 
   // Solves every task that has a target, in parallel; result k belongs to task k. An exception
   // in a worker (e.g. an unreadable source blob) is rethrown here after all workers stopped.
   std::vector<TransitionSolve> solve(const std::vector<TransitionTask>& tasks);
+  // The haptic stiffness of each task's state, in parallel (the state is set from the vectors,
+  // as a later move from that configuration would).
+  std::vector<StiffnessResult> stiffnesses(const std::vector<StiffnessTask>& tasks);
   // Time the workers' solvers spent in assembly / factorisation / solves, summed over workers
   // (CPU-side seconds, not wall time).
   SolverTimings timings() const;
 
  private:
   TransitionSolve solve_one(PathSolver& solver, const TransitionTask& task);
+  // Runs body(solver, k) for k in [0, count) on the workers (each with its own solver).
+  template <typename Body>
+  void for_each_parallel(std::size_t count, Body&& body);
 
   const Problem& problem_;
   const ProbeModel& probe_;
   const BlobStore& blobs_;
   int threads_;
+  SolverAlgorithm algorithm_;
   std::vector<std::unique_ptr<PathSolver>> solvers_;  // one per worker, created on first use
 };
 

@@ -171,11 +171,14 @@ class Expander {
 
   // Decides and stores one solved batch (canonical order), then commits it.
   void commit_batch(const std::vector<TransitionTask>& tasks,
-                    const std::vector<TransitionSolve>& solves, ExpandReport* report) {
+                    const std::vector<TransitionSolve>& solves, TransitionSolver& solver,
+                    ExpandReport* report) {
     Catalogue& cat = ctx_.catalogue;
     struct NewConfig {
       Configuration config;
       const ConfigVectors* vectors;
+      std::size_t transition;  // index in `transitions` of the transition that reached it
+      Eigen::Vector3d position;
     };
     std::vector<NewConfig> fresh;
     std::vector<Transition> transitions;
@@ -201,6 +204,8 @@ class Expander {
       if (solve.trivial) ++report->trivial;
       t.substeps = solve.move.substeps;
       t.newton_iterations = solve.move.iterations;
+      t.factorisations = solve.move.factorisations;
+      report->factorisations += solve.move.factorisations;
       t.final_residual = std::isfinite(solve.move.residual) ? solve.move.residual : 0.0;
       t.wall_ms = solve.move.wall_ms;
       if (!solve.move.ok) {
@@ -251,16 +256,26 @@ class Expander {
         c.level = Level(cat.next_level(*task.target).value() + new_here);
         c.wave = task.source.wave + 1;
         c.force = solve.force;
-        c.stiffness = solve.stiffness;
         c.expandable = is_expandable(c.checkpoint, c.force);
         c.status = ConfigStatus::kOpen;
         c.blob = BlobRef{segment, "c" + std::to_string(c.id.value())};
         c.summary = summary;
         t.target = c.id;
-        fresh.push_back({c, &solve.vectors});
+        fresh.push_back({c, &solve.vectors, transitions.size(), task.to});
         ++report->new_configurations;
       }
       transitions.push_back(t);
+    }
+
+    // The new configurations' haptic stiffness (in parallel; the transition that reached one
+    // is charged its factorisation).
+    std::vector<StiffnessTask> stiffness_tasks;
+    for (const NewConfig& n : fresh) stiffness_tasks.push_back({n.vectors, n.position});
+    const std::vector<StiffnessResult> stiffness = solver.stiffnesses(stiffness_tasks);
+    for (std::size_t k = 0; k < fresh.size(); ++k) {
+      fresh[k].config.stiffness = stiffness[k].stiffness;
+      transitions[fresh[k].transition].factorisations += stiffness[k].factorisations;
+      report->factorisations += stiffness[k].factorisations;
     }
 
     // Vectors first, durable, then the rows that reference them.
@@ -322,12 +337,12 @@ class Expander {
 };
 
 std::string parameters_of(const ExpandOptions& o, const LevelTolerances& tol, double max_force) {
-  char buf[320];
+  char buf[360];
   std::snprintf(buf, sizeof buf,
-                "threads=%d batch=%d max_transitions=%s max_seconds=%s max_force=%.9g "
+                "algorithm=%s threads=%d batch=%d max_transitions=%s max_seconds=%s max_force=%.9g "
                 "displacement_tolerance=%.9g force_tolerance=%.9g",
-                o.threads, o.batch_size,
-                o.max_transitions ? std::to_string(*o.max_transitions).c_str() : "none",
+                o.algorithm == SolverAlgorithm::kFast ? "fast" : "reference", o.threads,
+                o.batch_size, o.max_transitions ? std::to_string(*o.max_transitions).c_str() : "none",
                 o.max_seconds ? std::to_string(*o.max_seconds).c_str() : "none", max_force,
                 tol.displacement, tol.force);
   return buf;
@@ -396,7 +411,8 @@ ExpandReport run_expand(const ExpandOptions& options) {
   }
 
   try {
-    TransitionSolver solver(ctx.problem, expander.probe(), expander.blobs(), options.threads);
+    TransitionSolver solver(ctx.problem, expander.probe(), expander.blobs(), options.threads,
+                            options.algorithm);
     bool stopped = false;
     auto limit_reached = [&] {
       if (stop_requested()) {
@@ -430,7 +446,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
         const long long remaining =
             expander.estimate_remaining(*wave, static_cast<long long>(tasks.size()));
         progress.set_total(decided_before + report.decided + remaining, true);
-        progress.set_note("wave " + std::to_string(*wave));
+        progress.set_note("expanding wave " + std::to_string(*wave));
       }
       for (std::size_t b = 0; b < tasks.size(); b += options.batch_size) {
         if (limit_reached()) {
@@ -442,7 +458,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
         const auto solve_start = SteadyClock::now();
         const std::vector<TransitionSolve> solves = solver.solve(batch);
         const auto store_start = SteadyClock::now();
-        expander.commit_batch(batch, solves, &report);
+        expander.commit_batch(batch, solves, solver, &report);
         report.solve_wall_s += std::chrono::duration<double>(store_start - solve_start).count();
         report.store_wall_s +=
             std::chrono::duration<double>(SteadyClock::now() - store_start).count();

@@ -21,6 +21,7 @@ struct ExpandOptions {
   std::optional<long long> max_transitions;  // stop at the first batch boundary at or past it
   std::optional<double> max_seconds;         // stop at the first batch boundary past it
   std::FILE* progress = stderr;         // progress line; nullptr: none
+  SolverAlgorithm algorithm = SolverAlgorithm::kFast;  // kReference: the paper's (comparisons)
 };
 
 struct ExpandReport {
@@ -31,6 +32,7 @@ struct ExpandReport {
   long long trivial = 0;          // of the solved: contact moves between free check-points at
                                   // rest, recorded without a solve
   long long failed = 0;
+  long long factorisations = 0;   // numeric factorisations of this run's solved transitions
   long long outside = 0;
   long long new_configurations = 0;
   long long reused_levels = 0;    // reached an existing level

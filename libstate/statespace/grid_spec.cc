@@ -13,6 +13,9 @@ constexpr double kRelativeTolerance = 1e-9;  // of a spacing
 // and the workspace grows to it (a box written with rounded numbers).
 constexpr double kSnapTolerance = 1e-3;
 constexpr double kDefaultWorkspaceSpacings = 4;
+// More check-points than this is a typo (a spacing in the wrong unit), not a workspace: each
+// holds at least one equilibrium of the whole mesh.
+constexpr double kMaxCheckpoints = 1e7;
 
 std::string point_text(const Eigen::Vector3d& p) {
   char buf[96];
@@ -79,6 +82,18 @@ GridSpec resolve_grid(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
     throw InputError(scene_label + ": [grid] box = [" + point_text(g.workspace.min) + ", " +
                      point_text(g.workspace.max) + "] does not contain the probe's rest position " +
                      point_text(probe_rest) + ": the workspace must contain it");
+  }
+  double count = 1;
+  for (int a = 0; a < 3; ++a)
+    count *= std::floor((g.workspace.max[a] - g.workspace.min[a]) / g.spacing[a] + kSnapTolerance) + 1;
+  if (!(count <= kMaxCheckpoints)) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  ": [grid] spacing (%.9g, %.9g, %.9g) over the box gives %.3g check-points; "
+                  "hapstate takes at most %.0e (each holds an equilibrium of the whole mesh): a "
+                  "larger grid.spacing (in mesh units) or a smaller grid.box",
+                  g.spacing.x(), g.spacing.y(), g.spacing.z(), count, kMaxCheckpoints);
+    throw InputError(scene_label + buf);
   }
   for (int a = 0; a < 3; ++a) {
     const double h = g.spacing[a];

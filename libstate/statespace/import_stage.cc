@@ -128,7 +128,7 @@ ImportReport run_import(const ImportOptions& options) {
   // 3. No imported scene yet.
   std::optional<StageRun> last;
   if (has_catalogue) {
-    Catalogue catalogue(dir.catalogue(), OpenMode::kReadWrite);  // refuses future/foreign/corrupt
+    Catalogue catalogue(dir.catalogue(), OpenMode::kMigrate);  // refuses future/foreign/corrupt
     if (catalogue.read_scene()) last = catalogue.last_successful_stage_run("import");
     if (catalogue.read_scene() && !last) {
       throw InputError(dir.catalogue().string() + ": has a scene but no successful import run "
@@ -157,7 +157,7 @@ ImportReport run_import(const ImportOptions& options) {
                      "enlarged grid.box may change): import into another --state directory, or "
                      "give --fresh to delete this one's configurations and start again");
   }
-  Catalogue catalogue(dir.catalogue(), OpenMode::kReadWrite);
+  Catalogue catalogue(dir.catalogue(), OpenMode::kMigrate);
   StageRun run = make_stage_run("import", identity, parameters_of(options));
   run.ended = now_ms();
   if (changed.empty()) {

@@ -9,7 +9,7 @@ StageContext open_stage_context(const std::filesystem::path& state) {
   StateDir dir{state};
   std::unique_ptr<StateDirLock> lock;
   if (std::filesystem::exists(dir.catalogue())) lock = std::make_unique<StateDirLock>(dir);
-  Catalogue catalogue = open_imported_catalogue(dir, OpenMode::kReadWrite);
+  Catalogue catalogue = open_imported_catalogue(dir, OpenMode::kMigrate);
   SceneRecord record = *catalogue.read_scene();
   const StageRun import = require_stage_run(catalogue, dir, "import");
   const std::optional<ContentHash> expected = run_input(import, "problem");

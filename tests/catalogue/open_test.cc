@@ -77,7 +77,7 @@ TEST(CatalogueOpen, CreateSetsWalApplicationIdAndVersion) {
   }
   EXPECT_EQ(raw_sql(file, "PRAGMA journal_mode"), "wal");
   EXPECT_EQ(raw_sql(file, "PRAGMA application_id"), std::to_string(0x48415053));
-  EXPECT_EQ(raw_sql(file, "PRAGMA user_version"), "1");
+  EXPECT_EQ(raw_sql(file, "PRAGMA user_version"), "2");
   EXPECT_EQ(raw_sql(file, "SELECT count(*) FROM configuration"), "1");
   EXPECT_EQ(raw_sql(file, "SELECT name FROM sqlite_schema WHERE name = 'configuration_frontier'"),
             "configuration_frontier");
@@ -109,7 +109,7 @@ TEST(CatalogueOpen, MissingFileIsNotCreatedUnlessAsked) {
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadOnly); }, "no catalogue here");
   EXPECT_FALSE(std::filesystem::exists(file));
   Catalogue cat(file, OpenMode::kMigrate);  // migration from nothing
-  EXPECT_EQ(cat.schema_version(), 1);
+  EXPECT_EQ(cat.schema_version(), 2);
 }
 
 TEST(CatalogueOpen, EmptyFileIsMigratedFromScratch) {
@@ -118,7 +118,7 @@ TEST(CatalogueOpen, EmptyFileIsMigratedFromScratch) {
   std::ofstream(file).close();
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); }, "empty catalogue");
   Catalogue cat(file, OpenMode::kCreate);
-  EXPECT_EQ(cat.schema_version(), 1);
+  EXPECT_EQ(cat.schema_version(), 2);
   EXPECT_EQ(cat.integrity_check(), "ok");
 }
 
@@ -129,7 +129,7 @@ TEST(CatalogueOpen, FutureSchemaVersionIsRefusedAndFileUnchanged) {
   raw_sql(file, "PRAGMA user_version = 7");
   ASSERT_FALSE(std::filesystem::exists(file.string() + "-wal"));  // checkpointed on close
   expect_refused_untouched(
-      file, file.string() + " has schema version 7, this hapstate supports up to 1: upgrade hapstate");
+      file, file.string() + " has schema version 7, this hapstate supports up to 2: upgrade hapstate");
 }
 
 TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {
@@ -139,8 +139,8 @@ TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {
                     std::to_string(Catalogue::kApplicationId));
   const std::string before = file_bytes(file);
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
-                     "has schema version 0, this hapstate needs 1: migrate it first");
-  expect_input_error([&] { Catalogue cat(file, OpenMode::kCreate); }, "migrate it first");
+                     "has schema version 0, this hapstate needs 2: run any writing stage on it");
+  expect_input_error([&] { Catalogue cat(file, OpenMode::kCreate); }, "run any writing stage on it");
   EXPECT_EQ(file_bytes(file), before);
 }
 
@@ -194,6 +194,37 @@ TEST(CatalogueOpen, SecondConnectionSeesCommittedWrites) {
   tx.commit();
   EXPECT_EQ(second_writer.num_checkpoints(), 2);
   EXPECT_EQ(second_writer.integrity_check(), "ok");
+}
+
+}  // namespace
+}  // namespace hapstate
+
+namespace hapstate {
+namespace {
+
+// A catalogue of schema 1 (written with schema/0001_initial.sql alone, as hapstate 0.1 did) is
+// migrated by a writing open: the transition table gains `factorisations`, old rows count 0.
+TEST(CatalogueOpen, SchemaOneIsMigratedAndOldTransitionsCountNoFactorisations) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  std::ifstream in(HAPSTATE_SOURCE_DIR "/schema/0001_initial.sql");
+  const std::string schema_one(std::istreambuf_iterator<char>(in), {});
+  raw_sql(file, schema_one + "; PRAGMA user_version = 1; PRAGMA application_id = " +
+                    std::to_string(Catalogue::kApplicationId));
+  raw_sql(file, "INSERT INTO checkpoint (i, j, k, x, y, z, classification) VALUES (0, 0, 0, 0, 0, 0, 1);"
+                "INSERT INTO configuration (id, checkpoint, level, wave, force_x, force_y, force_z, k_xx, "
+                "k_xy, k_xz, k_yx, k_yy, k_yz, k_zx, k_zy, k_zz, expandable, status, summary) "
+                "VALUES (1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, x'');"
+                "INSERT INTO transition (source, direction, outcome, target, substeps, "
+                "newton_iterations, final_residual, wall_ms) VALUES (1, 3, 1, NULL, 0, 0, 0, 0)");
+  expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
+                     "has schema version 1, this hapstate needs 2");
+  Catalogue cat(file, OpenMode::kMigrate);
+  EXPECT_EQ(cat.schema_version(), 2);
+  const auto t = cat.read_transition(ConfigId(1), Direction(3));
+  ASSERT_TRUE(t.has_value());
+  EXPECT_EQ(t->factorisations, 0);
+  EXPECT_EQ(cat.integrity_check(), "ok");
 }
 
 }  // namespace

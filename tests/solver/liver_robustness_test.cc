@@ -87,7 +87,7 @@ TEST(LiverRobustness, RandomPathConvergesForEveryNonLinearLaw) {
         total_iterations += r.iterations;
         EXPECT_EQ(r.failure, SolveFailure::kNone);
         EXPECT_TRUE(r.reason.empty()) << r.reason;
-        EXPECT_GE(r.substeps, problem.solver.substeps);
+        EXPECT_GE(r.substeps, 1);  // the fast algorithm: one step per move unless Newton fails
         EXPECT_TRUE(std::isfinite(r.residual));
         // The grabbed node follows the probe exactly.
         EXPECT_LE((solver.probe_displacement() - t).norm(), 1e-15);
@@ -118,10 +118,13 @@ TEST(LiverRobustness, RandomPathConvergesForEveryNonLinearLaw) {
 
 // Moves `problem`'s probe by `move` in one go and checks it against a careful 20-sub-step
 // solve of the same move (same law, default solver settings): equal force (1e-6 relative) and
-// equal displacement field. Returns the cut-backs the one-go move needed.
-int check_against_careful_solve(const Problem& problem, const Eigen::Vector3d& move) {
+// equal displacement field. Returns the cut-backs the one-go move needed. Both solve with the
+// reference algorithm, whose sub-steps are the scene's (the fast one chooses its own).
+int check_against_careful_solve(const Problem& problem, const Eigen::Vector3d& move,
+                                SolverAlgorithm algorithm = SolverAlgorithm::kReference) {
   const std::string law(law_name(problem.material.law));
   PathSolver solver(problem);
+  solver.set_algorithm(algorithm);
   const MoveResult r = solver.move_to(move);
   EXPECT_TRUE(r.ok) << law << ": " << failure_name(r.failure) << ": " << r.reason;
   if (!r.ok) return r.cutbacks;
@@ -130,6 +133,7 @@ int check_against_careful_solve(const Problem& problem, const Eigen::Vector3d& m
   Problem careful = liver_problem(problem.material.law);
   careful.solver.substeps = 20;
   PathSolver reference(careful);
+  reference.set_algorithm(SolverAlgorithm::kReference);
   const MoveResult rr = reference.move_to(move);
   EXPECT_TRUE(rr.ok) << law << ": " << rr.reason;
   EXPECT_EQ(rr.cutbacks, 0) << law;
@@ -180,6 +184,19 @@ TEST(LiverRobustness, HugePushIsCutBackWithSceneSettings) {
     problem.solver.substeps = 1;
     EXPECT_GT(check_against_careful_solve(problem, Eigen::Vector3d(1.5, 0.0, -2.0)), 0)
         << law_name(law);
+  }
+}
+
+// The fast algorithm (one step, halved where Newton fails, modified Newton) lands on the same
+// equilibria for the huge pull and push with the scene's settings.
+TEST(LiverRobustness, FastAlgorithmMatchesCarefulSolveOnHugeMoves) {
+  for (Law law : kLaws) {
+    check_against_careful_solve(liver_problem(law), Eigen::Vector3d(0.0, 0.0, 2.5),
+                                SolverAlgorithm::kFast);
+  }
+  for (Law law : {Law::kNeoHooke, Law::kMooney}) {
+    check_against_careful_solve(liver_problem(law), Eigen::Vector3d(1.5, 0.0, -2.0),
+                                SolverAlgorithm::kFast);
   }
 }
 

@@ -95,6 +95,7 @@ TEST(PathSolver, NewtonConvergesQuadratically) {
   problem.solver.tolerance = 1e-12;
   problem.solver.absolute_tolerance = 0;
   PathSolver solver(problem);
+  solver.set_algorithm(SolverAlgorithm::kReference);  // full Newton: a factorisation per iteration
   const MoveResult r = solver.move_to(Eigen::Vector3d(0, 1.0, 0.5));
   ASSERT_TRUE(r.ok) << r.reason;
   const auto& h = r.residual_history;
@@ -110,6 +111,7 @@ TEST(PathSolver, NewtonConvergesQuadratically) {
     }
   }
   EXPECT_TRUE(checked) << "no iteration pair in the asymptotic range; history size " << h.size();
+  EXPECT_EQ(r.factorisations, r.iterations);
 }
 
 TEST(PathSolver, HugeStepIsCutBackAndConverges) {
@@ -179,6 +181,29 @@ TEST(PathSolver, HapticStiffnessIsDerivativeOfFeltForce) {
 namespace hapstate {
 namespace {
 
+// The fast algorithm reaches the same equilibrium as full Newton with fixed sub-steps, with
+// fewer factorisations than iterations (modified Newton reuses them).
+TEST(PathSolver, FastAlgorithmEqualsReferenceWithFewerFactorisations) {
+  for (Law law : {Law::kNeoHooke, Law::kStvk, Law::kMooney}) {
+    Problem problem = cantilever_problem(law);
+    problem.solver.tolerance = 1e-12;
+    PathSolver fast(problem), reference(problem);
+    reference.set_algorithm(SolverAlgorithm::kReference);
+    const Eigen::Vector3d move(0, 1.0, 0.5);
+    const MoveResult a = fast.move_to(move), b = reference.move_to(move);
+    ASSERT_TRUE(a.ok && b.ok) << law_name(law) << ": " << a.reason << b.reason;
+    EXPECT_LE((fast.force_felt() - reference.force_felt()).norm(),
+              1e-9 * reference.force_felt().norm()) << law_name(law);
+    EXPECT_LE((fast.displacements() - reference.displacements()).norm(),
+              1e-9 * reference.displacements().norm()) << law_name(law);
+    EXPECT_LT(a.factorisations, b.factorisations) << law_name(law);
+    EXPECT_LT(a.factorisations, a.iterations) << law_name(law);
+    std::printf("[ info ] %s: fast %d factorisations / %d iterations / %d sub-steps, reference %d "
+                "/ %d / %d\n", std::string(law_name(law)).c_str(), a.factorisations, a.iterations,
+                a.substeps, b.factorisations, b.iterations, b.substeps);
+  }
+}
+
 // St. Venant-Kirchhoff loses stability in strong compression (the uniaxial limit point is at
 // stretch 1/sqrt(3)): the free-DOF tangent turns indefinite and the solver must fall back to the
 // PSD-projected tangent for its search directions instead of failing or crashing.
@@ -190,6 +215,7 @@ TEST(PathSolver, IndefiniteTangentFallsBackAndReportsOrConverges) {
     for (int c : {1, 2}) problem.constraints.role[3 * n + c] = DofRole::kFixed;
   problem.solver.substeps = 8;
   PathSolver solver(problem);
+  solver.set_algorithm(SolverAlgorithm::kReference);  // 8 fixed sub-steps into the limit point
   const MoveResult r = solver.move_to(Eigen::Vector3d(-0.55, 0, 0));
   std::printf("psd fallbacks %lld, ok %d, reason '%s'\n", solver.timings().psd_fallbacks, r.ok,
               r.reason.c_str());

@@ -12,9 +12,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <map>
 #include <sstream>
 #include <string>
@@ -118,10 +120,20 @@ inline double max_vector_difference(const fs::path& a, const fs::path& b,
   return worst;
 }
 
-// Exact comparison of everything but the vectors (and wall times).
-inline void expect_same_decisions(const Snapshot& a, const Snapshot& b) {
+// Exact comparison of everything but the vectors (and wall times). With `cost_may_differ`
+// (two solver algorithms), the solver's work (sub-steps, iterations, factorisations) is not
+// compared, forces, stiffnesses and summaries agree to `relative` of their scale, and a
+// transition may reach another level of the same check-point (a result within the level
+// tolerance of two levels picks the nearer: a near tie that the solver tolerance can flip);
+// returns how many did.
+inline int expect_same_decisions(const Snapshot& a, const Snapshot& b, bool cost_may_differ = false,
+                                 double relative = 1e-12) {
+  int level_ties = 0;
+  std::map<std::int64_t, std::int64_t> checkpoint_of;
+  for (const Configuration& c : a.configurations) checkpoint_of[c.id.value()] = c.checkpoint.value();
   EXPECT_EQ(a.checkpoints, b.checkpoints);
-  ASSERT_EQ(a.configurations.size(), b.configurations.size());
+  EXPECT_EQ(a.configurations.size(), b.configurations.size());
+  if (a.configurations.size() != b.configurations.size()) return -1;
   for (std::size_t k = 0; k < a.configurations.size(); ++k) {
     const Configuration& x = a.configurations[k];
     const Configuration& y = b.configurations[k];
@@ -132,26 +144,43 @@ inline void expect_same_decisions(const Snapshot& a, const Snapshot& b) {
     EXPECT_EQ(x.expandable, y.expandable) << "configuration " << x.id.value();
     EXPECT_EQ(x.status, y.status) << "configuration " << x.id.value();
     EXPECT_EQ(x.blob, y.blob) << "configuration " << x.id.value();
+    const double force_scale = std::max({1e-3, std::abs(x.force[0]), std::abs(x.force[1]),
+                                         std::abs(x.force[2])});
     for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(x.force[c], y.force[c], 1e-12) << "configuration " << x.id.value();
+      EXPECT_NEAR(x.force[c], y.force[c], relative * force_scale) << "configuration " << x.id.value();
     for (int c = 0; c < 9; ++c)
-      EXPECT_NEAR(x.stiffness[c], y.stiffness[c], 1e-9 * (1 + std::abs(x.stiffness[c])));
-    ASSERT_EQ(x.summary.size(), y.summary.size());
-    for (std::size_t c = 0; c < x.summary.size(); ++c) EXPECT_NEAR(x.summary[c], y.summary[c], 1e-12);
+      EXPECT_NEAR(x.stiffness[c], y.stiffness[c],
+                  std::max(1e-9, relative) * (1 + std::abs(x.stiffness[c])));
+    EXPECT_EQ(x.summary.size(), y.summary.size());
+    if (x.summary.size() != y.summary.size()) return -1;
+    double summary_scale = 1e-12;
+    for (double v : x.summary) summary_scale = std::max(summary_scale, std::abs(v));
+    for (std::size_t c = 0; c < x.summary.size(); ++c)
+      EXPECT_NEAR(x.summary[c], y.summary[c], std::max(1e-12, relative * summary_scale));
   }
-  ASSERT_EQ(a.transitions.size(), b.transitions.size());
+  EXPECT_EQ(a.transitions.size(), b.transitions.size());
+  if (a.transitions.size() != b.transitions.size()) return -1;
   for (std::size_t k = 0; k < a.transitions.size(); ++k) {
     const Transition& x = a.transitions[k];
     const Transition& y = b.transitions[k];
     EXPECT_EQ(x.source, y.source);
     EXPECT_EQ(x.direction, y.direction);
     EXPECT_EQ(x.outcome, y.outcome) << "transition " << x.source.value() << "/" << x.direction.index();
-    EXPECT_EQ(x.target, y.target) << "transition " << x.source.value() << "/" << x.direction.index();
-    EXPECT_EQ(x.substeps, y.substeps);
-    EXPECT_EQ(x.newton_iterations, y.newton_iterations);
+    if (cost_may_differ && x.target != y.target && x.target.valid() && y.target.valid() &&
+        checkpoint_of[x.target.value()] == checkpoint_of[y.target.value()]) {
+      ++level_ties;
+    } else {
+      EXPECT_EQ(x.target, y.target) << "transition " << x.source.value() << "/" << x.direction.index();
+    }
+    if (!cost_may_differ) {
+      EXPECT_EQ(x.substeps, y.substeps);
+      EXPECT_EQ(x.newton_iterations, y.newton_iterations);
+      EXPECT_EQ(x.factorisations, y.factorisations);
+    }
     EXPECT_EQ(x.failure_reason, y.failure_reason);
   }
   EXPECT_EQ(a.segment_files, b.segment_files);
+  return level_ties;
 }
 
 // A fresh directory per test, removed when the test passed.

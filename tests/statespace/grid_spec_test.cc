@@ -96,6 +96,17 @@ TEST(GridSpec, EnlargingTheWorkspaceKeepsPositionsAndHash) {
   EXPECT_EQ(small.hash(), resolve_grid(spacing_grid(0.1, small.workspace), rest, "s").hash());
 }
 
+TEST(GridSpec, AbsurdlyManyCheckpointsIsAnError) {
+  try {
+    resolve_grid(spacing_grid(1e-4, Box{{0, 0, 0}, {1, 1, 1}}), Eigen::Vector3d(0.5, 0.5, 0.5), "scene.toml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.toml: [grid] spacing (0.0001, 0.0001, 0.0001) over "
+                                         "the box gives 1e+12 check-points"),
+              std::string::npos) << e.what();
+  }
+}
+
 TEST(GridSpec, RestOutsideTheBoxIsAnError) {
   try {
     resolve_grid(spacing_grid(0.1, Box{{0, 0, 0}, {1, 1, 1}}), Eigen::Vector3d(2, 0.5, 0.5), "scene.toml");

@@ -1,0 +1,59 @@
+// The fast solver algorithm (one sub-step per move where it converges, modified Newton, the
+// haptic stiffness only for new configurations) stores the same state space as the paper's
+// reference algorithm (fixed sub-steps, full Newton): the same configurations, levels, waves
+// and transitions, with vectors, forces and stiffnesses within the solver's tolerance, and it
+// spends fewer factorisations.
+#include "beam_state.h"
+
+#include "catalogue/catalogue.h"
+
+namespace hapstate::test_util {
+namespace {
+
+class Algorithm : public StageTest {
+ protected:
+  // Imports, grids and expands `scene` into dir_/<algorithm>; returns the mean factorisations per
+  // solved transition.
+  double expand_with(const std::string& scene, const std::string& algorithm) {
+    const fs::path state = dir_ / algorithm;
+    EXPECT_EQ(import_stage(state, scene, dir_).exit_code, 0);
+    EXPECT_EQ(grid_stage(state, dir_).exit_code, 0);
+    const StageResult r = expand_stage(state, 2, dir_, {"--algorithm", algorithm});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+    long long solved = 0, factorisations = 0;
+    for (const Transition& t : cat.read_all_transitions()) {
+      if (t.outcome == TransitionOutcome::kOutsideGrid) continue;
+      ++solved;
+      factorisations += t.factorisations;
+      EXPECT_GE(t.factorisations, 1) << t.source.value() << "/" << t.direction.index();
+    }
+    return solved ? double(factorisations) / solved : 0.0;
+  }
+
+  void expect_same_state_space(const std::string& scene, const char* name) {
+    const double reference = expand_with(scene, "reference");
+    const double fast = expand_with(scene, "fast");
+    const Snapshot a = snapshot(dir_ / "reference"), b = snapshot(dir_ / "fast");
+    // Newton stops at 1e-8 of the reaction scale: forces and vectors agree to well within 1e-6.
+    const int ties = expect_same_decisions(a, b, /*cost_may_differ=*/true, 1e-6);
+    EXPECT_GE(ties, 0);
+    EXPECT_LE(ties, static_cast<int>(a.transitions.size() / 1000));  // at most 0.1 %
+    const double vectors = max_vector_difference(dir_ / "reference", dir_ / "fast", a.configurations);
+    EXPECT_LE(vectors, 1e-6);
+    EXPECT_LT(fast, 0.6 * reference);
+    std::printf("[ info ] %s: %zu configurations, %zu transitions; factorisations per solved "
+                "transition: reference %.2f, fast %.2f; largest vector difference %.2e; %d transitions "
+                "reached the other of two levels within tolerance\n",
+                name, a.configurations.size(), a.transitions.size(), reference, fast, vectors, ties);
+  }
+};
+
+TEST_F(Algorithm, FastEqualsReferenceOnTheBeam) { expect_same_state_space(kBeamScene, "beam"); }
+
+TEST_F(Algorithm, FastEqualsReferenceOnTheLiver) {
+  expect_same_state_space(HAPSTATE_SOURCE_DIR "/pipelines/liver/scene.toml", "liver");
+}
+
+}  // namespace
+}  // namespace hapstate::test_util
