@@ -1,6 +1,7 @@
 #include "help_format.h"
 
 #include <memory>
+#include <sstream>
 
 namespace hapstate {
 namespace {
@@ -45,6 +46,41 @@ void use_hapstate_help(CLI::App& app, bool help_all) {
     app.set_help_all_flag("-h,--help", "Print this help message (with every subcommand's options) "
                                        "and exit");
   }
+}
+
+namespace {
+
+// A validator accepting numbers for which ok(x) holds; its error says "must be <what>".
+CLI::Validator number_check(std::string what, bool (*ok)(double, double, double), double lo,
+                            double hi) {
+  return CLI::Validator(
+      [what, ok, lo, hi](std::string& text) -> std::string {
+        double x = 0;
+        if (!CLI::detail::lexical_cast(text, x)) return "must be a number, not '" + text + "'";
+        return ok(x, lo, hi) ? std::string() : "must be " + what + ", not " + text;
+      },
+      "");
+}
+
+std::string number_text(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+CLI::Validator positive() {
+  return number_check("> 0", [](double x, double, double) { return x > 0; }, 0, 0);
+}
+
+CLI::Validator non_negative() {
+  return number_check(">= 0", [](double x, double, double) { return x >= 0; }, 0, 0);
+}
+
+CLI::Validator in_range(double lo, double hi) {
+  return number_check("in [" + number_text(lo) + ", " + number_text(hi) + "]",
+                      [](double x, double l, double h) { return x >= l && x <= h; }, lo, hi);
 }
 
 std::string choices(std::initializer_list<const char*> names) {

@@ -15,6 +15,12 @@ namespace hapstate {
 // With `help_all`, --help shows every subcommand's options too.
 void use_hapstate_help(CLI::App& app, bool help_all = false);
 
+// Checks with readable messages ("must be > 0, not -1"; CLI11's own print their range up to
+// the largest double).
+CLI::Validator positive();
+CLI::Validator non_negative();
+CLI::Validator in_range(double lo, double hi);
+
 // The value text of an option with named choices, "surface|all": for options whose parser
 // (a CLI::CheckedTransformer) would otherwise show its internal map.
 std::string choices(std::initializer_list<const char*> names);

@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 build_dir=${BUILD_DIR:-build}
 start=$(date +%s)
-echo "== Building the executables into $build_dir/ (Release; about 3 minutes on 2 cores the first time)"
+echo "== Building the executables into $build_dir/ (Release; about 3.5 minutes on 2 cores the first time)"
 bash scripts/build.sh apps
 echo "build: $(( $(date +%s) - start )) s"
 state=pipelines/liver/state

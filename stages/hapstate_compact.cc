@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   app.add_flag("--dry-run", options.dry_run, "report what would be done; change nothing");
   app.add_option("--segment-values", options.repack.max_segment_values,
                  "values per repacked segment before a new one is started (default 2^27)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   app.add_option("--zstd-level", options.repack.zstd_level, "zstd level of repacked segments")
       ->check(CLI::Range(1, 22));
   app.add_flag("-q,--quiet", quiet, "no progress lines (the report is still printed)");

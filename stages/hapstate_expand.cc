@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   auto* ms = app.add_option("--max-seconds", max_seconds,
                             "stop at the first batch boundary after S seconds (exit 0, outcome "
                             "partial; default: no limit)")
-                 ->check(CLI::PositiveNumber);
+                 ->check(positive());
   app.add_option("--algorithm", o.algorithm,
                  "fast (default): one sub-step per move where it converges and modified Newton; "
                  "reference: the paper's fixed sub-steps with full Newton (for comparisons). The "

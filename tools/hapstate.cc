@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
   run->add_option("--max-seconds", o.max_seconds,
                   "stop the expansion cleanly after about this long (resume by running again; "
                   "default: no limit)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   run->add_flag("--fresh", o.fresh, "start the state directory anew (after validating the scene)");
   run->add_flag("--no-compact", o.no_compact, "skip the compaction stage");
   run->add_option("--nodes", o.view,

@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", o.seed, "seed of the random path");
   app.add_option("--step-length", o.step_length,
                  "length of a step, mesh units (default half the smallest grid spacing)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   app.add_option("--path", path_file, "probe path CSV (x,y,z) instead of the random path (default: the random path)")
       ->check(CLI::ExistingFile);
   app.add_option("--csv", csv, "per-step CSV (default <state>/eval.csv)");

@@ -63,7 +63,8 @@ int main(int argc, char** argv) {
   Options o;
   CLI::App app{
       "hapstate-inspect: read-only reports over a state directory (catalogue.sqlite + blobs/).\n"
-      "Nothing in the state directory is ever written. Output is text, or one JSON document "
+      "Nothing in the state directory is changed (SQLite may refresh its shared-memory index "
+      "catalogue.sqlite-shm). Output is text, or one JSON document "
       "with --json (shapes in docs/inspect.md).\n"
       "Exit codes: 0 ok, 1 internal error, 2 bad input (usage, missing state directory, unknown "
       "id, refused SQL)."};
@@ -79,14 +80,14 @@ int main(int argc, char** argv) {
   auto* checkpoint = app.add_subcommand("checkpoint", "one check-point and its configurations (levels)");
   auto* ijk = checkpoint->add_option("ijk", o.ijk, "grid index I J K")->expected(3);
   checkpoint->add_option("--id", o.checkpoint_id, "check-point id instead of I J K (default: give I J K)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative())
       ->excludes(ijk);
   auto* config = app.add_subcommand("config", "one configuration in detail");
-  config->add_option("id", o.config_id, "configuration id")->required()->check(CLI::NonNegativeNumber);
+  config->add_option("id", o.config_id, "configuration id")->required()->check(non_negative());
   auto* transitions = app.add_subcommand("transitions", "the 26 directions of a configuration");
-  transitions->add_option("id", o.config_id, "configuration id")->required()->check(CLI::NonNegativeNumber);
+  transitions->add_option("id", o.config_id, "configuration id")->required()->check(non_negative());
   auto* exporter = app.add_subcommand("export", "a configuration's deformed mesh as VTU");
-  exporter->add_option("id", o.config_id, "configuration id")->required()->check(CLI::NonNegativeNumber);
+  exporter->add_option("id", o.config_id, "configuration id")->required()->check(non_negative());
   exporter->add_option("--vtu", o.vtu, "output .vtu file (point data 'displacement')")->required();
   exporter->add_option("--mesh", o.mesh,
                        "mesh file (default: the scene's mesh, relative to the state directory "

@@ -148,11 +148,11 @@ int main(int argc, char** argv) {
   path->excludes(random);
   app.add_option("--seed", o.seed, "random walk seed")->needs(random);
   app.add_option("--step", o.step, "random walk step, mesh units (default half a grid spacing)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->needs(random);
-  app.add_option("--rate", o.rate, "haptic ticks per second")->check(CLI::Range(1.0, 1e6));
+  app.add_option("--rate", o.rate, "haptic ticks per second")->check(in_range(1.0, 1e6));
   app.add_option("--speed", o.speed, "probe speed along the path, mesh units per second")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   app.add_option("--scheme", o.scheme, "force interpolation")
       ->option_text(choices({"trilinear", "hermite"}))
       ->check(CLI::IsMember({"trilinear", "hermite"}));

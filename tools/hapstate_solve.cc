@@ -192,7 +192,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", o.seed, "seed of --random");
   app.add_option("--step-length", o.step_length,
                  "step of --random in scene units (default: the grid spacing)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   path_opt->excludes(straight_opt)->excludes(random_opt)->excludes(by_opt);
   straight_opt->excludes(random_opt)->excludes(by_opt);
   random_opt->excludes(by_opt);

@@ -115,6 +115,13 @@ std::string eval_table(const EvalResult& result) {
                 result.steps.size(), solved, result.spacing.x(), result.spacing.y(), result.spacing.z(),
                 result.max_exact_force);
   t << line;
+  t << result.path_description << "\n";
+  if (result.outside_grid > 0) {
+    std::snprintf(line, sizeof line,
+                  "%d step(s) lie outside the precomputed grid: playback extends the boundary "
+                  "values there, so large errors are expected\n", result.outside_grid);
+    t << line;
+  }
   t << "force error |f - f*| / max|f*| over the path; deformation error ||u - u*|| / ||u*|| per "
        "step (f*, u*: the precise solve; both schemes blend the stored displacements the same "
        "way, so their deformation errors are equal)\n";

@@ -59,6 +59,9 @@ EvalResult run_eval(const EvalOptions& options) {
   StageContext ctx = open_stage_context(options.state);
   EvalResult result;
   result.playback = options.playback.empty() ? ctx.dir.root / "playback.bin" : options.playback;
+  if (!std::filesystem::exists(result.playback))
+    throw InputError(result.playback.string() + ": no playback file: run hapstate-index --state " +
+                     ctx.dir.root.string() + " first (or give --playback)");
   const PlaybackFile file(result.playback);
   if (file.impl().meta->scene_hash != ctx.scene_record.hash.value)
     throw InputError(result.playback.string() + ": built from another scene than the state directory " +
@@ -67,12 +70,30 @@ EvalResult run_eval(const EvalOptions& options) {
   const auto h = file.grid_spacing();
   result.spacing = Eigen::Vector3d(h[0], h[1], h[2]);
 
+  const double step_length =
+      options.step_length > 0 ? options.step_length : 0.5 * result.spacing.minCoeff();
   const ProbePath path = options.path_file.empty()
-                             ? precomputed_random_path(file, options.steps,
-                                                       options.step_length > 0 ? options.step_length
-                                                                               : 0.5 * result.spacing.minCoeff(),
-                                                       options.seed)
+                             ? precomputed_random_path(file, options.steps, step_length, options.seed)
                              : read_probe_path(options.path_file);
+  char description[256];
+  if (options.path_file.empty()) {
+    std::snprintf(description, sizeof description,
+                  "random path from rest inside the grid: %d steps of at most %.4g mesh units, "
+                  "seed %llu", options.steps, step_length,
+                  static_cast<unsigned long long>(options.seed));
+  } else {
+    std::snprintf(description, sizeof description, "path %s", options.path_file.c_str());
+  }
+  result.path_description = description;
+  const playback::Meta& meta = *file.impl().meta;  // grid index 0 at origin, lo..lo+dims-1
+  for (const Eigen::Vector3d& p : path) {
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) {
+      const double i = (p[a] - meta.origin[a]) / meta.spacing[a];
+      inside = inside && i >= meta.lo[a] - 1e-9 && i <= meta.lo[a] + meta.dims[a] - 1 + 1e-9;
+    }
+    result.outside_grid += inside ? 0 : 1;
+  }
 
   // Which view nodes count as surface nodes: those of a surface triangle.
   const auto view_nodes = file.view_nodes();

@@ -52,6 +52,8 @@ struct EvalResult {
   double max_exact_force = 0;         // N
   bool has_all_nodes = false;
   Eigen::Vector3d spacing = Eigen::Vector3d::Zero();
+  std::string path_description;       // "random path: 20 steps of 0.25 mesh units, seed 1"
+  int outside_grid = 0;               // steps outside the precomputed grid (playback extends)
 };
 
 // Runs the experiment. Throws InputError naming the file if the state directory or the

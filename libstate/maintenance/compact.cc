@@ -61,11 +61,22 @@ std::string counts_text(const CompactReport& r) {
 
 std::string CompactReport::text() const {
   std::ostringstream s;
-  if (nothing_to_do) s << "nothing to do: no duplicate level, no garbage, blobs already packed\n";
+  if (nothing_to_do) {
+    s << "nothing to do: no duplicate level, no garbage, blobs already packed (" << before.segments
+      << (before.segments == 1 ? " segment; total bytes " : " segments; total bytes ")
+      << bytes_text(before.total()) << ")\n";
+    return s.str();
+  }
   s << (dry_run ? "would do: " : "") << counts_text(*this) << "\n";
   s << "levels compared: " << compared_pairs << " pairs by vectors, " << bound_rejections
     << " told apart by summary and force\n";
   s << "segments: " << before.segments << " -> " << after.segments << "\n";
+  if (dry_run) {
+    s << "bytes now: catalogue " << bytes_text(before.catalogue_bytes) << ", blobs "
+      << bytes_text(before.blob_bytes) << ", total " << bytes_text(before.total())
+      << " (a dry run does not predict the sizes after)\n";
+    return s.str();
+  }
   s << "catalogue bytes: " << bytes_text(before.catalogue_bytes) << " -> "
     << bytes_text(after.catalogue_bytes) << "\n";
   s << "blob bytes: " << bytes_text(before.blob_bytes) << " -> " << bytes_text(after.blob_bytes) << "\n";
@@ -134,7 +145,13 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     if (options.dry_run) {
       report.merged_levels = static_cast<std::int64_t>(merges.size());
       report.repacked_configurations = plan.needed ? static_cast<std::int64_t>(plan.moves.size()) : 0;
+      // The segments the repack would write (as write_repacked_segments fills them) and those
+      // it and the garbage collection would remove; byte sizes are not predicted.
+      const std::int64_t per_segment = std::max<std::int64_t>(1, options.repack.max_segment_values);
+      report.new_segments = plan.needed ? (plan.live_values + per_segment - 1) / per_segment : 0;
       report.after = report.before;
+      report.after.segments = report.before.segments - report.garbage_segments + report.new_segments -
+                              (plan.needed ? static_cast<std::int64_t>(plan.sources.size()) : 0);
       return report;
     }
 

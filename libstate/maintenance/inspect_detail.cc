@@ -136,7 +136,8 @@ InspectOutput inspect_config(const StateDir& dir, ConfigId id) {
   s << "configuration " << c.id.value() << ": check-point " << c.checkpoint.value() << " "
     << ijk_text(j["checkpoint"]["ijk"]) << ", level " << c.level.value() << ", wave " << c.wave
     << "\n  status " << config_status_name(c.status) << (c.expandable ? ", expandable" : ", not expandable")
-    << "\n  force " << vec_text(j["force"]) << " N, |F| " << num(norm3(c.force)) << " N\n  stiffness (N per mesh unit)\n";
+    << "\n  force " << vec_text(j["force"]) << " N, |F| " << num(norm3(c.force)) << " N (felt by the user)\n  stiffness d(force felt)/d(probe position), N per mesh unit (a "
+         "negative diagonal: the body pushes back)\n";
   for (const auto& row : j["stiffness"]) s << "    " << vec_text(row) << "\n";
   if (c.blob) {
     s << "  blob " << j["blob"]["file"].get<std::string>() << " group " << c.blob->name << ":";

@@ -1,6 +1,7 @@
 // hapstate-inspect summary.
 #include "maintenance/inspect_common.hpp"
 
+#include <cstdio>
 #include <sstream>
 #include <variant>
 
@@ -166,9 +167,13 @@ std::string summary_text(const Json& j) {
   s << "\ntransitions: " << t["total"] << " (" << t["reached"] << " reached, " << t["outside_grid"]
     << " outside the grid, " << t["failed"] << " failed)";
   if (!t["mean_factorisations"].is_null())
-    s << "; per solved transition " << num(t["mean_newton_iterations"].get<double>())
-      << " Newton iterations, " << num(t["mean_factorisations"].get<double>())
-      << " factorisations";
+  {
+    char cost[128];
+    std::snprintf(cost, sizeof cost, "; per solved transition %.3g Newton iterations, %.3g "
+                  "factorisations", t["mean_newton_iterations"].get<double>(),
+                  t["mean_factorisations"].get<double>());
+    s << cost;
+  }
   s << "\n";
   for (const auto& f : j["failures_by_reason"]) {
     s << "  failed " << f["count"] << "x: " << f["reason"].get<std::string>() << "\n";

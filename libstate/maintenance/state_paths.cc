@@ -29,7 +29,9 @@ StateDir locate_state(const std::filesystem::path& root) {
 
 DiskUse measure_disk_use(const StateDir& dir) {
   DiskUse use;
-  for (const char* suffix : {"", "-wal", "-shm"}) {
+  // Not "-shm": SQLite's shared-memory index of the WAL, rebuilt by any reader; counting it
+  // made the same catalogue measure differently after a read.
+  for (const char* suffix : {"", "-wal"}) {
     use.catalogue_bytes += size_or_zero(dir.catalogue().string() + suffix);
   }
   std::error_code ec;

@@ -173,6 +173,17 @@ TEST(Compact, DryRunChangesNothing) {
   const CompactReport r = compact_state(dir.path(), o);
   EXPECT_EQ(r.merged_levels, 2);
   EXPECT_EQ(r.repacked_configurations, 5);
+  // The dry run predicts the segments of the real run.
+  const std::int64_t predicted = r.after.segments;
+  EXPECT_NE(r.text().find("would do: "), std::string::npos) << r.text();
+  {
+    TempDir copy("compact-copy");
+    std::filesystem::copy(dir.path(), copy.path(), std::filesystem::copy_options::recursive |
+                                                       std::filesystem::copy_options::overwrite_existing);
+    const CompactReport real = compact_state(copy.path(), CompactOptions{});
+    EXPECT_EQ(real.new_segments, r.new_segments);
+    EXPECT_EQ(real.after.segments, predicted);
+  }
   Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
   EXPECT_EQ(cat.read_configuration(ConfigId(4)).status, ConfigStatus::kOpen);
   EXPECT_TRUE(cat.read_stage_runs("compact").empty());
