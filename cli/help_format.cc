@@ -1,6 +1,8 @@
 #include "help_format.h"
 
+#include <cstdio>
 #include <memory>
+#include <vector>
 #include <sstream>
 
 namespace hapstate {
@@ -69,6 +71,20 @@ std::string number_text(double x) {
 }
 
 }  // namespace
+
+int exit_after_parse_error(CLI::App& app, const CLI::ParseError& error, const char* program) {
+  const std::vector<std::string> rest = app.remaining();
+  if (dynamic_cast<const CLI::RequiredError*>(&error) != nullptr && !rest.empty() &&
+      app.get_require_subcommand_min() > 0 && app.get_subcommands().empty()) {
+    std::string names;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    std::fprintf(stderr, "%s: error: unknown subcommand '%s' (one of: %s)\nRun with --help for "
+                 "more information.\n", program, rest.front().c_str(), names.c_str());
+    return 2;
+  }
+  return app.exit(error) == 0 ? 0 : 2;
+}
 
 CLI::Validator positive() {
   return number_check("> 0", [](double x, double, double) { return x > 0; }, 0, 0);

@@ -15,6 +15,10 @@ namespace hapstate {
 // With `help_all`, --help shows every subcommand's options too.
 void use_hapstate_help(CLI::App& app, bool help_all = false);
 
+// After a failed app.parse(): prints the error (an unknown subcommand is named, with the
+// subcommands there are) and returns the exit code (0 for --help, 2 otherwise).
+int exit_after_parse_error(CLI::App& app, const CLI::ParseError& error, const char* program);
+
 // Checks with readable messages ("must be > 0, not -1"; CLI11's own print their range up to
 // the largest double).
 CLI::Validator positive();

@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? kExitOk : kExitBadInput;
+    return exit_after_parse_error(app, e, "hapstate");
   }
   install_stop_request_handler(
       "\nhapstate run: stopping after the current step (Ctrl-C again stops at once; either way, "

@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? kExitOk : kExitBadInput;  // --help is not an error
+    return exit_after_parse_error(app, e, "hapstate-inspect");  // --help is not an error
   }
   return guarded_main("hapstate-inspect", [&] { return run(o, app); });
 }

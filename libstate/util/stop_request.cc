@@ -12,12 +12,20 @@ volatile std::sig_atomic_t g_stop = 0;
 const char* g_message = "";
 std::size_t g_message_size = 0;
 
-extern "C" void on_stop_signal(int signal_number) {
+constexpr char kAtOnce[] =
+    "\nstopped at once; the work committed so far is kept: run the same command again to "
+    "resume\n";
+
+// Only async-signal-safe calls: write(2) and _exit(2).
+extern "C" void on_stop_signal(int) {
+  if (g_stop) {  // the second signal: end now (as a kill would; resuming is safe)
+    ssize_t ignored = ::write(STDERR_FILENO, kAtOnce, sizeof kAtOnce - 1);
+    (void)ignored;
+    ::_exit(130);
+  }
   g_stop = 1;
-  // Only async-signal-safe calls: write(2) and resetting the disposition.
   ssize_t ignored = ::write(STDERR_FILENO, g_message, g_message_size);
   (void)ignored;
-  std::signal(signal_number, SIG_DFL);
 }
 
 }  // namespace

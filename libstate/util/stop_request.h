@@ -1,8 +1,8 @@
 // Ctrl-C (SIGINT) and SIGTERM as a request to stop cleanly. Long stages poll stop_requested()
 // at their safe points (hapstate-expand: between batches) and end like a reached --max-seconds:
 // everything committed so far stays, and running the same command again resumes. The first
-// signal prints what will happen; a second one ends the process at once (the default action),
-// which is still safe to resume from.
+// signal prints what will happen; a second one ends the process at once (exit 130, with a
+// message), which is still safe to resume from.
 #pragma once
 
 namespace hapstate {

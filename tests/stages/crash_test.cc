@@ -109,6 +109,32 @@ TEST_F(Crash, CtrlCStopsCleanlyAndTheNextRunResumes) {
   EXPECT_NE(resumed.out.find("complete"), std::string::npos) << resumed.out;
 }
 
+// A second Ctrl-C ends the process at once (exit 130, with a message); the directory stays
+// consistent and the next run completes.
+TEST_F(Crash, SecondCtrlCStopsAtOnce) {
+  const fs::path state = dir_ / "state";
+  ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
+  ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
+  const pid_t pid = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), dir_);
+  std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ::kill(pid, SIGINT);
+  const StageResult r = wait_stage(pid, dir_);
+  if (r.exit_code == 0) GTEST_SKIP() << "the expansion ended before the signal";
+  EXPECT_EQ(r.exit_code, 130) << r.err;
+  EXPECT_TRUE(r.err.find("stopped at once") != std::string::npos ||
+              r.err.find("stopped; run the same command again") != std::string::npos)
+      << r.err;
+  {
+    Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+    EXPECT_EQ(cat.integrity_check(), "ok");
+  }
+  const StageResult resumed = expand_stage(state, 1, dir_);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("complete"), std::string::npos) << resumed.out;
+}
+
 TEST_F(Crash, ChunkedRunsWithLimitsEqualOneRun) {
   const fs::path reference = dir_ / "reference", state = dir_ / "state";
   build_beam(reference, kBeamScene, 1, dir_);

@@ -25,4 +25,10 @@ for exe in tools/hapstate tools/hapstate-solve tools/hapstate-eval tools/hapstat
 done
 grep -q -- '--threads' <<<"$("$build/tools/hapstate" --help)" || fail "hapstate --help lacks run's options"
 grep -q 'statement' <<<"$("$build/tools/hapstate-inspect" --help)" || fail "inspect --help lacks sql's"
+# An unknown subcommand is named, with the ones there are (exit 2).
+if out=$("$build/tools/hapstate-inspect" --state /nonexistent bogus 2>&1); then fail "bogus accepted"; fi
+grep -q "hapstate-inspect: error: unknown subcommand 'bogus' (one of: summary, checkpoint" <<<"$out" \
+  || fail "inspect bogus: $out"
+if out=$("$build/tools/hapstate" bogus 2>&1); then fail "hapstate bogus accepted"; fi
+grep -q "unknown subcommand 'bogus' (one of: run)" <<<"$out" || fail "hapstate bogus: $out"
 echo "all --help texts state defaults and hide the parser's internals"
