@@ -65,6 +65,7 @@ int run_pipeline(const RunOptions& o) {
     std::printf("hapstate run: expansion stopped at --max-seconds; run again to continue\n");
     return kExitOk;
   }
+  if (stop_requested()) return stopped();
   if (!o.no_compact) {
     std::string text = compact_state(state, CompactOptions{}).text();
     for (std::size_t at = text.find('\n'); at != std::string::npos && at + 1 < text.size();
@@ -72,6 +73,7 @@ int run_pipeline(const RunOptions& o) {
       text.insert(at + 1, "           ");
     std::printf("  compact: %s", text.c_str());
   }
+  if (stop_requested()) return stopped();
   IndexOptions index;
   index.state = state;
   index.view = o.view;

@@ -145,13 +145,15 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     if (options.dry_run) {
       report.merged_levels = static_cast<std::int64_t>(merges.size());
       report.repacked_configurations = plan.needed ? static_cast<std::int64_t>(plan.moves.size()) : 0;
-      // The segments the repack would write (as write_repacked_segments fills them) and those
-      // it and the garbage collection would remove; byte sizes are not predicted.
-      const std::int64_t per_segment = std::max<std::int64_t>(1, options.repack.max_segment_values);
-      report.new_segments = plan.needed ? (plan.live_values + per_segment - 1) / per_segment : 0;
+      // The segments the live configurations would reference afterwards: those the repack
+      // leaves alone plus the ones it would write; byte sizes are not predicted.
+      report.new_segments = count_repacked_segments(plan, blobs, options.repack);
+      const std::set<SegmentId> emptied(plan.sources.begin(), plan.sources.end());
+      std::set<SegmentId> kept;
+      for (const Configuration& c : live)
+        if (c.blob && !(plan.needed && emptied.contains(c.blob->segment))) kept.insert(c.blob->segment);
       report.after = report.before;
-      report.after.segments = report.before.segments - report.garbage_segments + report.new_segments -
-                              (plan.needed ? static_cast<std::int64_t>(plan.sources.size()) : 0);
+      report.after.segments = static_cast<std::int64_t>(kept.size()) + report.new_segments;
       return report;
     }
 

@@ -23,19 +23,16 @@ std::string text_at(const std::vector<QueryValue>& row, std::size_t c) {
   return v != nullptr ? *v : "";
 }
 
-// A run recorded as running while no process holds the directory's lock was killed.
-Json run_json(const StageRun& run, bool busy) {
-  Json j = stage_run_json(run);
-  if (run.outcome == StageOutcome::kRunning && !busy) {
-    j["outcome"] = "interrupted";
-    j["message"] = "the process ended before finishing (Ctrl-C, kill, crash); run it again to "
-                   "resume";
-  }
-  return j;
+// A run recorded as running while no process holds the directory's lock was killed. (The lock
+// is probed after the rows were read, so a stage starting in between is not called killed.)
+void mark_interrupted(Json* run, bool busy) {
+  if ((*run)["outcome"] != "running" || busy) return;
+  (*run)["outcome"] = "interrupted";
+  (*run)["message"] = "the process ended before finishing (Ctrl-C, kill, crash); run it again to "
+                      "resume";
 }
 
 Json summary_json(const StateDir& dir, Catalogue& cat) {
-  const bool busy = state_dir_busy(dir);
   Json j;
   j["state"] = dir.root.string();
   j["schema_version"] = cat.schema_version();
@@ -54,14 +51,17 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
                                              "GROUP BY stage ORDER BY min(id)").rows) {
     stages.push_back({{"stage", text_at(row, 0)},
                       {"runs", int_at(row, 1)},
-                      {"last", run_json(cat.read_stage_run(StageRunId(int_at(row, 2))), busy)}});
+                      {"last", stage_run_json(cat.read_stage_run(StageRunId(int_at(row, 2))))}});
   }
-  j["stages"] = stages;
   Json last = Json::array();
   for (const auto& row : cat.query_read_only("SELECT id FROM stage_run ORDER BY id DESC LIMIT " +
                                              std::to_string(kLastRuns)).rows) {
-    last.push_back(run_json(cat.read_stage_run(StageRunId(int_at(row, 0))), busy));
+    last.push_back(stage_run_json(cat.read_stage_run(StageRunId(int_at(row, 0)))));
   }
+  const bool busy = state_dir_busy(dir);
+  for (Json& stage : stages) mark_interrupted(&stage["last"], busy);
+  for (Json& run : last) mark_interrupted(&run, busy);
+  j["stages"] = stages;
   j["last_runs"] = last;
 
   Json by_class = Json::object();

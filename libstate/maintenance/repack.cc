@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <memory>
 
 namespace hapstate {
@@ -72,6 +73,28 @@ RepackPlan plan_repack(std::span<const Configuration> live, const BlobStore& blo
   const auto wanted = static_cast<std::size_t>(std::max<std::int64_t>(1, (plan.live_values + cap - 1) / cap));
   plan.needed = !plan.sources.empty() && (dead > 0 || plan.sources.size() > wanted);
   return plan;
+}
+
+std::int64_t count_repacked_segments(const RepackPlan& plan, const BlobStore& blobs,
+                                     const RepackOptions& options) {
+  if (!plan.needed) return 0;
+  std::int64_t segments = 0, in_segment = 0;
+  bool open = false;
+  std::set<std::pair<SegmentId, std::string>> copied;
+  for (const BlobMove& move : plan.moves) {
+    if (!copied.insert({move.from.segment, move.from.name}).second) continue;
+    std::int64_t values = 0;
+    for (const std::string& v : move.vectors)
+      values += static_cast<std::int64_t>(blobs.size_of(move.from.segment, v));
+    if (open && in_segment > 0 && in_segment + values > options.max_segment_values) open = false;
+    if (!open) {
+      ++segments;
+      open = true;
+      in_segment = 0;
+    }
+    in_segment += values;
+  }
+  return segments;
 }
 
 RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& blobs,

@@ -61,6 +61,11 @@ struct RepackResult {
 // ids from blobs.next_segment_id() upwards, each closed and fsynced before this returns.
 // Nothing in the catalogue changes. On an exception, the segments written so far stay on
 // disk unreferenced (garbage).
+// How many segments write_repacked_segments would write for `plan` (the same greedy packing,
+// from the segments' listings; nothing is read or written). 0 if !plan.needed.
+std::int64_t count_repacked_segments(const RepackPlan& plan, const BlobStore& blobs,
+                                     const RepackOptions& options);
+
 RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& blobs,
                                      const SegmentProvenance& provenance,
                                      const RepackOptions& options);

@@ -555,10 +555,14 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
     const double most = kMaxStepPerRadius * sliding_->radius();
     if (length * nominal > most) nominal = 1.0 / std::ceil(length / most);
   }
-  // The smallest sub-step is the same for both algorithms: max_cutbacks halvings of the
-  // reference algorithm's sub-step.
+  // The fast algorithm halves from the whole move down to at least the reference algorithm's
+  // smallest sub-step (max_cutbacks halvings of 1 / substeps): its ladder of powers of 1/2
+  // reaches that size or goes below it.
+  const double reference_smallest = 1.0 / options_.substeps / std::pow(2.0, options_.max_cutbacks);
   const double smallest =
-      std::min(nominal, 1.0 / options_.substeps) / std::pow(2.0, options_.max_cutbacks);
+      nominal < 1.0 || !modified_newton()
+          ? nominal / std::pow(2.0, options_.max_cutbacks)
+          : std::pow(2.0, std::floor(std::log2(reference_smallest) + 1e-9));
   double s = 0, ds = nominal;
   int streak = 0;
   while (s < 1.0) {
@@ -588,7 +592,7 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
       result.ok = false;
       const std::string last = result.reason;
       if (result.failure == SolveFailure::kNone) result.failure = SolveFailure::kCutbackLimit;
-      result.reason = "sub-step cut back " + std::to_string(options_.max_cutbacks) +
+      result.reason = "sub-step cut back " + std::to_string(result.cutbacks) +
                       " times and still failing at " + std::to_string(s * 100) +
                       "% of the move; last: " + last;
       result.factorisations = static_cast<int>(timings_.factorizations - factorisations_start);

@@ -99,8 +99,11 @@ GridSpec resolve_grid(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
     const double h = g.spacing[a];
     g.lo[a] = static_cast<int>(std::ceil((g.workspace.min[a] - probe_rest[a]) / h - kSnapTolerance));
     g.hi[a] = static_cast<int>(std::floor((g.workspace.max[a] - probe_rest[a]) / h + kSnapTolerance));
-    g.workspace.min[a] = std::min(g.workspace.min[a], probe_rest[a] + g.lo[a] * h);
-    g.workspace.max[a] = std::max(g.workspace.max[a], probe_rest[a] + g.hi[a] * h);
+    // Widen only for a snapped check-point beyond the edge (not for a rounding ulp of one on
+    // it: that would change the grid's hash for an unchanged scene).
+    const double first = probe_rest[a] + g.lo[a] * h, last = probe_rest[a] + g.hi[a] * h;
+    if (first < g.workspace.min[a] - kRelativeTolerance * h) g.workspace.min[a] = first;
+    if (last > g.workspace.max[a] + kRelativeTolerance * h) g.workspace.max[a] = last;
   }
   return g;
 }

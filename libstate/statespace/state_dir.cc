@@ -20,7 +20,14 @@ StateDirLock::StateDirLock(const StateDir& dir) {
   if (fd_ < 0) {
     throw InputError(file.string() + ": cannot create the state lock: " + std::strerror(errno));
   }
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+  // A few quick retries: hapstate-inspect probes the lock with a shared lock for an instant.
+  bool locked = false;
+  for (int attempt = 0; attempt < 20 && !locked; ++attempt) {
+    locked = ::flock(fd_, LOCK_EX | LOCK_NB) == 0;
+    if (!locked && errno != EWOULDBLOCK) break;
+    if (!locked) ::usleep(5000);
+  }
+  if (!locked) {
     const int error = errno;
     ::close(fd_);
     fd_ = -1;

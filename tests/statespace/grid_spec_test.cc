@@ -68,6 +68,16 @@ TEST(GridSpec, RoundedBoxEdgesSnapToTheLattice) {
   EXPECT_TRUE(grid_short_axes(s, g, "s").empty());
 }
 
+// A box edge on the lattice up to rounding keeps the workspace as written (so the grid's hash
+// of an unchanged scene does not change): 0 + (-3) * 0.1 is -0.30000000000000004.
+TEST(GridSpec, EdgesOnTheLatticeKeepTheWorkspace) {
+  const Box box{{-0.3, -0.3, -0.3}, {0.3, 0.3, 0.3}};
+  const GridSpec g = resolve_grid(spacing_grid(0.1, box), Eigen::Vector3d::Zero(), "s");
+  EXPECT_EQ(g.workspace.min, box.min);
+  EXPECT_EQ(g.workspace.max, box.max);
+  EXPECT_EQ(g.num_checkpoints(), 7 * 7 * 7);
+}
+
 // Beyond the snapping tolerance the axis loses check-points, and the message says which axis,
 // how many, and by how much to shift the box.
 TEST(GridSpec, ShortAxisIsReported) {
