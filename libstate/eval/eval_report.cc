@@ -129,18 +129,17 @@ std::string eval_table(const EvalResult& result) {
        "            max      mean        max      mean             max      mean\n";
   constexpr double kPaperForce = 0.04, kPaperDeformation = 0.14;
   std::string verdicts;
-  int onset = 0;
+  int onset = 0;  // solved steps left out of the deformation columns
+  for (const EvalStep& st : result.steps) onset += st.solved && st.contact_onset;
   double onset_max = 0;
   for (std::size_t s = 0; s < result.schemes.size(); ++s) {
     double fmax = 0, fsum = 0, amax = 0, asum = 0, smax = 0, ssum = 0;
     int counted = 0;
-    onset = 0;
     for (const EvalStep& st : result.steps) {
       if (!st.solved) continue;
       const SchemeResult& r = st.schemes[s];
       fmax = std::max(fmax, r.force_error), fsum += r.force_error;
       if (st.contact_onset) {
-        ++onset;
         onset_max = std::max({onset_max, r.deformation_error_all, r.deformation_error_surface});
         continue;
       }

@@ -75,26 +75,47 @@ RepackPlan plan_repack(std::span<const Configuration> live, const BlobStore& blo
   return plan;
 }
 
-std::int64_t count_repacked_segments(const RepackPlan& plan, const BlobStore& blobs,
-                                     const RepackOptions& options) {
-  if (!plan.needed) return 0;
-  std::int64_t segments = 0, in_segment = 0;
-  bool open = false;
+namespace {
+
+// The packing of the repacked vectors (the writer and the dry run's count share it): per move,
+// the new segment (0, 1, ...) its vectors go to, whole blobs filled greedily up to
+// max_segment_values; a blob shared by several moves is copied once, with its first move
+// (the others get -1). values[k]: the values move k copies.
+struct Packing {
+  std::vector<int> segment;
+  std::vector<std::int64_t> values;
+  int count = 0;
+};
+
+Packing pack(const RepackPlan& plan, const BlobStore& blobs, const RepackOptions& options) {
+  Packing p;
+  std::int64_t in_segment = 0;
   std::set<std::pair<SegmentId, std::string>> copied;
   for (const BlobMove& move : plan.moves) {
-    if (!copied.insert({move.from.segment, move.from.name}).second) continue;
     std::int64_t values = 0;
+    if (!copied.insert({move.from.segment, move.from.name}).second) {
+      p.segment.push_back(-1);
+      p.values.push_back(0);
+      continue;
+    }
     for (const std::string& v : move.vectors)
       values += static_cast<std::int64_t>(blobs.size_of(move.from.segment, v));
-    if (open && in_segment > 0 && in_segment + values > options.max_segment_values) open = false;
-    if (!open) {
-      ++segments;
-      open = true;
+    if (p.count == 0 || (in_segment > 0 && in_segment + values > options.max_segment_values)) {
+      ++p.count;
       in_segment = 0;
     }
     in_segment += values;
+    p.segment.push_back(p.count - 1);
+    p.values.push_back(values);
   }
-  return segments;
+  return p;
+}
+
+}  // namespace
+
+std::int64_t count_repacked_segments(const RepackPlan& plan, const BlobStore& blobs,
+                                     const RepackOptions& options) {
+  return plan.needed ? pack(plan, blobs, options).count : 0;
 }
 
 RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& blobs,
@@ -102,11 +123,12 @@ RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& bl
                                      const RepackOptions& options) {
   RepackResult result;
   if (!plan.needed) return result;
+  const Packing packing = pack(plan, blobs, options);
   SegmentWriterOptions writer_options;
   writer_options.zstd_level = options.zstd_level;
   SegmentId next = blobs.next_segment_id();
   std::unique_ptr<SegmentWriter> writer;
-  std::int64_t in_segment = 0;
+  int current = -1;  // packing index of `writer`
   std::map<std::pair<SegmentId, std::string>, BlobRef> copied;  // shared blobs copied once
 
   const auto close_current = [&] {
@@ -115,21 +137,18 @@ RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& bl
     result.new_segments.push_back(writer->id());
     writer.reset();
   };
-  for (const BlobMove& move : plan.moves) {
+  for (std::size_t k = 0; k < plan.moves.size(); ++k) {
+    const BlobMove& move = plan.moves[k];
     const auto key = std::make_pair(move.from.segment, move.from.name);
-    if (auto it = copied.find(key); it != copied.end()) {
-      result.new_refs.emplace_back(move.config, it->second);
+    if (packing.segment[k] < 0) {
+      result.new_refs.emplace_back(move.config, copied.at(key));
       continue;
     }
-    std::int64_t values = 0;
-    for (const std::string& v : move.vectors) {
-      values += static_cast<std::int64_t>(blobs.size_of(move.from.segment, v));
-    }
-    if (writer && in_segment > 0 && in_segment + values > options.max_segment_values) close_current();
-    if (!writer) {
+    if (packing.segment[k] != current) {
+      close_current();
       writer = std::make_unique<SegmentWriter>(blobs.directory(), next, provenance, writer_options);
       next.value += 1;
-      in_segment = 0;
+      current = packing.segment[k];
     }
     for (const std::string& v : move.vectors) {
       if (blobs.precision_of(move.from.segment, v) == Precision::kFloat32) {
@@ -138,8 +157,7 @@ RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& bl
         writer->write(v, std::span<const double>(blobs.read(move.from.segment, v)));
       }
     }
-    in_segment += values;
-    result.values_written += values;
+    result.values_written += packing.values[k];
     const BlobRef ref{writer->id(), move.from.name};
     copied.emplace(key, ref);
     result.new_refs.emplace_back(move.config, ref);

@@ -385,12 +385,13 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
   double previous = std::numeric_limits<double>::infinity();
   const int max_iterations = options_.max_iterations * (modified ? 3 : 1);
   double energy = 0;
+  bool force_current = false;  // modified Newton: f_ and energy are the accepted trial's
   for (int it = 0;; ++it) {
-    if (modified) {
+    if (modified && !force_current) {
       const auto start = Clock::now();
       energy = total_energy_and_force(u_, &f_);
       timings_.assembly += seconds_since(start);
-    } else {
+    } else if (!modified) {
       assemble(u_, false, &energy);
     }
     if (!std::isfinite(energy)) {
@@ -416,8 +417,9 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
                        " iterations with residual " + sci(rnorm) + " N";
       return false;
     }
-    ++result->iterations;
+    double e_trial = 0;
     for (;;) {
+      ++result->iterations;  // a linear solve (a stale factor's retry is another)
       if (!modified || !have_factor || rnorm > kReuseContraction * previous) {
         if (modified) assemble(u_, false, &energy);  // the tangent at the current iterate
         if (!factorize_with_fallback(u_)) {
@@ -443,7 +445,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       bool any_finite = false;
       for (int ls = 0; ls < kMaxLineSearch; ++ls, alpha *= 0.5) {
         trial_ = u_ + alpha * du_;
-        const double e_trial = total_energy_and_force(trial_, &f_trial_);
+        e_trial = total_energy_and_force(trial_, &f_trial_);
         if (!std::isfinite(e_trial)) continue;
         any_finite = true;
         if (e_trial <= energy + kArmijo * alpha * slope) { accepted = true; break; }
@@ -462,6 +464,11 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
     previous = rnorm;
     factor_current = false;
     u_ = trial_;
+    if (modified) {  // the line search already evaluated the new iterate
+      std::swap(f_, f_trial_);
+      energy = e_trial;
+      force_current = true;
+    }
   }
 }
 

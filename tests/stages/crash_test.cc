@@ -7,13 +7,39 @@
 #include "maintenance/inspect.h"
 
 #include <chrono>
+#include <initializer_list>
+#include <optional>
 #include <random>
 #include <thread>
 
 namespace hapstate::test_util {
 namespace {
 
-class Crash : public StageTest {};
+class Crash : public StageTest {
+ protected:
+  // Imports and grids the beam into dir_/state, starts hapstate-expand on one thread, sends
+  // `signals` 250 ms later (5 ms apart) and waits for it. The result is nullopt if the
+  // expansion ended before the first signal (nothing to test).
+  std::optional<StageResult> expand_and_signal(std::initializer_list<int> signals) {
+    const fs::path state = dir_ / "state";
+    EXPECT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
+    EXPECT_EQ(grid_stage(state, dir_).exit_code, 0);
+    const pid_t pid = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), dir_);
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    bool first = true;
+    for (int signal : signals) {
+      if (!first) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      const int sent = ::kill(pid, signal);
+      if (first) {
+        EXPECT_EQ(sent, 0);
+      }
+      first = false;
+    }
+    const StageResult r = wait_stage(pid, dir_);
+    if (r.exit_code == 0) return std::nullopt;
+    return r;
+  }
+};
 
 TEST_F(Crash, KilledAndResumedRunEqualsAnUninterruptedOne) {
   const fs::path reference = dir_ / "reference", state = dir_ / "state";
@@ -65,13 +91,7 @@ TEST_F(Crash, KilledAndResumedRunEqualsAnUninterruptedOne) {
 // directory's lock: the catalogue still says "running", the summary says "interrupted".
 TEST_F(Crash, KilledRunIsReportedInterrupted) {
   const fs::path state = dir_ / "state";
-  ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
-  ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
-  const pid_t pid = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), dir_);
-  std::this_thread::sleep_for(std::chrono::milliseconds(250));
-  ASSERT_EQ(::kill(pid, SIGKILL), 0);
-  const StageResult r = wait_stage(pid, dir_);
-  if (r.exit_code == 0) GTEST_SKIP() << "the expansion ended before the signal";
+  if (!expand_and_signal({SIGKILL})) GTEST_SKIP() << "the expansion ended before the signal";
   {
     Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
     ASSERT_EQ(cat.read_stage_runs("expand").back().outcome, StageOutcome::kRunning);
@@ -87,13 +107,9 @@ TEST_F(Crash, KilledRunIsReportedInterrupted) {
 // recorded as partial, and the next run says it resumes and completes.
 TEST_F(Crash, CtrlCStopsCleanlyAndTheNextRunResumes) {
   const fs::path state = dir_ / "state";
-  ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
-  ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
-  const pid_t pid = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), dir_);
-  std::this_thread::sleep_for(std::chrono::milliseconds(250));
-  ASSERT_EQ(::kill(pid, SIGINT), 0);
-  const StageResult r = wait_stage(pid, dir_);
-  if (r.exit_code == 0) GTEST_SKIP() << "the expansion ended before the signal";
+  const std::optional<StageResult> stopped = expand_and_signal({SIGINT});
+  if (!stopped) GTEST_SKIP() << "the expansion ended before the signal";
+  const StageResult& r = *stopped;
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_NE(r.err.find("stopped; run the same command again to resume"), std::string::npos) << r.err;
   {
@@ -113,15 +129,9 @@ TEST_F(Crash, CtrlCStopsCleanlyAndTheNextRunResumes) {
 // consistent and the next run completes.
 TEST_F(Crash, SecondCtrlCStopsAtOnce) {
   const fs::path state = dir_ / "state";
-  ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
-  ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
-  const pid_t pid = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), dir_);
-  std::this_thread::sleep_for(std::chrono::milliseconds(250));
-  ASSERT_EQ(::kill(pid, SIGINT), 0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  ::kill(pid, SIGINT);
-  const StageResult r = wait_stage(pid, dir_);
-  if (r.exit_code == 0) GTEST_SKIP() << "the expansion ended before the signal";
+  const std::optional<StageResult> stopped = expand_and_signal({SIGINT, SIGINT});
+  if (!stopped) GTEST_SKIP() << "the expansion ended before the signal";
+  const StageResult& r = *stopped;
   EXPECT_EQ(r.exit_code, 130) << r.err;
   EXPECT_TRUE(r.err.find("stopped at once") != std::string::npos ||
               r.err.find("stopped; run the same command again") != std::string::npos)

@@ -14,6 +14,14 @@ SceneGrid spacing_grid(double h, std::optional<Box> box = std::nullopt) {
   return g;
 }
 
+// grid.dims = [3, 3, 3] over the unit box: spacing 0.5.
+SceneGrid unit_box_dims3() {
+  SceneGrid g;
+  g.dims = std::array<int, 3>{3, 3, 3};
+  g.box = Box{{0, 0, 0}, {1, 1, 1}};
+  return g;
+}
+
 TEST(GridSpec, RestPositionIsCheckpointZero) {
   const Eigen::Vector3d rest(4.0, 0.5, 1.0);
   const GridSpec g = resolve_grid(spacing_grid(0.1, Box{{3.8, 0.4, 0.9}, {4.2, 0.6, 1.1}}), rest, "s");
@@ -56,9 +64,7 @@ TEST(GridSpec, DimsGiveTheSpacing) {
 // 1e-4 of a spacing. dims are kept (snapped within 1e-3 spacings) and the workspace grows to
 // the snapped check-points; nothing is reported.
 TEST(GridSpec, RoundedBoxEdgesSnapToTheLattice) {
-  SceneGrid s;
-  s.dims = std::array<int, 3>{3, 3, 3};
-  s.box = Box{{0, 0, 0}, {1, 1, 1}};
+  const SceneGrid s = unit_box_dims3();
   const GridSpec g = resolve_grid(s, Eigen::Vector3d(0.50005, 0.49995, 0.5), "s");
   EXPECT_EQ(g.num_checkpoints(), 27);
   EXPECT_TRUE(g.in_workspace(g.position(g.lo)));
@@ -81,9 +87,7 @@ TEST(GridSpec, EdgesOnTheLatticeKeepTheWorkspace) {
 // Beyond the snapping tolerance the axis loses check-points, and the message says which axis,
 // how many, and by how much to shift the box.
 TEST(GridSpec, ShortAxisIsReported) {
-  SceneGrid s;
-  s.dims = std::array<int, 3>{3, 3, 3};
-  s.box = Box{{0, 0, 0}, {1, 1, 1}};
+  const SceneGrid s = unit_box_dims3();
   const GridSpec g = resolve_grid(s, Eigen::Vector3d(0.5, 0.3, 0.5), "scene.toml");
   EXPECT_EQ(g.num_checkpoints(), 3 * 2 * 3);
   const std::vector<std::string> notes = grid_short_axes(s, g, "scene.toml");
