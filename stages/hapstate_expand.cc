@@ -46,7 +46,8 @@ int main(int argc, char** argv) {
                             "partial; default: no limit)")
                  ->check(positive());
   app.add_option("--algorithm", o.algorithm,
-                 "fast (default): one sub-step per move where it converges and modified Newton; "
+                 "fast (default): one sub-step per move where it converges, inexact Newton "
+                 "preconditioned by a kept factorisation; "
                  "reference: the paper's fixed sub-steps with full Newton (for comparisons). The "
                  "same tolerance, so the same state space within it")
       ->option_text(choices({"fast", "reference"}))
@@ -84,13 +85,17 @@ int main(int argc, char** argv) {
       std::printf("hapstate-expand: timings: wall %.2f s = solves %.2f s (%.0f%%) + storing %.2f s "
                   "(%.0f%%) + other %.2f s; in the solvers (summed over %d threads): assembly "
                   "%.0f%%, factorisation %.0f%%, solve %.0f%% of %.2f s; %.1f transitions/s, "
-                  "%.1f ms per solved transition, %.2f factorisations per solved transition\n",
+                  "%.1f ms per solved transition; per solved transition %.2f factorisations (%.2f "
+                  "the transition's own, as the catalogue records them, the rest the source "
+                  "states', shared by their directions) and %.1f conjugate-gradient iterations\n",
                   r.wall_s, r.solve_wall_s, 100 * r.solve_wall_s / r.wall_s, r.store_wall_s,
                   100 * r.store_wall_s / r.wall_s, r.wall_s - r.solve_wall_s - r.store_wall_s,
                   o.threads, cpu > 0 ? 100 * t.assembly / cpu : 0,
                   cpu > 0 ? 100 * t.factorize / cpu : 0, cpu > 0 ? 100 * t.solve / cpu : 0, cpu,
                   r.decided / r.wall_s, r.solved ? 1e3 * r.wall_s / r.solved : 0.0,
-                  r.solved ? double(r.factorisations) / r.solved : 0.0);
+                  r.solved ? double(t.factorizations) / r.solved : 0.0,
+                  r.solved ? double(r.factorisations) / r.solved : 0.0,
+                  r.solved ? double(t.inner_iterations) / r.solved : 0.0);
       if (t.contact_queries > 0) {
         std::printf("hapstate-expand: timings: contact: %lld of the solved transitions were moves "
                     "between free check-points (no solve); collision detection %.4f ms per "

@@ -136,10 +136,11 @@ int run(const Options& o) {
     const SolverTimings& t = solver.timings();
     std::fprintf(stderr,
                  "hapstate-solve: timings: symbolic analysis %.3f ms; assembly %.3f ms x %lld; "
-                 "factorisation %.3f ms x %lld (%lld PSD fallbacks); solve %.3f ms total\n",
+                 "factorisation %.3f ms x %lld (%lld PSD fallbacks); solve %.3f ms total (%lld "
+                 "conjugate-gradient iterations)\n",
                  1e3 * t.analyze, 1e3 * t.assembly / std::max(1LL, t.assemblies), t.assemblies,
                  1e3 * t.factorize / std::max(1LL, t.factorizations), t.factorizations,
-                 t.psd_fallbacks, 1e3 * t.solve);
+                 t.psd_fallbacks, 1e3 * t.solve, t.inner_iterations);
     const SparseCholesky& c = solver.linear_solver();
     std::fprintf(stderr, "hapstate-solve: %d DOFs, factor %s (%s ordering), nnz(L) %.3g, %.3g flop\n",
                  solver.num_dofs(), c.method(), c.ordering(), c.factor_nonzeros(), c.factor_flops());
@@ -211,7 +212,8 @@ int main(int argc, char** argv) {
                  "tools/ccx_compare.py; default: not written)");
   app.add_flag("-q,--quiet", o.quiet, "no progress line");
   app.add_option("--algorithm", o.algorithm,
-                 "fast (default): one sub-step per move where it converges and modified Newton; "
+                 "fast (default): one sub-step per move where it converges, inexact Newton "
+                 "preconditioned by a kept factorisation; "
                  "reference: the paper's fixed sub-steps with full Newton (for comparisons)")
       ->option_text(choices({"fast", "reference"}))
       ->transform(CLI::CheckedTransformer(std::map<std::string, SolverAlgorithm>{

@@ -170,7 +170,7 @@ std::string summary_text(const Json& j) {
   {
     char cost[128];
     std::snprintf(cost, sizeof cost, "; per solved transition %.3g Newton iterations, %.3g "
-                  "factorisations", t["mean_newton_iterations"].get<double>(),
+                  "factorisations of its own", t["mean_newton_iterations"].get<double>(),
                   t["mean_factorisations"].get<double>());
     s << cost;
   }

@@ -27,10 +27,15 @@ double seconds_since(Clock::time_point start) {
 // Intermediate sub-steps only need to stay close to the equilibrium path; the final
 // sub-step is solved to the user's tolerance.
 constexpr double kIntermediateRelTol = 1e-2;
-// Modified Newton (SolverAlgorithm::kFast) keeps a factorisation while each iteration reduces
-// the residual at least a little (measured on the liver's random walk, factorisations per move
-// for 0.25 / 0.5 / 0.8 / 0.95: 5.7 / 4.9 / 3.9 / 3.2, and 0.95 the fastest).
-constexpr double kReuseContraction = 0.95;
+// Inexact Newton (SolverAlgorithm::kFast): conjugate gradients preconditioned by a kept
+// factorisation solve each Newton system to this relative residual, in at most this many
+// iterations, else the tangent is factorised afresh. Measured on the liver's complete expansion
+// (2 threads; wall s, factorisations and CG iterations per solved transition): tolerance 1e-2 /
+// 1e-3 / 1e-4 with 25 iterations 27.5 / 27.5 / 29.2 s; 8 / 15 / 50 iterations with 1e-2
+// 27.2 s, 1.38, 29.7 / 26.0 s, 0.60, 45.5 / 27.3 s, 0.42, 54.4; liverSemiFine's first 256
+// transitions 15 / 50 iterations: 17.5 / 18.4 transitions/s (full Newton: 4.6).
+constexpr double kInexactTolerance = 1e-2;
+constexpr int kMaxInnerIterations = 40;
 // Armijo sufficient-decrease constant and line-search halvings.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxLineSearch = 12;
@@ -94,6 +99,7 @@ PathSolver::PathSolver(const Problem& problem)
   const Eigen::Matrix3Xd positions_m = problem.mesh.nodes * unit_;
   assembler_ = std::make_unique<Assembler>(positions_m, problem.mesh.tets, *material_);
   cholesky_ = std::make_unique<SparseCholesky>(assembler_->pattern());
+  factor_ = cholesky_.get();
   timings_.analyze = cholesky_->analyze_seconds();
   // Nodes used by no tet have no stiffness: hold them where they are.
   std::vector<bool> used(num_nodes_, false);
@@ -127,6 +133,7 @@ int PathSolver::num_dofs() const { return assembler_->num_dofs(); }
 
 void PathSolver::reset() {
   u_.setZero(num_dofs());
+  state_force_valid_ = false;
   t_.setZero();
   t_solve_.setZero();
   if (sliding_) sliding_->reset_multipliers();
@@ -144,6 +151,7 @@ void PathSolver::set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t,
   u_ = u_m;
   t_ = t;
   t_solve_ = t;
+  state_force_valid_ = false;
   if (!contact_) return;
   contact_->assign(touched, u_, unit_, probe_rest_ + t_);
   apply_contact_roles();
@@ -298,8 +306,9 @@ double PathSolver::reaction_norm(const Eigen::VectorXd& f) const {
 
 Eigen::Vector3d PathSolver::force_felt() const {
   if (sliding_) return sliding_->force_on_probe(u_, centre_m(t_));
-  Eigen::VectorXd f;
-  assembler_->energy_and_force(u_, &f);
+  Eigen::VectorXd assembled;
+  if (!state_force_valid_) assembler_->energy_and_force(u_, &assembled);
+  const Eigen::VectorXd& f = state_force_valid_ ? state_force_ : assembled;
   Eigen::Vector3d felt = Eigen::Vector3d::Zero();
   for (int d = 0; d < num_dofs(); ++d)
     if (probe_dof_component_[d] >= 0) felt[probe_dof_component_[d]] -= f[d];
@@ -309,8 +318,9 @@ Eigen::Vector3d PathSolver::force_felt() const {
 Eigen::VectorXd PathSolver::probe_reactions() const {
   // Frictionless: the resultant force of the sphere on the body.
   if (sliding_) return -force_felt();
-  Eigen::VectorXd f;
-  assembler_->energy_and_force(u_, &f);
+  Eigen::VectorXd assembled;
+  if (!state_force_valid_) assembler_->energy_and_force(u_, &assembled);
+  const Eigen::VectorXd& f = state_force_valid_ ? state_force_ : assembled;
   int count = 0;
   for (int d = 0; d < num_dofs(); ++d) count += probe_dof_component_[d] >= 0 ? 1 : 0;
   Eigen::VectorXd h(count);
@@ -346,10 +356,11 @@ void PathSolver::constrain_values() {
 
 // Factorises the constrained tangent held in k_values_; if it is not positive definite,
 // re-assembles with element stiffnesses projected to PSD (a descent direction) and retries.
-bool PathSolver::factorize_with_fallback(const Eigen::VectorXd& u) {
+bool PathSolver::factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target) {
+  factor_ = target;
   constrain_values();
   auto start = Clock::now();
-  bool ok = cholesky_->factorize(k_values_);
+  bool ok = target->factorize(k_values_);
   timings_.factorize += seconds_since(start);
   ++timings_.factorizations;
   if (ok) return true;
@@ -366,42 +377,42 @@ bool PathSolver::factorize_with_fallback(const Eigen::VectorXd& u) {
   for (int c = 0; c < p.n; ++c)
     if (role_[c] == DofRole::kFree) k_values_[p.diag[c]] += 1e-10 * max_diag;
   start = Clock::now();
-  ok = cholesky_->factorize(k_values_);
+  ok = target->factorize(k_values_);
   timings_.factorize += seconds_since(start);
   ++timings_.factorizations;
   return ok;
 }
 
 // Newton iterations at the current probe position until ||r_free|| <= abs + rel * ||reactions||.
-// Full Newton refactorises every iteration. Modified Newton (modified_newton()) solves with the
-// factorisation it has (the predictor's, or its own last) while the residual contracts by
-// kReuseContraction per iteration, and refactorises at the current iterate otherwise or when a
-// stale factor's direction finds no decrease.
+// Full Newton refactorises every iteration. Inexact Newton (inexact_newton()) keeps the factor
+// it has (the predictor's, or its own last) as a preconditioner: each iteration assembles the
+// tangent at the current iterate and solves with it by preconditioned conjugate gradients; it
+// refactorises at the current iterate only when CG does not converge (preconditioned_cg()) or
+// its direction finds no decrease.
 bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
   result->residual_history.clear();
-  const bool modified = modified_newton();
-  have_factor = have_factor && modified;
-  bool factor_current = false;  // the factor is of the current iterate
-  double previous = std::numeric_limits<double>::infinity();
-  const int max_iterations = options_.max_iterations * (modified ? 3 : 1);
+  const bool inexact = inexact_newton();
+  have_factor = have_factor && inexact;
+  bool factor_current = false;   // the factor is of the current iterate
+  bool tangent_current = false;  // k_values_ is the tangent at the current iterate
+  bool force_current = false;    // inexact: f_ and energy are the accepted trial's
   double energy = 0;
-  bool force_current = false;  // modified Newton: f_ and energy are the accepted trial's
+  auto free_residual = [&] {
+    r_ = f_;
+    for (int d = 0; d < num_dofs(); ++d)
+      if (role_[d] != DofRole::kFree) r_[d] = 0.0;
+  };
   for (int it = 0;; ++it) {
-    if (modified && !force_current) {
-      const auto start = Clock::now();
-      energy = total_energy_and_force(u_, &f_);
-      timings_.assembly += seconds_since(start);
-    } else if (!modified) {
+    if (!force_current) {
       assemble(u_, false, &energy);
+      tangent_current = true;
     }
     if (!std::isfinite(energy)) {
       result->failure = SolveFailure::kInverted;
       result->reason = "an element is inverted at the start of the Newton solve";
       return false;
     }
-    r_ = f_;
-    for (int d = 0; d < num_dofs(); ++d)
-      if (role_[d] != DofRole::kFree) r_[d] = 0.0;
+    free_residual();
     const double rnorm = r_.norm();
     result->residual = rnorm;
     result->residual_history.push_back(rnorm);
@@ -411,27 +422,36 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       return false;
     }
     if (rnorm <= options_.absolute_tolerance + rel_tol * reaction_norm(f_)) return true;
-    if (it >= max_iterations) {
+    if (it >= options_.max_iterations) {
       result->failure = SolveFailure::kMaxIterations;
-      result->reason = "Newton reached " + std::to_string(max_iterations) +
+      result->reason = "Newton reached " + std::to_string(options_.max_iterations) +
                        " iterations with residual " + sci(rnorm) + " N";
       return false;
     }
+    if (!tangent_current) {
+      assemble(u_, false, &energy);
+      tangent_current = true;
+      free_residual();
+    }
     double e_trial = 0;
     for (;;) {
-      ++result->iterations;  // a linear solve (a stale factor's retry is another)
-      if (!modified || !have_factor || rnorm > kReuseContraction * previous) {
-        if (modified) assemble(u_, false, &energy);  // the tangent at the current iterate
-        if (!factorize_with_fallback(u_)) {
+      ++result->iterations;  // a linear solve (a retry after a preconditioned one is another)
+      bool solved = false;
+      if (inexact && have_factor && !factor_current) {
+        constrain_values();
+        solved = preconditioned_cg();
+      }
+      if (!solved) {
+        if (!factorize_with_fallback(u_, cholesky_.get())) {
           result->failure = SolveFailure::kNotFinite;
           result->reason = "tangent factorisation failed even after PSD projection";
           return false;
         }
         have_factor = factor_current = true;
+        const auto start = Clock::now();
+        factor_->solve(-r_, &du_);
+        timings_.solve += seconds_since(start);
       }
-      auto start = Clock::now();
-      cholesky_->solve(-r_, &du_);
-      timings_.solve += seconds_since(start);
       if (!du_.allFinite()) {
         result->failure = SolveFailure::kNotFinite;
         result->reason = "Newton direction is not finite";
@@ -452,7 +472,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
         if (free_norm(f_trial_) < (1.0 - kArmijo * alpha) * rnorm) { accepted = true; break; }
       }
       if (accepted) break;
-      if (modified && !factor_current) {  // a stale factor: retry with the current tangent
+      if (inexact && !factor_current) {  // a preconditioned direction: retry with a new factor
         have_factor = false;
         continue;
       }
@@ -461,10 +481,9 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
                                   : "every line-search trial inverted an element";
       return false;
     }
-    previous = rnorm;
-    factor_current = false;
+    factor_current = tangent_current = false;
     u_ = trial_;
-    if (modified) {  // the line search already evaluated the new iterate
+    if (inexact) {  // the line search already evaluated the new iterate
       std::swap(f_, f_trial_);
       energy = e_trial;
       force_current = true;
@@ -472,9 +491,86 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
   }
 }
 
+// Solves K du_ = -r_ (K: the constrained tangent in k_values_) by conjugate gradients
+// preconditioned with factor_ (a factorisation of a nearby tangent), to a relative residual of
+// kInexactTolerance. False if that takes more than kMaxInnerIterations or CG meets a direction
+// of non-positive curvature (then the caller factorises the tangent itself).
+bool PathSolver::preconditioned_cg() {
+  const auto start = Clock::now();
+  const SymmetricPattern& pattern = assembler_->pattern();
+  du_.setZero(num_dofs());
+  cg_r_ = -r_;
+  const double target = kInexactTolerance * cg_r_.norm();
+  factor_->solve(cg_r_, &cg_z_);
+  cg_p_ = cg_z_;
+  double rz = cg_r_.dot(cg_z_);
+  bool ok = false;
+  for (int k = 0; k < kMaxInnerIterations; ++k) {
+    symmetric_multiply(pattern, k_values_, cg_p_, &cg_q_);
+    const double curvature = cg_p_.dot(cg_q_);
+    if (!(curvature > 0)) break;
+    const double step = rz / curvature;
+    du_ += step * cg_p_;
+    cg_r_ -= step * cg_q_;
+    ++timings_.inner_iterations;
+    if (cg_r_.norm() <= target) { ok = true; break; }
+    factor_->solve(cg_r_, &cg_z_);
+    const double rz_next = cg_r_.dot(cg_z_);
+    cg_p_ = cg_z_ + (rz_next / rz) * cg_p_;
+    rz = rz_next;
+  }
+  timings_.solve += seconds_since(start);
+  return ok;
+}
+
+// The predictor at (u_, t_from) for the probe step dt (DOF vector): f_, K dt with the
+// unconstrained tangent, and factor_ its factorisation. A move's first sub-step under inexact
+// Newton keeps the factor (in source_cholesky_, with f and K): the next move from the same state
+// (bitwise) reuses them without assembling or factorising.
+bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::VectorXd& dt,
+                                  bool move_start, Eigen::VectorXd* k_dt, MoveResult* result) {
+  const bool keep = inexact_newton() && move_start;
+  if (keep && source_valid_ && t_from == source_t_ && u_.size() == source_u_.size() &&
+      (u_.array() == source_u_.array()).all()) {
+    f_ = source_f_;
+    symmetric_multiply(assembler_->pattern(), source_k_, dt, k_dt);
+    factor_ = source_cholesky_.get();
+    return true;
+  }
+  double energy = 0;
+  assemble(u_, false, &energy);
+  if (!std::isfinite(energy)) {
+    result->failure = SolveFailure::kInverted;
+    result->reason = "start state has an inverted element";
+    return false;
+  }
+  if (keep) {
+    if (!source_cholesky_) {
+      source_cholesky_ = std::make_unique<SparseCholesky>(assembler_->pattern());
+      timings_.analyze += source_cholesky_->analyze_seconds();
+    }
+    source_valid_ = false;
+    source_u_ = u_;
+    source_t_ = t_from;
+    source_f_ = f_;
+    source_k_ = k_values_;
+  }
+  symmetric_multiply(assembler_->pattern(), k_values_, dt, k_dt);
+  const long long before = timings_.factorizations;
+  const bool ok = factorize_with_fallback(u_, keep ? source_cholesky_.get() : cholesky_.get());
+  if (keep) result->start_factorisations += static_cast<int>(timings_.factorizations - before);
+  if (!ok) {
+    result->failure = SolveFailure::kNotFinite;
+    result->reason = "tangent factorisation failed in the predictor";
+    return false;
+  }
+  source_valid_ = keep;
+  return true;
+}
+
 // One sub-step: tangent predictor from t_from to t_to, then Newton corrections.
 bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t_to,
-                         double rel_tol, MoveResult* result) {
+                         double rel_tol, bool move_start, MoveResult* result) {
   // Sticking contact: decisions on reactions need converged reactions at every sub-step.
   if (contact_) rel_tol = options_.tolerance;
   const bool last = rel_tol <= options_.tolerance;
@@ -487,18 +583,11 @@ bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t
   // Contact with nothing touched and the body at rest: only collision detection is needed.
   if (contact_ && contact_->touched().empty() && u_.isZero(0.0))
     return settle_contact(t_to, rel_tol, result);
-  double energy = 0;
-  assemble(u_, false, &energy);
-  if (!std::isfinite(energy)) {
-    result->failure = SolveFailure::kInverted;
-    result->reason = "start state has an inverted element";
-    return false;
-  }
   // Predictor: K_FF du_F = -r_F - K_FP dt.
   Eigen::VectorXd dt = Eigen::VectorXd::Zero(num_dofs());
   set_probe_translation(t_to - t_from, &dt);
   Eigen::VectorXd k_dt;
-  symmetric_multiply(assembler_->pattern(), k_values_, dt, &k_dt);
+  if (!predictor_factor(t_from, dt, move_start, &k_dt, result)) return false;
   if (sliding_) {
     // The sphere's move loads the surface through d2Psi/du dc.
     Eigen::Matrix<double, Eigen::Dynamic, 3> k_uc = Eigen::MatrixX3d::Zero(num_dofs(), 3);
@@ -510,13 +599,8 @@ bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t
   for (int d = 0; d < num_dofs(); ++d)
     if (role_[d] != DofRole::kFree) rhs[d] = 0.0;
   ++result->iterations;
-  if (!factorize_with_fallback(u_)) {
-    result->failure = SolveFailure::kNotFinite;
-    result->reason = "tangent factorisation failed in the predictor";
-    return false;
-  }
   auto start = Clock::now();
-  cholesky_->solve(rhs, &du_);
+  factor_->solve(rhs, &du_);
   timings_.solve += seconds_since(start);
   // Take the predictor, shortened if it inverts an element.
   Eigen::VectorXd base = u_;
@@ -555,8 +639,9 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
     apply_contact_roles();
   };
   const long long factorisations_start = timings_.factorizations;
+  state_force_valid_ = false;
   // kFast (grab): one sub-step for the whole move, halved only where it fails.
-  double nominal = modified_newton() ? 1.0 : 1.0 / options_.substeps;
+  double nominal = inexact_newton() ? 1.0 : 1.0 / options_.substeps;
   if (sliding_) {
     const double length = (t_target - t_start).norm() * unit_;
     const double most = kMaxStepPerRadius * sliding_->radius();
@@ -567,7 +652,7 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
   // reaches that size or goes below it.
   const double reference_smallest = 1.0 / options_.substeps / std::pow(2.0, options_.max_cutbacks);
   const double smallest =
-      nominal < 1.0 || !modified_newton()
+      nominal < 1.0 || !inexact_newton()
           ? nominal / std::pow(2.0, options_.max_cutbacks)
           : std::pow(2.0, std::floor(std::log2(reference_smallest) + 1e-9));
   double s = 0, ds = nominal;
@@ -582,7 +667,7 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
         sliding_ ? sliding_->multipliers() : std::vector<double>{};
     const double tol = s_next == 1.0 ? options_.tolerance
                                      : std::max(options_.tolerance, kIntermediateRelTol);
-    if (substep(t_from, t_to, tol, &result)) {
+    if (substep(t_from, t_to, tol, s == 0, &result)) {
       s = s_next;
       t_ = t_to;
       ++result.substeps;
@@ -615,6 +700,10 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
   result.ok = true;
   result.failure = SolveFailure::kNone;
   result.reason.clear();
+  if (!contact_ && !sliding_ && result.substeps > 0) {  // f_ is the converged Newton's force
+    state_force_ = f_;
+    state_force_valid_ = true;
+  }
   result.factorisations = static_cast<int>(timings_.factorizations - factorisations_start);
   result.wall_ms = 1e3 * seconds_since(start);
   return result;
@@ -635,7 +724,7 @@ Eigen::Matrix3d PathSolver::haptic_stiffness() {
     y.col(c) = col;
   }
   Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
-  if (!factorize_with_fallback(u_)) return stiffness * std::numeric_limits<double>::quiet_NaN();
+  if (!factorize_with_fallback(u_, cholesky_.get())) return stiffness * std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix<double, Eigen::Dynamic, 3> y_free = y;
   for (int d = 0; d < num_dofs(); ++d)
     if (role_[d] != DofRole::kFree) y_free.row(d).setZero();
@@ -673,7 +762,7 @@ Eigen::Matrix3d PathSolver::sliding_stiffness() {
     if (role_[d] != DofRole::kFree) k_uc.row(d).setZero();
   Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
   if (k_cc.isZero(0.0)) return stiffness;
-  if (!factorize_with_fallback(u_)) return stiffness * std::numeric_limits<double>::quiet_NaN();
+  if (!factorize_with_fallback(u_, cholesky_.get())) return stiffness * std::numeric_limits<double>::quiet_NaN();
   for (int c = 0; c < 3; ++c) {
     Eigen::VectorXd z;
     cholesky_->solve(k_uc.col(c), &z);

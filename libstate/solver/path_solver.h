@@ -49,6 +49,10 @@ struct MoveResult {
   int cutbacks = 0;              // sub-step halvings
   int iterations = 0;            // Newton iterations (linear solves, predictors included)
   int factorisations = 0;        // numeric factorisations, PSD fallbacks included
+  // Of those, the factorisations of the move's start state that the fast algorithm keeps for the
+  // next move from the same state (0 when this move reused them): shared by every direction of
+  // a configuration's expansion, so the expansion records them apart from the transition's own.
+  int start_factorisations = 0;
   double residual = 0;           // final ||r_free|| [N]
   double wall_ms = 0;
   int active_set_iterations = 0; // contact: touched-set changes (stick) or multiplier updates
@@ -60,6 +64,7 @@ struct MoveResult {
 struct SolverTimings {
   double assembly = 0, factorize = 0, solve = 0, analyze = 0;
   long long assemblies = 0, factorizations = 0, psd_fallbacks = 0;
+  long long inner_iterations = 0;  // conjugate-gradient iterations of the inexact Newton
   // Contact probe: collision detection (summed by TransitionSolver::timings from
   // PathSolver::contact_timings; PathSolver::timings leaves them 0).
   double contact_detection = 0;
@@ -117,16 +122,23 @@ class PathSolver {
  private:
   struct Newton;
   bool substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t_to, double rel_tol,
-               MoveResult* result);
-  // have_factor: the factorisation in cholesky_ is of a nearby state (the predictor's) and may
-  // be reused by modified Newton.
+               bool move_start, MoveResult* result);
+  // have_factor: factor_ is of a nearby state (the predictor's) and may precondition the
+  // inexact Newton's first solve.
   bool newton(double rel_tol, MoveResult* result, bool have_factor = false);
-  bool modified_newton() const {
+  bool preconditioned_cg();
+  // The predictor of a sub-step from (u_, t_from) for the probe step dt: f_, K dt and the
+  // factor of the tangent there. Inexact Newton keeps the factor of a move's start state in
+  // source_cholesky_ and reuses it (and its f and K) when the next move starts from the same
+  // state, as every direction of a configuration's expansion does.
+  bool predictor_factor(const Eigen::Vector3d& t_from, const Eigen::VectorXd& dt,
+                        bool move_start, Eigen::VectorXd* k_dt, MoveResult* result);
+  bool inexact_newton() const {
     return options_.algorithm == SolverAlgorithm::kFast && !contact_ && !sliding_;
   }
   void assemble(const Eigen::VectorXd& u, bool project_psd, double* energy);
   void constrain_values();
-  bool factorize_with_fallback(const Eigen::VectorXd& u);
+  bool factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target);
   bool settle_contact(const Eigen::Vector3d& t, double rel_tol, MoveResult* result);
   void apply_contact_roles();
   void set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const;
@@ -141,6 +153,17 @@ class PathSolver {
   std::unique_ptr<Material> material_;
   std::unique_ptr<Assembler> assembler_;
   std::unique_ptr<SparseCholesky> cholesky_;
+  std::unique_ptr<SparseCholesky> source_cholesky_;  // inexact Newton: a move start's factor
+  SparseCholesky* factor_ = nullptr;                  // the factor Newton solves with
+  // The state source_cholesky_ factorises, and f and the tangent's values there.
+  bool source_valid_ = false;
+  Eigen::VectorXd source_u_, source_f_;
+  Eigen::Vector3d source_t_ = Eigen::Vector3d::Zero();
+  std::vector<double> source_k_;
+  // Grab probe: the force at u_ after a successful move (the converged Newton's), so that
+  // force_felt() and probe_reactions() need no assembly; invalid after any other change of u_.
+  bool state_force_valid_ = false;
+  Eigen::VectorXd state_force_;
   std::vector<DofRole> role_;
   std::vector<int> probe_dof_component_;  // per DOF: component 0..2 if probe DOF, else -1
   std::vector<DofRole> base_role_;        // roles without touched nodes (contact mode)
@@ -160,6 +183,7 @@ class PathSolver {
   Eigen::Vector3d t_solve_ = Eigen::Vector3d::Zero();  // the probe of the solve under way
   // Workspace.
   Eigen::VectorXd f_, r_, du_, trial_, f_trial_;
+  Eigen::VectorXd cg_r_, cg_z_, cg_p_, cg_q_;
   std::vector<double> k_values_;
 };
 

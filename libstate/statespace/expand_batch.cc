@@ -147,6 +147,7 @@ SolverTimings TransitionSolver::timings() const {
     sum.assemblies += t.assemblies;
     sum.factorizations += t.factorizations;
     sum.psd_fallbacks += t.psd_fallbacks;
+    sum.inner_iterations += t.inner_iterations;
     if (const ContactTimings* c = solver->contact_timings()) {
       sum.contact_detection += c->detection;
       sum.contact_queries += c->queries;

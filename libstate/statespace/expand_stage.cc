@@ -204,8 +204,10 @@ class Expander {
       if (solve.trivial) ++report->trivial;
       t.substeps = solve.move.substeps;
       t.newton_iterations = solve.move.iterations;
-      t.factorisations = solve.move.factorisations;
-      report->factorisations += solve.move.factorisations;
+      // The start state's factorisation is shared by the source's directions, and which of them
+      // pays it depends on the threads and batches: the catalogue keeps the transition's own.
+      t.factorisations = solve.move.factorisations - solve.move.start_factorisations;
+      report->factorisations += solve.move.factorisations - solve.move.start_factorisations;
       t.final_residual = std::isfinite(solve.move.residual) ? solve.move.residual : 0.0;
       t.wall_ms = solve.move.wall_ms;
       if (!solve.move.ok) {

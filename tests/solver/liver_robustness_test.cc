@@ -187,7 +187,7 @@ TEST(LiverRobustness, HugePushIsCutBackWithSceneSettings) {
   }
 }
 
-// The fast algorithm (one step, halved where Newton fails, modified Newton) lands on the same
+// The fast algorithm (one step, halved where Newton fails, inexact Newton) lands on the same
 // equilibria for the huge pull and push with the scene's settings.
 TEST(LiverRobustness, FastAlgorithmMatchesCarefulSolveOnHugeMoves) {
   for (Law law : kLaws) {

@@ -1,5 +1,5 @@
-// The fast solver algorithm (one sub-step per move where it converges, modified Newton, the
-// haptic stiffness only for new configurations) stores the same state space as the paper's
+// The fast solver algorithm (one sub-step per move where it converges, inexact Newton
+// preconditioned by a kept factorisation, the haptic stiffness only for new configurations) stores the same state space as the paper's
 // reference algorithm (fixed sub-steps, full Newton): the same configurations, levels, waves
 // and transitions, with vectors, forces and stiffnesses within the solver's tolerance, and it
 // spends fewer factorisations.
@@ -26,7 +26,10 @@ class Algorithm : public StageTest {
       if (t.outcome == TransitionOutcome::kOutsideGrid) continue;
       ++solved;
       factorisations += t.factorisations;
-      EXPECT_GE(t.factorisations, 1) << t.source.value() << "/" << t.direction.index();
+      // The reference factorises at least once per move; the fast algorithm may reuse the
+      // factorisation of the source configuration it kept from the previous direction.
+      if (algorithm == "reference")
+        EXPECT_GE(t.factorisations, 1) << t.source.value() << "/" << t.direction.index();
     }
     return solved ? double(factorisations) / solved : 0.0;
   }
@@ -42,6 +45,7 @@ class Algorithm : public StageTest {
     const double vectors = max_vector_difference(dir_ / "reference", dir_ / "fast", a.configurations);
     EXPECT_LE(vectors, 1e-6);
     EXPECT_LT(fast, 0.6 * reference);
+    EXPECT_LE(fast, 3.0);  // issue 12's target for a complete expansion
     std::printf("[ info ] %s: %zu configurations, %zu transitions; factorisations per solved "
                 "transition: reference %.2f, fast %.2f; largest vector difference %.2e; %d transitions "
                 "reached the other of two levels within tolerance\n",
