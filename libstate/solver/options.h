@@ -7,10 +7,11 @@ namespace hapstate {
 // surface triangles (the default); kStick, surface nodes stick to the sphere where it caught them.
 enum class Friction { kNone, kStick };
 
-// How a move is solved. kFast: grab probes start with one sub-step for the whole move (halved
-// on failure, grown back after two successes) and solve each Newton system by conjugate
-// gradients preconditioned with a kept factorisation (inexact Newton; the factorisation of a
-// move's start state is shared by every move from that state); contact probes, whose touched set or multipliers evolve along the move, solve as kReference.
+// How a move is solved. kFast: grab and frictionless contact probes start with one sub-step for
+// the whole move (halved on failure, grown back after two successes) and solve each Newton
+// system by conjugate gradients preconditioned with a kept factorisation (inexact Newton; the
+// factorisation of a move's start state is shared by every move from that state); a sticking
+// contact probe, whose touched set decides the prescribed DOFs, solves as kReference.
 // kReference: the paper's algorithm, `substeps` fixed sub-steps with full Newton (a
 // factorisation per iteration); kept for tests and comparisons. Both converge to the same
 // tolerance, so they store the same state space within it.

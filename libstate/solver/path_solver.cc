@@ -197,7 +197,7 @@ bool PathSolver::settle_sliding(double rel_tol, bool last, MoveResult* result) {
     }
     sliding_->update_multipliers(u_, centre);
     ++result->active_set_iterations;
-    if (!newton(rel_tol, result)) return false;
+    if (!newton(rel_tol, result, /*have_factor=*/true)) return false;  // the last solve's
   }
   if (!sliding_->any_active(u_, centre)) {
     u_.setZero();
@@ -439,7 +439,14 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       bool solved = false;
       if (inexact && have_factor && !factor_current) {
         constrain_values();
-        solved = preconditioned_cg();
+        CgOutcome cg = preconditioned_cg();
+        if (cg == CgOutcome::kNegativeCurvature) {
+          // An indefinite tangent: CG with the PSD-projected one (what full Newton would factorise).
+          assemble(u_, /*project_psd=*/true, &energy);
+          constrain_values();
+          cg = preconditioned_cg();
+        }
+        solved = cg == CgOutcome::kConverged;
       }
       if (!solved) {
         if (!factorize_with_fallback(u_, cholesky_.get())) {
@@ -495,7 +502,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
 // preconditioned with factor_ (a factorisation of a nearby tangent), to a relative residual of
 // kInexactTolerance. False if that takes more than kMaxInnerIterations or CG meets a direction
 // of non-positive curvature (then the caller factorises the tangent itself).
-bool PathSolver::preconditioned_cg() {
+PathSolver::CgOutcome PathSolver::preconditioned_cg() {
   const auto start = Clock::now();
   const SymmetricPattern& pattern = assembler_->pattern();
   du_.setZero(num_dofs());
@@ -504,23 +511,29 @@ bool PathSolver::preconditioned_cg() {
   factor_->solve(cg_r_, &cg_z_);
   cg_p_ = cg_z_;
   double rz = cg_r_.dot(cg_z_);
-  bool ok = false;
+  CgOutcome outcome = CgOutcome::kNotConverged;
   for (int k = 0; k < kMaxInnerIterations; ++k) {
     symmetric_multiply(pattern, k_values_, cg_p_, &cg_q_);
     const double curvature = cg_p_.dot(cg_q_);
-    if (!(curvature > 0)) break;
+    if (!(curvature > 0)) {
+      outcome = CgOutcome::kNegativeCurvature;
+      break;
+    }
     const double step = rz / curvature;
     du_ += step * cg_p_;
     cg_r_ -= step * cg_q_;
     ++timings_.inner_iterations;
-    if (cg_r_.norm() <= target) { ok = true; break; }
+    if (cg_r_.norm() <= target) {
+      outcome = CgOutcome::kConverged;
+      break;
+    }
     factor_->solve(cg_r_, &cg_z_);
     const double rz_next = cg_r_.dot(cg_z_);
     cg_p_ = cg_z_ + (rz_next / rz) * cg_p_;
     rz = rz_next;
   }
   timings_.solve += seconds_since(start);
-  return ok;
+  return outcome;
 }
 
 // The predictor at (u_, t_from) for the probe step dt (DOF vector): f_, K dt with the
@@ -531,7 +544,8 @@ bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::Ve
                                   bool move_start, Eigen::VectorXd* k_dt, MoveResult* result) {
   const bool keep = inexact_newton() && move_start;
   if (keep && source_valid_ && t_from == source_t_ && u_.size() == source_u_.size() &&
-      (u_.array() == source_u_.array()).all()) {
+      (u_.array() == source_u_.array()).all() &&
+      (!sliding_ || sliding_->multipliers() == source_multipliers_)) {
     f_ = source_f_;
     symmetric_multiply(assembler_->pattern(), source_k_, dt, k_dt);
     factor_ = source_cholesky_.get();
@@ -554,6 +568,7 @@ bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::Ve
     source_t_ = t_from;
     source_f_ = f_;
     source_k_ = k_values_;
+    if (sliding_) source_multipliers_ = sliding_->multipliers();
   }
   symmetric_multiply(assembler_->pattern(), k_values_, dt, k_dt);
   const long long before = timings_.factorizations;

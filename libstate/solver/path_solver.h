@@ -126,7 +126,8 @@ class PathSolver {
   // have_factor: factor_ is of a nearby state (the predictor's) and may precondition the
   // inexact Newton's first solve.
   bool newton(double rel_tol, MoveResult* result, bool have_factor = false);
-  bool preconditioned_cg();
+  enum class CgOutcome { kConverged, kNotConverged, kNegativeCurvature };
+  CgOutcome preconditioned_cg();
   // The predictor of a sub-step from (u_, t_from) for the probe step dt: f_, K dt and the
   // factor of the tangent there. Inexact Newton keeps the factor of a move's start state in
   // source_cholesky_ and reuses it (and its f and K) when the next move starts from the same
@@ -134,7 +135,7 @@ class PathSolver {
   bool predictor_factor(const Eigen::Vector3d& t_from, const Eigen::VectorXd& dt,
                         bool move_start, Eigen::VectorXd* k_dt, MoveResult* result);
   bool inexact_newton() const {
-    return options_.algorithm == SolverAlgorithm::kFast && !contact_ && !sliding_;
+    return options_.algorithm == SolverAlgorithm::kFast && !contact_;
   }
   void assemble(const Eigen::VectorXd& u, bool project_psd, double* energy);
   void constrain_values();
@@ -158,6 +159,7 @@ class PathSolver {
   // The state source_cholesky_ factorises, and f and the tangent's values there.
   bool source_valid_ = false;
   Eigen::VectorXd source_u_, source_f_;
+  std::vector<double> source_multipliers_;  // frictionless contact
   Eigen::Vector3d source_t_ = Eigen::Vector3d::Zero();
   std::vector<double> source_k_;
   // Grab probe: the force at u_ after a successful move (the converged Newton's), so that
