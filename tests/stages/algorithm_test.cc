@@ -26,24 +26,26 @@ class Algorithm : public StageTest {
       if (t.outcome == TransitionOutcome::kOutsideGrid) continue;
       ++solved;
       factorisations += t.factorisations;
-      // The reference factorises at least once per move; the fast algorithm may reuse the
-      // factorisation of the source configuration it kept from the previous direction.
-      if (algorithm == "reference")
+      // The reference factorises at least once per move that solves anything (a contact move
+      // through free air does not); the fast algorithm may reuse the factorisation of the
+      // source configuration it kept from the previous direction.
+      if (algorithm == "reference" && t.newton_iterations > 0)
         EXPECT_GE(t.factorisations, 1) << t.source.value() << "/" << t.direction.index();
     }
     return solved ? double(factorisations) / solved : 0.0;
   }
 
-  void expect_same_state_space(const std::string& scene, const char* name) {
+  // `relative`: how far forces, stiffnesses and vectors may differ, relative to their scale.
+  void expect_same_state_space(const std::string& scene, const char* name,
+                               double relative = 1e-6) {
     const double reference = expand_with(scene, "reference");
     const double fast = expand_with(scene, "fast");
     const Snapshot a = snapshot(dir_ / "reference"), b = snapshot(dir_ / "fast");
-    // Newton stops at 1e-8 of the reaction scale: forces and vectors agree to well within 1e-6.
-    const int ties = expect_same_decisions(a, b, /*cost_may_differ=*/true, 1e-6);
+    const int ties = expect_same_decisions(a, b, /*cost_may_differ=*/true, relative);
     EXPECT_GE(ties, 0);
     EXPECT_LE(ties, static_cast<int>(a.transitions.size() / 1000));  // at most 0.1 %
     const double vectors = max_vector_difference(dir_ / "reference", dir_ / "fast", a.configurations);
-    EXPECT_LE(vectors, 1e-6);
+    EXPECT_LE(vectors, relative);
     EXPECT_LT(fast, 0.6 * reference);
     EXPECT_LE(fast, 3.0);  // issue 12's target for a complete expansion
     std::printf("[ info ] %s: %zu configurations, %zu transitions; factorisations per solved "
@@ -53,10 +55,20 @@ class Algorithm : public StageTest {
   }
 };
 
+// Newton stops at 1e-8 of the reaction scale: forces and vectors agree to well within 1e-6.
 TEST_F(Algorithm, FastEqualsReferenceOnTheBeam) { expect_same_state_space(kBeamScene, "beam"); }
 
 TEST_F(Algorithm, FastEqualsReferenceOnTheLiver) {
   expect_same_state_space(HAPSTATE_SOURCE_DIR "/pipelines/liver/scene.toml", "liver");
+}
+
+// Frictionless contact: the sphere pressed into the plate from either side (two levels at the
+// check-points the plate can be held at from both sides). A contact solve stops when the gaps
+// are closed to 1e-6 of the radius, which for a lightly touched plate (displacements of a
+// hundredth of the radius) is 1e-4 of its displacement: the two algorithms agree to that
+// (measured 5.8e-5 for the vectors, 5.8e-5 of the force scale).
+TEST_F(Algorithm, FastEqualsReferenceOnThePlate) {
+  expect_same_state_space(HAPSTATE_SOURCE_DIR "/pipelines/plate/scene.toml", "plate", 1e-4);
 }
 
 }  // namespace
