@@ -6,6 +6,7 @@
 #include "scene/bind.h"
 #include "scene/scene.h"
 #include "solver/path_solver.h"
+#include "statespace/math_threads.h"
 #include "util/main_guard.h"
 #include "util/progress.h"
 
@@ -19,9 +20,12 @@
 #include <fstream>
 #include <iomanip>
 #include <optional>
+#include <thread>
 
 namespace hapstate {
 namespace {
+
+constexpr int kThreadsFromDofs = 4000;
 
 struct Options {
   std::string scene;
@@ -39,7 +43,15 @@ struct Options {
   bool quiet = false;
   bool timings = false;
   SolverAlgorithm algorithm = SolverAlgorithm::kFast;
+  int threads = 0;  // 0: automatic (threads_for)
 };
+
+// --threads' default: threads pay inside one solve from a few thousand DOFs on (see
+// docs/benchmarks.md); below, their start-up costs more than the work they share.
+int threads_for(int dofs) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return dofs >= kThreadsFromDofs ? cores : 1;
+}
 
 ProbePath make_path(const Options& o, const Scene& scene, const Problem& problem) {
   if (!o.path_csv.empty()) return read_probe_path(o.path_csv);
@@ -96,6 +108,9 @@ int run(const Options& o) {
 
   PathSolver solver(problem);
   solver.set_algorithm(o.algorithm);
+  const int threads = o.threads > 0 ? o.threads : threads_for(solver.num_dofs());
+  set_math_threads(threads);
+  solver.set_threads(threads);
   Progress progress("hapstate-solve", static_cast<long long>(path.size()),
                     o.quiet ? nullptr : stderr);
   long long failures = 0;
@@ -218,6 +233,13 @@ int main(int argc, char** argv) {
       ->option_text(choices({"fast", "reference"}))
       ->transform(CLI::CheckedTransformer(std::map<std::string, SolverAlgorithm>{
           {"fast", SolverAlgorithm::kFast}, {"reference", SolverAlgorithm::kReference}}));
+  app.add_option("--threads", o.threads,
+                 "threads inside the solve: element assembly (OpenMP) and the BLAS of the "
+                 "factorisation (OpenBLAS; the environment's OMP_NUM_THREADS and "
+                 "OPENBLAS_NUM_THREADS are overridden; results do not depend on it beyond round-off "
+                 "in the factorisation) (default: all cores from " +
+                     std::to_string(kThreadsFromDofs) + " DOFs on, else 1)")
+      ->check(positive());
   app.add_flag("--timings", o.timings,
                "print time per assembly / factorisation / solve and the symbolic analysis (and, for a "
                "contact probe, collision detection)");

@@ -129,6 +129,7 @@ double Assembler::energy_and_force(const Eigen::VectorXd& u, Eigen::VectorXd* f)
 
 double Assembler::energy_force_tangent(const Eigen::VectorXd& u, Eigen::VectorXd* f,
                                        std::vector<double>* k_values, bool project_psd) const {
+  if (threads_ > 1) return energy_force_tangent_parallel(u, f, k_values, project_psd);
   f->setZero(pattern_.n);
   k_values->assign(pattern_.nnz(), 0.0);
   double total = 0;
@@ -145,6 +146,40 @@ double Assembler::energy_force_tangent(const Eigen::VectorXd& u, Eigen::VectorXd
     int slot = 0;
     for (int p = 0; p < 12; ++p)
       for (int q = p; q < 12; ++q) (*k_values)[map[slot++]] += k_e(p, q);
+  }
+  return total;
+}
+
+// The element terms (the material law, the costly part) on threads_ OpenMP threads into
+// per-element buffers, then the scatter in element order as in the serial loop: the sums, and so
+// the results, are bitwise those of one thread.
+double Assembler::energy_force_tangent_parallel(const Eigen::VectorXd& u, Eigen::VectorXd* f,
+                                                std::vector<double>* k_values,
+                                                bool project_psd) const {
+  const int count = static_cast<int>(geometry_.size());
+  element_w_.resize(count);
+  element_f_.resize(count);
+  element_k_.resize(count);
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (int e = 0; e < count; ++e) {
+    Vec12 u_e;
+    gather(u, e, &u_e);
+    Mat12 k_e;
+    element_w_[e] = tet_energy(geometry_[e], *material_, u_e, &element_f_[e], &k_e);
+    if (std::isfinite(element_w_[e]) && project_psd) project_to_psd(&k_e);
+    int slot = 0;
+    for (int p = 0; p < 12; ++p)
+      for (int q = p; q < 12; ++q) element_k_[e][slot++] = k_e(p, q);
+  }
+  f->setZero(pattern_.n);
+  k_values->assign(pattern_.nnz(), 0.0);
+  double total = 0;
+  for (int e = 0; e < count; ++e) {
+    if (!std::isfinite(element_w_[e])) return std::numeric_limits<double>::infinity();
+    total += element_w_[e];
+    for (int a = 0; a < 4; ++a) f->segment<3>(3 * tets_(a, e)) += element_f_[e].segment<3>(3 * a);
+    const std::array<int, 78>& map = scatter_[e];
+    for (int slot = 0; slot < 78; ++slot) (*k_values)[map[slot]] += element_k_[e][slot];
   }
   return total;
 }

@@ -48,8 +48,13 @@ class Assembler {
   // descent direction for indefinite tangents; used as a fallback).
   double energy_force_tangent(const Eigen::VectorXd& u, Eigen::VectorXd* f,
                               std::vector<double>* k_values, bool project_psd = false) const;
+  // Threads for the element terms of energy_force_tangent (OpenMP; default 1). The results do
+  // not depend on it.
+  void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
 
  private:
+  double energy_force_tangent_parallel(const Eigen::VectorXd& u, Eigen::VectorXd* f,
+                                       std::vector<double>* k_values, bool project_psd) const;
   void gather(const Eigen::VectorXd& u, int e, Vec12* u_e) const;
 
   Tets tets_;
@@ -59,6 +64,11 @@ class Assembler {
   // For element e and local pair (p <= q) in row-major upper order (78 entries), the index into
   // the value array of global entry (min(dof p, dof q), max(...)).
   std::vector<std::array<int, 78>> scatter_;
+  int threads_ = 1;
+  // energy_force_tangent_parallel's per-element results.
+  mutable std::vector<double> element_w_;
+  mutable std::vector<Vec12> element_f_;
+  mutable std::vector<std::array<double, 78>> element_k_;
 };
 
 }  // namespace hapstate

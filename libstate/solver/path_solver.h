@@ -118,6 +118,9 @@ class PathSolver {
   const SparseCholesky& linear_solver() const { return *cholesky_; }
   const SolverOptions& options() const { return options_; }
   void set_algorithm(SolverAlgorithm algorithm) { options_.algorithm = algorithm; }
+  // Threads for the element assembly inside this solver (default 1; the results do not depend
+  // on it). The BLAS threads of the factorisation are the process's (statespace/math_threads.h).
+  void set_threads(int threads) { assembler_->set_threads(threads); }
 
  private:
   struct Newton;

@@ -4,17 +4,19 @@
 
 #include <cstdlib>
 #include <initializer_list>
+#include <string>
 
 namespace hapstate {
 
-void limit_math_threads() {
+void set_math_threads(int threads) {
+  const std::string value = std::to_string(threads < 1 ? 1 : threads);
   for (const char* name : {"OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
                            "BLIS_NUM_THREADS", "GOTO_NUM_THREADS"}) {
-    ::setenv(name, "1", 1);
+    ::setenv(name, value.c_str(), 1);
   }
   using SetThreads = void (*)(int);
   for (const char* symbol : {"openblas_set_num_threads", "omp_set_num_threads"}) {
-    if (void* f = ::dlsym(RTLD_DEFAULT, symbol)) reinterpret_cast<SetThreads>(f)(1);
+    if (void* f = ::dlsym(RTLD_DEFAULT, symbol)) reinterpret_cast<SetThreads>(f)(threads < 1 ? 1 : threads);
   }
 }
 
