@@ -6,7 +6,8 @@ straight 10-point probe path (10 % of the mesh's bounding-box diagonal), then, a
 `hapstate-solve` and `ccx` on the same problem (`--export-ccx`), `--repeat` times each. Prints a
 markdown table: DOFs, symbolic analysis, per-Newton-iteration assembly / factorisation / solve,
 whole-path wall time of both solvers (medians) and their ratio. Both run single-threaded
-(OMP_NUM_THREADS = OPENBLAS_NUM_THREADS = 1) so the comparison is like for like.
+(OMP_NUM_THREADS = OPENBLAS_NUM_THREADS = 1, hapstate-solve --threads 1) so the comparison is
+like for like.
 
 Usage: tools/bench_solve.py [--build build] [--repeat 3] [--meshes liver.msh,liverFine.vtu]
 """
@@ -105,7 +106,7 @@ def main():
             n = sum(x * x for x in d) ** 0.5
             cmd = [solve, scene, "--by"] + ["%.9g" % (length * x / n) for x in d] + [
                 "--steps", "10", "-o", os.path.join(tmp, "ours.csv"), "--timings", "-q",
-                "--algorithm", args.algorithm]
+                "--algorithm", args.algorithm, "--threads", "1"]
             run(cmd + ["--export-ccx", ccx_dir], env=env)
             ours, ccx, timings = [], [], None
             for _ in range(args.repeat):

@@ -22,6 +22,8 @@
 #include <optional>
 #include <thread>
 
+#include <sched.h>
+
 namespace hapstate {
 namespace {
 
@@ -49,7 +51,10 @@ struct Options {
 // --threads' default: threads pay inside one solve from a few thousand DOFs on (see
 // docs/benchmarks.md); below, their start-up costs more than the work they share.
 int threads_for(int dofs) {
-  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  cpu_set_t allowed;  // the cores this process may run on (taskset, cgroups), not the machine's
+  const int cores = sched_getaffinity(0, sizeof allowed, &allowed) == 0
+                        ? std::max(1, CPU_COUNT(&allowed))
+                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   return dofs >= kThreadsFromDofs ? cores : 1;
 }
 

@@ -1,7 +1,7 @@
 // hapstate playback runtime: the public C++ interface (docs/playback.md). Link hapstate::playback
 // (no SQLite, HDF5 or solver needed). A C interface for other languages: hapstate/playback_c.h.
 //
-//   hapstate::PlaybackFile file("state/playback.hsp");      // mmap + O(1) checks
+//   hapstate::PlaybackFile file("state/playback.bin");      // mmap + O(1) checks
 //   hapstate::HapticCursor cursor(file, hapstate::Scheme::kHermite);
 //   haptic thread, 1 kHz:  Force f = cursor.force(p);       // no allocation, lock or syscall
 //   visual thread, 60 Hz:  cursor.snapshot(&s); file.deform(s, positions);

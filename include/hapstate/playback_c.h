@@ -3,7 +3,7 @@
  * and -1 on failure, with the reason in the caller's buffer `error` (may be NULL).
  *
  *   hs_playback* file; char err[512];
- *   if (hs_playback_open("state/playback.hsp", &file, err, sizeof err) != 0) { puts(err); ... }
+ *   if (hs_playback_open("state/playback.bin", &file, err, sizeof err) != 0) { puts(err); ... }
  *   hs_cursor* cursor = hs_cursor_create(file, HS_SCHEME_HERMITE);
  *   haptic thread:  hs_cursor_force(cursor, p, f);          no allocation, lock or syscall
  *   visual thread:  hs_cursor_snapshot(cursor, &s); hs_deform(file, &s, positions);

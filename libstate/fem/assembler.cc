@@ -166,7 +166,8 @@ double Assembler::energy_force_tangent_parallel(const Eigen::VectorXd& u, Eigen:
     gather(u, e, &u_e);
     Mat12 k_e;
     element_w_[e] = tet_energy(geometry_[e], *material_, u_e, &element_f_[e], &k_e);
-    if (std::isfinite(element_w_[e]) && project_psd) project_to_psd(&k_e);
+    if (!std::isfinite(element_w_[e])) continue;  // k_e and f_e undefined: the sum is infinite
+    if (project_psd) project_to_psd(&k_e);
     int slot = 0;
     for (int p = 0; p < 12; ++p)
       for (int q = p; q < 12; ++q) element_k_[e][slot++] = k_e(p, q);

@@ -49,7 +49,8 @@ class Assembler {
   double energy_force_tangent(const Eigen::VectorXd& u, Eigen::VectorXd* f,
                               std::vector<double>* k_values, bool project_psd = false) const;
   // Threads for the element terms of energy_force_tangent (OpenMP; default 1). The results do
-  // not depend on it.
+  // not depend on it. With more than one, energy_force_tangent uses buffers of the assembler
+  // (about 730 bytes per tet): not to be called concurrently on one assembler.
   void set_threads(int threads) { threads_ = threads < 1 ? 1 : threads; }
 
  private:

@@ -4,6 +4,7 @@
 #include "mesh/readers.h"
 #include "mesh/text_cursor.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace hapstate {
@@ -59,7 +60,7 @@ RawMesh read_medit(std::string_view text, const std::string& source) {
       if (have_vertices) c.fail("second Vertices section (expected one)");
       have_vertices = true;
       const long long n = read_count(c, keyword);
-      mesh.xyz.reserve(3 * static_cast<std::size_t>(n));
+      mesh.xyz.reserve(3 * std::min(static_cast<std::size_t>(n), c.capacity(8)));  // >= 4 numbers
       for (long long i = 0; i < n; ++i) {
         const std::string_view t = c.token("vertex x coordinate");
         double x = 0;

@@ -2,6 +2,8 @@
 #include "mesh/gmsh_common.h"
 #include "mesh/readers.h"
 
+#include <algorithm>
+
 namespace hapstate {
 
 RawMesh read_msh1(std::string_view text, const std::string& source) {
@@ -19,7 +21,7 @@ RawMesh read_msh1(std::string_view text, const std::string& source) {
       have_nodes = true;
       const long long n = c.read_int("number of nodes");
       if (n < 0 || n > (1LL << 31) - 1) c.fail("expected a non-negative number of nodes");
-      mesh.xyz.reserve(3 * static_cast<std::size_t>(n));
+      mesh.xyz.reserve(3 * std::min(static_cast<std::size_t>(n), c.capacity(8)));  // >= 4 numbers
       for (long long i = 0; i < n; ++i) {
         const std::string_view t = c.token("node id");
         long long tag = 0;

@@ -4,6 +4,8 @@
 #include "mesh/gmsh_common.h"
 #include "mesh/readers.h"
 
+#include <algorithm>
+
 #include <cstdint>
 
 namespace hapstate {
@@ -34,7 +36,7 @@ RawMesh read_msh2(std::string_view text, const std::string& source, std::string*
       have_nodes = true;
       const long long n = c.read_int("number of nodes");
       if (n < 0 || n > (1LL << 31) - 1) c.fail("expected a non-negative number of nodes");
-      mesh.xyz.reserve(3 * static_cast<std::size_t>(n));
+      mesh.xyz.reserve(3 * std::min(static_cast<std::size_t>(n), c.capacity(8)));  // >= 4 numbers
       if (binary) {
         c.skip_line_end();
         const char* p = c.take_bytes(static_cast<std::size_t>(n) * 28, "nodes (int id + 3 doubles each)");

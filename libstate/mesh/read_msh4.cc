@@ -5,6 +5,8 @@
 #include "mesh/gmsh_common.h"
 #include "mesh/readers.h"
 
+#include <algorithm>
+
 #include <cstdint>
 
 namespace hapstate {
@@ -101,7 +103,7 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
       num.size("minimum node tag");
       num.size("maximum node tag");
       if (n > (1LL << 31) - 1) c.fail("too many nodes: " + std::to_string(n));
-      mesh.xyz.reserve(3 * static_cast<std::size_t>(n));
+      mesh.xyz.reserve(3 * std::min(static_cast<std::size_t>(n), c.capacity(8)));  // >= 4 numbers
       long long done = 0;
       for (long long b = 0; b < blocks; ++b) {
         const int dim = num.integer("node block entity dimension");
@@ -115,6 +117,10 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
         if (count > n - done) {
           c.fail("node block of " + std::to_string(count) + " nodes exceeds the " + std::to_string(n) +
                  " nodes declared by $Nodes (wrong node count?)");
+        }
+        if (static_cast<std::size_t>(count) > c.capacity(2)) {
+          c.fail("node block of " + std::to_string(count) + " nodes is longer than the rest of the "
+                 "file (wrong node count?)");
         }
         block_tags.resize(static_cast<std::size_t>(count));
         for (long long i = 0; i < count; ++i) block_tags[static_cast<std::size_t>(i)] = num.size("node tag");

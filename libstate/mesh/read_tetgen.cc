@@ -5,6 +5,7 @@
 #include "mesh/text_cursor.h"
 #include "util/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -43,7 +44,7 @@ RawMesh read_tetgen(const std::filesystem::path& file) {
   if (attributes < 0 || attributes > 1000 || (markers != 0 && markers != 1)) {
     c.fail("expected point attribute count >= 0 and boundary markers 0 or 1");
   }
-  mesh.xyz.reserve(3 * static_cast<std::size_t>(n));
+  mesh.xyz.reserve(3 * std::min(static_cast<std::size_t>(n), c.capacity(8)));  // >= 4 numbers
   for (long long i = 0; i < n; ++i) {
     const std::string_view t = c.token("point index");
     long long index = 0;
@@ -70,7 +71,7 @@ RawMesh read_tetgen(const std::filesystem::path& file) {
   if (per_tet != 4) e.fail("expected 4 nodes per tetrahedron, got " + std::to_string(per_tet));
   const long long tet_attributes = e.read_int("number of tetrahedron attributes");
   if (tet_attributes < 0 || tet_attributes > 1000) e.fail("expected a small number of tetrahedron attributes");
-  mesh.tets.reserve(static_cast<std::size_t>(m));
+  mesh.tets.reserve(std::min(static_cast<std::size_t>(m), e.capacity(10)));  // >= 5 numbers
   for (long long i = 0; i < m; ++i) {
     const std::string_view t = e.token("tetrahedron index");
     long long index = 0;

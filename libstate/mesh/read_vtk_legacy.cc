@@ -43,8 +43,9 @@ class ValueReader {
 
   void read(const ValueType& type, std::size_t count, std::string_view what, std::vector<long long>* ints,
             std::vector<double>* reals, std::vector<int>* lines = nullptr) {
-    if (ints != nullptr) ints->reserve(ints->size() + count);
-    if (reals != nullptr) reals->reserve(reals->size() + count);
+    const std::size_t fits = std::min(count, c_.capacity(binary_ ? 1 : 2));  // >= 1 byte / "0 "
+    if (ints != nullptr) ints->reserve(ints->size() + fits);
+    if (reals != nullptr) reals->reserve(reals->size() + fits);
     if (binary_) {
       c_.skip_line_end();
       if (count > (std::size_t{1} << 40)) c_.fail("implausible array size " + std::to_string(count));
@@ -180,8 +181,9 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
         }
       } else {  // legacy: per cell "n id1 .. idn", b numbers in total
         num_cells = a;
-        cells.offsets.reserve(static_cast<std::size_t>(a) + 1);
-        cells.connectivity.reserve(static_cast<std::size_t>(b - std::min(a, b)));
+        cells.offsets.reserve(std::min(static_cast<std::size_t>(a), c.capacity(2)) + 1);
+        cells.connectivity.reserve(
+            std::min(static_cast<std::size_t>(b - std::min(a, b)), c.capacity(2)));
         cells.offsets.push_back(0);
         if (binary) {
           std::vector<long long> raw;

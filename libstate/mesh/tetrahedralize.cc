@@ -16,6 +16,7 @@
 
 #include <mutex>
 #include <sstream>
+#include <stdexcept>
 
 namespace hapstate {
 namespace {
@@ -74,6 +75,19 @@ void check(const GmshApi& g, int ierr, const char* what) {
   throw std::runtime_error(message);
 }
 
+// An array Gmsh allocated, released with gmshFree on every path.
+template <typename T>
+struct GmshArray {
+  GmshArray(const GmshApi& g, T* p) : g_(g), p_(p) {}
+  ~GmshArray() {
+    if (p_ != nullptr) g_.gmshFree(p_);
+  }
+  GmshArray(const GmshArray&) = delete;
+  GmshArray& operator=(const GmshArray&) = delete;
+  const GmshApi& g_;
+  T* p_;
+};
+
 // gmshInitialize / gmshFinalize as a scope guard.
 struct GmshSession {
   explicit GmshSession(const GmshApi& g) : g_(g) {
@@ -100,7 +114,9 @@ RawMesh tetrahedralize_surface(const TriangleSurface& s) {
   mesh.source = s.source;
   const std::string failure = s.source + ": Gmsh could not fill the surface with tetrahedra: ";
   const GmshApi& g = gmsh_api();
-  if (!g.error.empty()) throw InputError(failure + g.error);
+  // Not bad input, and not a reason to carve instead (a different mesh): the installation lacks
+  // the library it was built with.
+  if (!g.error.empty()) throw std::runtime_error(s.source + ": " + g.error);
   try {
     GmshSession session(g);
     int ierr = 0;
@@ -137,27 +153,24 @@ RawMesh tetrahedralize_surface(const TriangleSurface& s) {
     std::size_t num_tags = 0, num_coords = 0, num_params = 0;
     g.gmshModelMeshGetNodes(&tags, &num_tags, &coords, &num_coords, &params, &num_params, -1, -1,
                             /*includeBoundary=*/0, /*returnParametricCoord=*/0, &ierr);
+    const GmshArray<std::size_t> own_tags(g, tags);
+    const GmshArray<double> own_coords(g, coords), own_params(g, params);
     check(g, ierr, "nodes");
     NodeTags index;
     mesh.xyz.assign(coords, coords + num_coords);
     for (std::size_t i = 0; i < num_tags; ++i)
       index.add(static_cast<long long>(tags[i]), static_cast<int>(i));
-    g.gmshFree(tags);
-    g.gmshFree(coords);
-    g.gmshFree(params);
     std::size_t* tet_tags = nullptr;
     std::size_t* tet_nodes = nullptr;
     std::size_t num_tets = 0, num_tet_nodes = 0;
     g.gmshModelMeshGetElementsByType(4, &tet_tags, &num_tets, &tet_nodes, &num_tet_nodes, -1, 0,
                                      1, &ierr);
+    const GmshArray<std::size_t> own_tet_tags(g, tet_tags), own_tet_nodes(g, tet_nodes);
     check(g, ierr, "tetrahedra");
-    const std::vector<std::size_t> nodes(tet_nodes, tet_nodes + num_tet_nodes);
-    g.gmshFree(tet_tags);
-    g.gmshFree(tet_nodes);
-    for (std::size_t t = 0; t < num_tets && 4 * t + 3 < nodes.size(); ++t) {
+    for (std::size_t t = 0; t < num_tets && 4 * t + 3 < num_tet_nodes; ++t) {
       std::array<int, 4> tet{};
       for (int k = 0; k < 4; ++k) {
-        tet[k] = index.find(static_cast<long long>(nodes[4 * t + k]));
+        tet[k] = index.find(static_cast<long long>(tet_nodes[4 * t + k]));
         if (tet[k] < 0) throw InputError(failure + "Gmsh returned a tet with an unknown node");
       }
       mesh.tets.push_back(tet);

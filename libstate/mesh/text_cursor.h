@@ -44,6 +44,9 @@ class TextCursor {
   std::string where(int line) const;
   const std::string& source() const { return source_; }
   std::size_t offset() const { return pos_; }
+  // How many items of at least `min_bytes` bytes each the rest of the text can hold: what a count
+  // the file declares may pre-allocate (a declared count is not trusted before it is read).
+  std::size_t capacity(std::size_t min_bytes) const { return (text_.size() - pos_) / min_bytes; }
 
   // Throws InputError "file:line: message" (line of the last token).
   [[noreturn]] void fail(const std::string& message) const;

@@ -99,6 +99,12 @@ bool read_vtk_block(ByteStream& stream, int header_size, bool swap, bool zlib, s
       return fail("truncated compressed block " + std::to_string(b));
     }
     const std::uint64_t usize = (b + 1 == blocks && last_size != 0) ? last_size : block_size;
+    // zlib inflates at most about 1032:1: a larger announced size is a corrupt header, not a
+    // reason to allocate it.
+    if (usize > 1040 * csize + 64) {
+      return fail("compressed block " + std::to_string(b) + " announces " + std::to_string(usize) +
+                  " bytes from " + std::to_string(csize) + " compressed (more than zlib can inflate)");
+    }
     const std::size_t old = payload->size();
     payload->resize(old + static_cast<std::size_t>(usize));
     uLongf out_size = static_cast<uLongf>(usize);

@@ -19,7 +19,8 @@ enum class SolverAlgorithm { kFast, kReference };
 
 struct SolverOptions {
   SolverAlgorithm algorithm = SolverAlgorithm::kFast;  // not a scene key: tool option
-  int substeps = 4;              // incremental-load steps per move (kReference; contact)
+  int substeps = 4;              // incremental-load steps per move (kReference, sticking
+                                 // contact; kFast's smallest sub-step derives from it)
   double tolerance = 1e-8;       // Newton: relative residual (w.r.t. the reference force scale)
   double absolute_tolerance = 1e-12;  // Newton: absolute residual floor [N]
   int max_iterations = 30;       // Newton iterations per sub-step target

@@ -33,7 +33,8 @@ constexpr double kIntermediateRelTol = 1e-2;
 // (2 threads; wall s, factorisations and CG iterations per solved transition): tolerance 1e-2 /
 // 1e-3 / 1e-4 with 25 iterations 27.5 / 27.5 / 29.2 s; 8 / 15 / 50 iterations with 1e-2
 // 27.2 s, 1.38, 29.7 / 26.0 s, 0.60, 45.5 / 27.3 s, 0.42, 54.4; liverSemiFine's first 256
-// transitions 15 / 50 iterations: 17.5 / 18.4 transitions/s (full Newton: 4.6).
+// transitions 15 / 50 iterations: 17.5 / 18.4 transitions/s (full Newton: 4.6). 40, between the
+// two best, keeps the factorisations low on the larger meshes, where one costs most.
 constexpr double kInexactTolerance = 1e-2;
 constexpr int kMaxInnerIterations = 40;
 // Armijo sufficient-decrease constant and line-search halvings.
@@ -442,6 +443,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
         CgOutcome cg = preconditioned_cg();
         if (cg == CgOutcome::kNegativeCurvature) {
           // An indefinite tangent: CG with the PSD-projected one (what full Newton would factorise).
+          ++timings_.psd_fallbacks;
           assemble(u_, /*project_psd=*/true, &energy);
           constrain_values();
           cg = preconditioned_cg();
@@ -500,8 +502,9 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
 
 // Solves K du_ = -r_ (K: the constrained tangent in k_values_) by conjugate gradients
 // preconditioned with factor_ (a factorisation of a nearby tangent), to a relative residual of
-// kInexactTolerance. False if that takes more than kMaxInnerIterations or CG meets a direction
-// of non-positive curvature (then the caller factorises the tangent itself).
+// kInexactTolerance. kNotConverged if that takes more than kMaxInnerIterations (the caller then
+// factorises the tangent itself); kNegativeCurvature if CG meets a direction of non-positive
+// curvature (the caller retries with the PSD-projected tangent).
 PathSolver::CgOutcome PathSolver::preconditioned_cg() {
   const auto start = Clock::now();
   const SymmetricPattern& pattern = assembler_->pattern();
@@ -655,7 +658,8 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
   };
   const long long factorisations_start = timings_.factorizations;
   state_force_valid_ = false;
-  // kFast (grab): one sub-step for the whole move, halved only where it fails.
+  // kFast (grab, frictionless contact): one sub-step for the whole move (contact: at most
+  // kMaxStepPerRadius), halved only where it fails.
   double nominal = inexact_newton() ? 1.0 : 1.0 / options_.substeps;
   if (sliding_) {
     const double length = (t_target - t_start).norm() * unit_;

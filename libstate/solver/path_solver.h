@@ -63,7 +63,8 @@ struct MoveResult {
 // Cumulative time spent in each phase (seconds) and counts, for benchmarks.
 struct SolverTimings {
   double assembly = 0, factorize = 0, solve = 0, analyze = 0;
-  long long assemblies = 0, factorizations = 0, psd_fallbacks = 0;
+  long long assemblies = 0, factorizations = 0;
+  long long psd_fallbacks = 0;  // PSD-projected tangents factorised or solved with by CG
   long long inner_iterations = 0;  // conjugate-gradient iterations of the inexact Newton
   // Contact probe: collision detection (summed by TransitionSolver::timings from
   // PathSolver::contact_timings; PathSolver::timings leaves them 0).
@@ -108,7 +109,7 @@ class PathSolver {
   Eigen::Vector3d force_felt() const;
   // Reactions h at the probe DOFs [N]: the internal force the body resists the probe with, one
   // value per probe DOF in ascending DOF order (force_felt() is minus their per-component sum).
-  // One force assembly.
+  // After a successful grab move, the converged Newton's force; else one force assembly.
   Eigen::VectorXd probe_reactions() const;
   // d force_felt / d probe position [N per mesh unit] at the current state (one extra
   // assembly and factorisation; the reduced-stiffness Schur complement on the probe DOFs).

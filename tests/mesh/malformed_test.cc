@@ -72,6 +72,21 @@ TEST(Malformed, TruncatedBinaryBlock) {
   expect_error("trunc_bin.msh", text, line_of(text, "$Nodes") + 2, {"truncated", "bytes"});
 }
 
+// A count the file declares is not trusted before it is read: a tiny file that declares two
+// billion nodes is an error naming the file, not an attempt to allocate tens of gigabytes.
+TEST(Malformed, HugeDeclaredCountsAreErrorsNotAllocations) {
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"huge1.msh", "$NOD\n2000000000\n1 0 0 0\n$ENDNOD\n"},
+      {"huge2.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2000000000\n1 0 0 0\n$EndNodes\n"},
+      {"huge4.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2000000000 1 2000000000\n"
+                    "3 1 0 2000000000\n1\n0 0 0\n$EndNodes\n"},
+      {"huge.mesh", "MeshVersionFormatted 1\nDimension 3\nVertices\n2000000000\n0 0 0 1\nEnd\n"},
+      {"huge.vtk", "# vtk DataFile Version 3.0\nx\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                   "POINTS 2000000000 double\n0 0 0\n"},
+  };
+  for (const auto& [name, content] : files) expect_error(name, content, 0, {});
+}
+
 TEST(Malformed, WrongNodeCount) {
   const std::string text = replace_once(test::msh2(kCube, false), "$Nodes\n8\n", "$Nodes\n9\n");
   expect_error("count.msh", text, line_of(text, "$EndNodes"), {"node 9 of 9", "wrong node count", "'$EndNodes'"});
