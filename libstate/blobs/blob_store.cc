@@ -232,7 +232,7 @@ std::vector<SegmentId> BlobStore::list_segments() const {
     if (!entry.is_regular_file()) continue;
     if (auto id = parse_segment_file_name(entry.path().filename().string())) ids.push_back(*id);
   }
-  if (ec) throw InputError(impl_->dir.string() + ": cannot list the blobs directory: " + ec.message());
+  if (ec) throw EnvironmentError(impl_->dir.string() + ": cannot list the blobs directory: " + ec.message());
   std::sort(ids.begin(), ids.end());
   return ids;
 }
@@ -262,7 +262,7 @@ std::vector<std::filesystem::path> BlobStore::remove_unreferenced_segments(
   for (const auto& path : garbage) {
     std::error_code ec;
     std::filesystem::remove(path, ec);
-    if (ec) throw InputError(path.string() + ": cannot remove unreferenced segment: " + ec.message());
+    if (ec) throw EnvironmentError(path.string() + ": cannot remove unreferenced segment: " + ec.message());
   }
   const int fd = ::open(impl_->dir.c_str(), O_RDONLY | O_DIRECTORY);
   if (fd >= 0) {

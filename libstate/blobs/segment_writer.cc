@@ -24,16 +24,16 @@ using blobs_detail::take_hdf5_error;
 
 namespace {
 
-// fsync of a file or a directory by name; throws InputError naming it on failure.
+// fsync of a file or a directory by name; throws EnvironmentError naming it on failure.
 void sync_path(const std::filesystem::path& path, bool directory) {
   const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
   if (fd < 0) {
-    throw InputError(path.string() + ": cannot open for fsync: " + std::strerror(errno));
+    throw EnvironmentError(path.string() + ": cannot open for fsync: " + std::strerror(errno));
   }
   const int rc = ::fsync(fd);
   const int err = errno;
   ::close(fd);
-  if (rc != 0) throw InputError(path.string() + ": fsync failed: " + std::strerror(err));
+  if (rc != 0) throw EnvironmentError(path.string() + ": fsync failed: " + std::strerror(err));
 }
 
 std::string with_reason(std::string message) {
@@ -72,7 +72,7 @@ SegmentWriter::SegmentWriter(const std::filesystem::path& blobs_dir, SegmentId i
 
   std::error_code ec;
   std::filesystem::create_directories(blobs_dir, ec);
-  if (ec) throw InputError(blobs_dir.string() + ": cannot create the blobs directory: " + ec.message());
+  if (ec) throw EnvironmentError(blobs_dir.string() + ": cannot create the blobs directory: " + ec.message());
 
   QuietErrors quiet;
   if (std::filesystem::exists(impl_->path)) {
@@ -80,7 +80,7 @@ SegmentWriter::SegmentWriter(const std::filesystem::path& blobs_dir, SegmentId i
   }
   impl_->file = Hid(H5Fcreate(impl_->path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT));
   if (!impl_->file.valid()) {
-    throw InputError(with_reason(impl_->path.string() + ": cannot create HDF5 segment"));
+    throw EnvironmentError(with_reason(impl_->path.string() + ": cannot create HDF5 segment"));
   }
   const std::string version =
       provenance.writer_version.empty() ? version_string() : provenance.writer_version;
@@ -93,7 +93,7 @@ SegmentWriter::SegmentWriter(const std::filesystem::path& blobs_dir, SegmentId i
     const std::string message = with_reason(impl_->path.string() + ": cannot write provenance");
     impl_->file.reset();
     std::filesystem::remove(impl_->path, ec);
-    throw InputError(message);
+    throw EnvironmentError(message);
   }
 }
 
@@ -136,11 +136,11 @@ void SegmentWriter::Impl::write_dataset(std::string_view name, const void* data,
   const std::string hdf5_name(name);
   Hid dataset(H5Dcreate2(file.get(), hdf5_name.c_str(), file_type, space.get(), links.get(),
                          create.get(), H5P_DEFAULT));
-  if (!dataset.valid()) throw InputError(with_reason(where + ": cannot create the dataset"));
+  if (!dataset.valid()) throw EnvironmentError(with_reason(where + ": cannot create the dataset"));
   if (count > 0 && H5Dwrite(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
-    throw InputError(with_reason(where + ": cannot write the dataset"));
+    throw EnvironmentError(with_reason(where + ": cannot write the dataset"));
   }
-  if (!dataset.reset()) throw InputError(with_reason(where + ": cannot close the dataset"));
+  if (!dataset.reset()) throw EnvironmentError(with_reason(where + ": cannot close the dataset"));
   names.emplace(name);
 }
 
@@ -163,9 +163,9 @@ void SegmentWriter::close() {
                                          static_cast<long long>(impl_->names.size())) ||
       !blobs_detail::write_int_attribute(f, "hapstate_complete", 1) ||
       H5Fflush(f, H5F_SCOPE_LOCAL) < 0) {
-    throw InputError(with_reason(where + ": cannot flush the segment"));
+    throw EnvironmentError(with_reason(where + ": cannot flush the segment"));
   }
-  if (!impl_->file.reset()) throw InputError(with_reason(where + ": cannot close the segment"));
+  if (!impl_->file.reset()) throw EnvironmentError(with_reason(where + ": cannot close the segment"));
   impl_->closed = true;  // from here on the file is complete; a failed fsync leaves it as garbage
   sync_path(impl_->path, false);
   sync_path(impl_->blobs_dir, true);

@@ -98,6 +98,9 @@ void migrate(Database& db) {
     } catch (const InputError& e) {
       sqlite3_exec(db.get(), "ROLLBACK", nullptr, nullptr, nullptr);
       throw InputError(std::string(e.what()) + " [migration schema/" + m.file_name + "]");
+    } catch (const EnvironmentError& e) {
+      sqlite3_exec(db.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+      throw EnvironmentError(std::string(e.what()) + " [migration schema/" + m.file_name + "]");
     }
   }
 }

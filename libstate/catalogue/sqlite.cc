@@ -16,6 +16,18 @@ std::string shorten(std::string_view sql) {
   return text;
 }
 
+// SQLite result codes that say the environment failed, not the catalogue's content.
+bool environment_failure(int rc) {
+  switch (rc & 0xFF) {
+    case SQLITE_FULL: case SQLITE_IOERR: case SQLITE_CANTOPEN: case SQLITE_PERM:
+    case SQLITE_READONLY: case SQLITE_BUSY: case SQLITE_LOCKED: case SQLITE_NOMEM:
+    case SQLITE_NOLFS: case SQLITE_PROTOCOL:
+      return true;
+    default:
+      return false;
+  }
+}
+
 [[noreturn]] void throw_error(const std::string& label, std::string_view sql, int rc,
                               const char* message) {
   std::string text = label + ": SQLite error in `" + shorten(sql) + "`: " +
@@ -24,6 +36,7 @@ std::string shorten(std::string_view sql) {
   if (primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB) {
     text += " (the catalogue file is corrupt or not an SQLite database)";
   }
+  if (environment_failure(rc)) throw EnvironmentError(text);
   throw InputError(text);
 }
 
@@ -35,7 +48,9 @@ Database::Database(const std::string& file, int flags, std::string label) : labe
     const std::string message = db_ != nullptr ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
     sqlite3_close_v2(db_);
     db_ = nullptr;
-    throw InputError(label_ + ": cannot open the catalogue: " + message);
+    const std::string text = label_ + ": cannot open the catalogue: " + message;
+    if (environment_failure(rc)) throw EnvironmentError(text);
+    throw InputError(text);
   }
   sqlite3_extended_result_codes(db_, 1);
 }

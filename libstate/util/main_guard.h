@@ -1,5 +1,6 @@
 // The boundary of every executable: runs its body and maps exceptions to exit codes
-// (InputError -> kExitBadInput with its message, anything else -> kExitFailure).
+// (InputError -> kExitBadInput, EnvironmentError -> kExitEnvironment, with their messages;
+// anything else -> kExitFailure).
 #pragma once
 
 #include "util/error.h"
@@ -17,6 +18,9 @@ int guarded_main(const char* program, Body&& body) {
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s: error: %s\n", program, e.what());
     return kExitBadInput;
+  } catch (const EnvironmentError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", program, e.what());
+    return kExitEnvironment;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "%s: error: out of memory\n", program);
     return kExitFailure;

@@ -1,6 +1,7 @@
 // Opening catalogues: creation settings, refusal of foreign, future, corrupt and missing
 // files without touching them, read-only access, several connections.
 #include "catalogue/catalogue.h"
+#include "catalogue/sqlite.hpp"
 #include "catalogue/transaction.h"
 #include "util/error.h"
 #include "../blobs/temp_dir.h"
@@ -67,6 +68,27 @@ void expect_refused_untouched(const std::filesystem::path& file, const std::stri
   EXPECT_EQ(std::filesystem::last_write_time(file), mtime);
 }
 
+// A full disk is not bad input: SQLite's SQLITE_FULL (here from a page limit, the way a full
+// disk reports itself) is an EnvironmentError naming the catalogue (exit code 4), not an
+// InputError (exit code 2).
+TEST(CatalogueOpen, FullDiskIsAnEnvironmentErrorNotBadInput) {
+  TempDir dir("catalogue_full");
+  const std::string file = (dir.path() / "full.sqlite").string();
+  catalogue_detail::Database db(file, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, file);
+  db.exec("CREATE TABLE t (x BLOB)");
+  db.exec("PRAGMA max_page_count = 3");
+  try {
+    for (int k = 0; k < 100; ++k) db.exec("INSERT INTO t VALUES (zeroblob(4000))");
+    FAIL() << "the page limit was never reached";
+  } catch (const EnvironmentError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(file), std::string::npos) << message;
+    EXPECT_NE(message.find("full"), std::string::npos) << message;
+  } catch (const InputError& e) {
+    FAIL() << "a full disk reported as bad input: " << e.what();
+  }
+}
+
 TEST(CatalogueOpen, CreateSetsWalApplicationIdAndVersion) {
   TempDir dir("open");
   const auto file = dir.path() / "catalogue.sqlite";
@@ -99,7 +121,8 @@ TEST(CatalogueOpen, ReopenReadWriteAndReadOnly) {
   EXPECT_EQ(reader.num_configurations(), 1);
   Checkpoint c;
   c.ijk = {9, 9, 9};
-  expect_input_error([&] { reader.insert_checkpoint(c); }, "readonly database");
+  // SQLite's READONLY (a read-only file, here a read-only connection) is no bad input.
+  EXPECT_THROW(reader.insert_checkpoint(c), EnvironmentError);
 }
 
 TEST(CatalogueOpen, MissingFileIsNotCreatedUnlessAsked) {
