@@ -29,8 +29,9 @@ class Algorithm : public StageTest {
       // The reference factorises at least once per move that solves anything (a contact move
       // through free air does not); the fast algorithm may reuse the factorisation of the
       // source configuration it kept from the previous direction.
-      if (algorithm == "reference" && t.newton_iterations > 0)
+      if (algorithm == "reference" && t.newton_iterations > 0) {
         EXPECT_GE(t.factorisations, 1) << t.source.value() << "/" << t.direction.index();
+      }
     }
     return solved ? double(factorisations) / solved : 0.0;
   }
