@@ -99,6 +99,20 @@ Assembler::Assembler(const Eigen::Matrix3Xd& positions_m, const Tets& tets,
   }
 }
 
+// The element stiffness's upper triangle, row-major (the order of scatter_).
+void Assembler::upper_triangle(const Mat12& k_e, std::array<double, 78>* upper) {
+  int slot = 0;
+  for (int p = 0; p < 12; ++p)
+    for (int q = p; q < 12; ++q) (*upper)[slot++] = k_e(p, q);
+}
+
+void Assembler::scatter(int e, const Vec12& f_e, const std::array<double, 78>& k_upper,
+                        Eigen::VectorXd* f, std::vector<double>* k_values) const {
+  for (int a = 0; a < 4; ++a) f->segment<3>(3 * tets_(a, e)) += f_e.segment<3>(3 * a);
+  const std::array<int, 78>& map = scatter_[e];
+  for (int slot = 0; slot < 78; ++slot) (*k_values)[map[slot]] += k_upper[slot];
+}
+
 void Assembler::gather(const Eigen::VectorXd& u, int e, Vec12* u_e) const {
   for (int a = 0; a < 4; ++a) u_e->segment<3>(3 * a) = u.segment<3>(3 * tets_(a, e));
 }
@@ -140,12 +154,10 @@ double Assembler::energy_force_tangent(const Eigen::VectorXd& u, Eigen::VectorXd
     const double w = tet_energy(geometry_[e], *material_, u_e, &f_e, &k_e);
     if (!std::isfinite(w)) return std::numeric_limits<double>::infinity();
     total += w;
-    for (int a = 0; a < 4; ++a) f->segment<3>(3 * tets_(a, e)) += f_e.segment<3>(3 * a);
     if (project_psd) project_to_psd(&k_e);
-    const std::array<int, 78>& map = scatter_[e];
-    int slot = 0;
-    for (int p = 0; p < 12; ++p)
-      for (int q = p; q < 12; ++q) (*k_values)[map[slot++]] += k_e(p, q);
+    std::array<double, 78> upper;
+    upper_triangle(k_e, &upper);
+    scatter(e, f_e, upper, f, k_values);
   }
   return total;
 }
@@ -168,9 +180,7 @@ double Assembler::energy_force_tangent_parallel(const Eigen::VectorXd& u, Eigen:
     element_w_[e] = tet_energy(geometry_[e], *material_, u_e, &element_f_[e], &k_e);
     if (!std::isfinite(element_w_[e])) continue;  // k_e and f_e undefined: the sum is infinite
     if (project_psd) project_to_psd(&k_e);
-    int slot = 0;
-    for (int p = 0; p < 12; ++p)
-      for (int q = p; q < 12; ++q) element_k_[e][slot++] = k_e(p, q);
+    upper_triangle(k_e, &element_k_[e]);
   }
   f->setZero(pattern_.n);
   k_values->assign(pattern_.nnz(), 0.0);
@@ -178,9 +188,7 @@ double Assembler::energy_force_tangent_parallel(const Eigen::VectorXd& u, Eigen:
   for (int e = 0; e < count; ++e) {
     if (!std::isfinite(element_w_[e])) return std::numeric_limits<double>::infinity();
     total += element_w_[e];
-    for (int a = 0; a < 4; ++a) f->segment<3>(3 * tets_(a, e)) += element_f_[e].segment<3>(3 * a);
-    const std::array<int, 78>& map = scatter_[e];
-    for (int slot = 0; slot < 78; ++slot) (*k_values)[map[slot]] += element_k_[e][slot];
+    scatter(e, element_f_[e], element_k_[e], f, k_values);
   }
   return total;
 }

@@ -307,21 +307,25 @@ double PathSolver::reaction_norm(const Eigen::VectorXd& f) const {
 
 Eigen::Vector3d PathSolver::force_felt() const {
   if (sliding_) return sliding_->force_on_probe(u_, centre_m(t_));
-  Eigen::VectorXd assembled;
-  if (!state_force_valid_) assembler_->energy_and_force(u_, &assembled);
-  const Eigen::VectorXd& f = state_force_valid_ ? state_force_ : assembled;
+  Eigen::VectorXd scratch;
+  const Eigen::VectorXd& f = state_force(&scratch);
   Eigen::Vector3d felt = Eigen::Vector3d::Zero();
   for (int d = 0; d < num_dofs(); ++d)
     if (probe_dof_component_[d] >= 0) felt[probe_dof_component_[d]] -= f[d];
   return felt;
 }
 
+const Eigen::VectorXd& PathSolver::state_force(Eigen::VectorXd* scratch) const {
+  if (state_force_valid_) return state_force_;
+  assembler_->energy_and_force(u_, scratch);
+  return *scratch;
+}
+
 Eigen::VectorXd PathSolver::probe_reactions() const {
   // Frictionless: the resultant force of the sphere on the body.
   if (sliding_) return -force_felt();
-  Eigen::VectorXd assembled;
-  if (!state_force_valid_) assembler_->energy_and_force(u_, &assembled);
-  const Eigen::VectorXd& f = state_force_valid_ ? state_force_ : assembled;
+  Eigen::VectorXd scratch;
+  const Eigen::VectorXd& f = state_force(&scratch);
   int count = 0;
   for (int d = 0; d < num_dofs(); ++d) count += probe_dof_component_[d] >= 0 ? 1 : 0;
   Eigen::VectorXd h(count);

@@ -154,6 +154,8 @@ class PathSolver {
   double total_energy_and_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const;
   bool settle_sliding(double rel_tol, bool last, MoveResult* result);
   Eigen::Matrix3d sliding_stiffness();
+  // The internal force at u_: state_force_ when valid, else assembled into *scratch.
+  const Eigen::VectorXd& state_force(Eigen::VectorXd* scratch) const;
 
   std::unique_ptr<Material> material_;
   std::unique_ptr<Assembler> assembler_;

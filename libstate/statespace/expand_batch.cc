@@ -53,11 +53,23 @@ TransitionSolver::TransitionSolver(const Problem& problem, const ProbeModel& pro
       threads_(std::max(1, threads)),
       algorithm_(algorithm) {
   solvers_.resize(threads_);
+  sources_.resize(threads_);
 }
 
 TransitionSolver::~TransitionSolver() = default;
 
-TransitionSolve TransitionSolver::solve_one(PathSolver& solver, const TransitionTask& task) {
+const ConfigVectors& TransitionSolver::source_vectors(int worker, const Configuration& source) {
+  std::optional<LoadedSource>& loaded = sources_[worker];
+  if (!loaded || loaded->config.id != source.id || loaded->config.blob != source.blob) {
+    loaded.reset();
+    loaded = LoadedSource{source, load_config_vectors(blobs_, source, solvers_[worker]->num_dofs(),
+                                                      probe_.layout())};
+  }
+  return loaded->vectors;
+}
+
+TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& task) {
+  PathSolver& solver = *solvers_[worker];
   TransitionSolve out;
   if (!task.target) return out;
   out.solved = true;
@@ -67,8 +79,7 @@ TransitionSolve TransitionSolver::solve_one(PathSolver& solver, const Transition
     out.vectors.u.assign(solver.num_dofs(), 0.0);
     return out;
   }
-  const ConfigVectors source = load_config_vectors(blobs_, task.source, solver.num_dofs(), probe_.layout());
-  probe_.set_state(solver, source, task.from);
+  probe_.set_state(solver, source_vectors(worker, task.source), task.from);
   out.move = probe_.move_to(solver, task.to);
   if (!out.move.ok) return out;
   if (probe_.stores_touched()) out.vectors.touched = solver.touched_nodes();
@@ -95,7 +106,7 @@ void TransitionSolver::for_each_parallel(std::size_t count, Body&& body) {
         solvers_[worker] = std::make_unique<PathSolver>(problem_);
         solvers_[worker]->set_algorithm(algorithm_);
       }
-      for (std::size_t k = next++; k < count; k = next++) body(*solvers_[worker], k);
+      for (std::size_t k = next++; k < count; k = next++) body(worker, k);
     } catch (...) {
       std::lock_guard<std::mutex> lock(error_mutex);
       if (!error) error = std::current_exception();
@@ -115,15 +126,16 @@ void TransitionSolver::for_each_parallel(std::size_t count, Body&& body) {
 
 std::vector<TransitionSolve> TransitionSolver::solve(const std::vector<TransitionTask>& tasks) {
   std::vector<TransitionSolve> results(tasks.size());
-  for_each_parallel(tasks.size(), [&](PathSolver& solver, std::size_t k) {
-    results[k] = solve_one(solver, tasks[k]);
+  for_each_parallel(tasks.size(), [&](int worker, std::size_t k) {
+    results[k] = solve_one(worker, tasks[k]);
   });
   return results;
 }
 
 std::vector<StiffnessResult> TransitionSolver::stiffnesses(const std::vector<StiffnessTask>& tasks) {
   std::vector<StiffnessResult> results(tasks.size());
-  for_each_parallel(tasks.size(), [&](PathSolver& solver, std::size_t k) {
+  for_each_parallel(tasks.size(), [&](int worker, std::size_t k) {
+    PathSolver& solver = *solvers_[worker];
     probe_.set_state(solver, *tasks[k].vectors, tasks[k].position);
     const long long before = solver.timings().factorizations;
     const Eigen::Matrix3d stiffness = solver.haptic_stiffness();

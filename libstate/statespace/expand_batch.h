@@ -74,8 +74,10 @@ class TransitionSolver {
   SolverTimings timings() const;
 
  private:
-  TransitionSolve solve_one(PathSolver& solver, const TransitionTask& task);
-  // Runs body(solver, k) for k in [0, count) on the workers (each with its own solver).
+  TransitionSolve solve_one(int worker, const TransitionTask& task);
+  // The source's vectors, read once for the directions of a source a worker solves in a row.
+  const ConfigVectors& source_vectors(int worker, const Configuration& source);
+  // Runs body(worker, k) for k in [0, count) on the workers (each with its own solver).
   template <typename Body>
   void for_each_parallel(std::size_t count, Body&& body);
 
@@ -85,6 +87,11 @@ class TransitionSolver {
   int threads_;
   SolverAlgorithm algorithm_;
   std::vector<std::unique_ptr<PathSolver>> solvers_;  // one per worker, created on first use
+  struct LoadedSource {
+    Configuration config;
+    ConfigVectors vectors;
+  };
+  std::vector<std::optional<LoadedSource>> sources_;  // per worker: the last source read
 };
 
 }  // namespace hapstate
