@@ -95,6 +95,10 @@ struct Snapshot {
 // Result of one haptic query.
 struct Force {
   std::array<double, 3> value{};  // N
+  // d(value)/d(probe), row-major, N per mesh unit (docs/playback.md, "Stiffness"): the exact
+  // derivative of the Hermite interpolant; the trilinear blend of the corners' stiffness with
+  // kTrilinear and outside the grid. At a check-point, the stored configuration's stiffness.
+  std::array<double, 9> stiffness{};
   bool inside_grid = true;        // false: the probe was outside the grid (extended force)
 };
 
@@ -138,6 +142,10 @@ class HapticCursor {
   };
 
  private:
+  // Hermite coefficients of corner c, term t, force component r: t = 0 the force, 1..3 the
+  // stiffness columns d/dx, d/dy, d/dz, 4..6 the cross derivatives d2/dxdy, dxdz, dydz.
+  using CellCoefficients = std::array<std::array<std::array<double, 3>, 7>, 8>;
+  void update_coefficients();
   void anchor_at(std::int32_t configuration);
   void enter_cell(const std::array<std::int32_t, 3>& base);
   void resolve_corner(int corner, const std::array<Corner, 8>& old,
@@ -150,6 +158,7 @@ class HapticCursor {
   Scheme scheme_;
   std::array<std::int32_t, 3> base_{};  // grid index of corner 0 of the current cell
   std::array<Corner, 8> corners_{};     // corner c at base + ((c>>2)&1, (c>>1)&1, c&1)
+  CellCoefficients coef_{};             // of corners_, updated whenever they change
   std::array<double, 3> last_q_{};      // last probe position, grid units, clamped to the grid
   std::uint64_t calls_ = 0;
   std::uint64_t cells_walked_ = 0;

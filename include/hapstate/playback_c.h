@@ -6,6 +6,7 @@
  *   if (hs_playback_open("state/playback.bin", &file, err, sizeof err) != 0) { puts(err); ... }
  *   hs_cursor* cursor = hs_cursor_create(file, HS_SCHEME_HERMITE);
  *   haptic thread:  hs_cursor_force(cursor, p, f);          no allocation, lock or syscall
+ *                   (hs_cursor_force_stiffness(cursor, p, f, k) with the 3 x 3 stiffness)
  *   visual thread:  hs_cursor_snapshot(cursor, &s); hs_deform(file, &s, positions);
  */
 #ifndef HAPSTATE_PLAYBACK_C_H
@@ -48,6 +49,10 @@ void hs_cursor_reset(hs_cursor* cursor);
 void hs_cursor_reset_at(hs_cursor* cursor, const double p[3]);
 /* Force (N) at probe position p (mesh units); returns 1 inside the grid, 0 outside. */
 int hs_cursor_force(hs_cursor* cursor, const double p[3], double force[3]);
+/* The same, with the stiffness d(force)/d(p) (N per mesh unit, row-major 3 x 3) for stable
+ * rendering and the device's stiffness limit (Force::stiffness, docs/playback.md). */
+int hs_cursor_force_stiffness(hs_cursor* cursor, const double p[3], double force[3],
+                              double stiffness[9]);
 void hs_cursor_snapshot(const hs_cursor* cursor, hs_snapshot* out);
 /* positions: 3 * num_view_nodes floats. */
 void hs_deform(const hs_playback* file, const hs_snapshot* snapshot, float* positions);

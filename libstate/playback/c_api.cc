@@ -90,6 +90,14 @@ int hs_cursor_force(hs_cursor* cursor, const double p[3], double force[3]) {
   return f.inside_grid ? 1 : 0;
 }
 
+int hs_cursor_force_stiffness(hs_cursor* cursor, const double p[3], double force[3],
+                              double stiffness[9]) {
+  const hapstate::Force f = cursor->cursor.force({p[0], p[1], p[2]});
+  for (int a = 0; a < 3; ++a) force[a] = f.value[a];
+  for (int a = 0; a < 9; ++a) stiffness[a] = f.stiffness[a];
+  return f.inside_grid ? 1 : 0;
+}
+
 void hs_cursor_snapshot(const hs_cursor* cursor, hs_snapshot* out) {
   hapstate::Snapshot s;
   cursor->cursor.snapshot(&s);

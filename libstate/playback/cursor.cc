@@ -78,6 +78,7 @@ void HapticCursor::anchor_at(std::int32_t rest) {
   corners_ = old;
   for (int c = 0; c < 8; ++c)
     if (c != rest_corner) resolve_corner(c, old, base);
+  update_coefficients();
   for (int a = 0; a < 3; ++a) last_q_[a] = ijk[a];
   calls_ = 0;
   cells_walked_ = 0;
@@ -87,6 +88,7 @@ void HapticCursor::anchor_at(std::int32_t rest) {
   std::array<double, 3> p{};
   for (int a = 0; a < 3; ++a) p[a] = m.origin[a] + ijk[a] * m.spacing[a];
   zero.value = root.force;
+  zero.stiffness = root.stiffness;
   publish(p, zero, s);
 }
 
@@ -152,6 +154,31 @@ void HapticCursor::resolve_corner(int c, const std::array<Corner, 8>& old,
   out = e;
 }
 
+// The Hermite coefficients of the current cell: each corner's force and stiffness columns, and
+// its cross derivatives estimated from the stiffness of the corners on the same cell face
+// (average of both difference quotients).
+void HapticCursor::update_coefficients() {
+  const double* h = file_.impl().meta->spacing;
+  static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    const Corner& cc = corners_[c];
+    auto col = [&](int corner, int r, int axis) { return corners_[corner].stiffness[3 * r + axis]; };
+    auto partner = [&](int axis) { return c ^ (4 >> axis); };
+    auto sgn = [&](int axis) { return o[axis] ? 1.0 : -1.0; };
+    for (int r = 0; r < 3; ++r) {
+      coef_[c][0][r] = cc.force[r];
+      for (int a = 0; a < 3; ++a) coef_[c][1 + a][r] = cc.stiffness[3 * r + a];
+      for (int pair = 0; pair < 3; ++pair) {
+        const int a = kPair[pair][0], bb = kPair[pair][1];
+        const double dab = sgn(bb) * (col(c, r, a) - col(partner(bb), r, a)) / h[bb];
+        const double dba = sgn(a) * (col(c, r, bb) - col(partner(a), r, bb)) / h[a];
+        coef_[c][4 + pair][r] = 0.5 * (dab + dba);
+      }
+    }
+  }
+}
+
 void HapticCursor::enter_cell(const std::array<std::int32_t, 3>& base) {
   const std::array<Corner, 8> old = corners_;
   const std::array<std::int32_t, 3> old_base = base_;
@@ -170,6 +197,7 @@ void HapticCursor::enter_cell(const std::array<std::int32_t, 3>& base) {
   }
   for (int c = 0; c < 8; ++c)
     if (!shared[c]) resolve_corner(c, old, old_base);
+  update_coefficients();
   ++cells_walked_;
 }
 
@@ -217,54 +245,68 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
 
   std::array<double, 3> s{};
   for (int a = 0; a < 3; ++a) s[a] = std::clamp(q[a] - base_[a], 0.0, 1.0);
-  // Per-axis bases: value (V) and derivative (D, physical units) for the corner at 0 and at 1.
-  double lin[3][2], val[3][2], der[3][2];
+  // Per axis a and corner side o: the bases b[a][o][kind] (kind 0 the value, 1 the
+  // derivative basis in physical units, 2 the linear weight) and their derivatives db with
+  // respect to the probe coordinate (physical units).
+  double b[3][2][3], db[3][2][3];
   for (int a = 0; a < 3; ++a) {
     const double t = s[a], h = m.spacing[a];
-    lin[a][0] = 1.0 - t;
-    lin[a][1] = t;
-    val[a][1] = t * t * (3.0 - 2.0 * t);
-    val[a][0] = 1.0 - val[a][1];
-    der[a][0] = t * (1.0 - t) * (1.0 - t) * h;
-    der[a][1] = -t * t * (1.0 - t) * h;
+    b[a][1][0] = t * t * (3.0 - 2.0 * t);
+    b[a][0][0] = 1.0 - b[a][1][0];
+    b[a][0][1] = t * (1.0 - t) * (1.0 - t) * h;
+    b[a][1][1] = -t * t * (1.0 - t) * h;
+    b[a][0][2] = 1.0 - t;
+    b[a][1][2] = t;
+    db[a][1][0] = 6.0 * t * (1.0 - t) / h;
+    db[a][0][0] = -db[a][1][0];
+    db[a][0][1] = (1.0 - t) * (1.0 - 3.0 * t);
+    db[a][1][1] = t * (3.0 * t - 2.0);
+    db[a][0][2] = -1.0 / h;
+    db[a][1][2] = 1.0 / h;
   }
   std::array<double, 3> value{};
-  std::array<double, 9> k_blend{};
+  std::array<double, 9> slope{};    // d(value)/d(probe)
+  std::array<double, 9> k_blend{};  // trilinear blend of the corners' stiffness
+  // Which basis each Hermite term takes on each axis (0 value, 1 derivative).
+  static constexpr int kTermBasis[7][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1},
+                                           {1, 1, 0}, {1, 0, 1}, {0, 1, 1}};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     const Corner& cc = corners_[c];
-    const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
+    const double* bx = b[0][o[0]];
+    const double* by = b[1][o[1]];
+    const double* bz = b[2][o[2]];
+    const double* dbx = db[0][o[0]];
+    const double* dby = db[1][o[1]];
+    const double* dbz = db[2][o[2]];
+    const double w = bx[2] * by[2] * bz[2];
     for (int r = 0; r < 9; ++r) k_blend[r] += w * cc.stiffness[r];
     if (scheme_ == Scheme::kTrilinear) {
       for (int r = 0; r < 3; ++r) value[r] += w * cc.force[r];
       continue;
     }
-    const double vx = val[0][o[0]], vy = val[1][o[1]], vz = val[2][o[2]];
-    const double dx = der[0][o[0]], dy = der[1][o[1]], dz = der[2][o[2]];
-    const double wv = vx * vy * vz, wx = dx * vy * vz, wy = vx * dy * vz, wz = vx * vy * dz;
-    // Cross derivatives, from the stiffness of the corners of the face each one lives on.
-    auto partner = [&](int axis) { return c ^ (4 >> axis); };
-    auto col = [&](int corner, int r, int axis) { return corners_[corner].stiffness[3 * r + axis]; };
-    auto sgn = [&](int axis) { return o[axis] ? 1.0 : -1.0; };
-    for (int r = 0; r < 3; ++r) {
-      double v = wv * cc.force[r] + wx * cc.stiffness[3 * r] + wy * cc.stiffness[3 * r + 1] +
-                 wz * cc.stiffness[3 * r + 2];
-      const int ax[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-      const double wc[3] = {dx * dy * vz, dx * vy * dz, vx * dy * dz};
-      for (int pair = 0; pair < 3; ++pair) {
-        const int a = ax[pair][0], b = ax[pair][1];
-        const double dab = sgn(b) * (col(c, r, a) - col(partner(b), r, a)) / m.spacing[b];
-        const double dba = sgn(a) * (col(c, r, b) - col(partner(a), r, b)) / m.spacing[a];
-        v += wc[pair] * 0.5 * (dab + dba);
+    for (int term = 0; term < 7; ++term) {
+      const int* k = kTermBasis[term];
+      const double wt = bx[k[0]] * by[k[1]] * bz[k[2]];
+      const double gx = dbx[k[0]] * by[k[1]] * bz[k[2]];
+      const double gy = bx[k[0]] * dby[k[1]] * bz[k[2]];
+      const double gz = bx[k[0]] * by[k[1]] * dbz[k[2]];
+      const std::array<double, 3>& co = coef_[c][term];
+      for (int r = 0; r < 3; ++r) {
+        value[r] += wt * co[r];
+        slope[3 * r] += gx * co[r];
+        slope[3 * r + 1] += gy * co[r];
+        slope[3 * r + 2] += gz * co[r];
       }
-      value[r] += v;
     }
   }
+  if (scheme_ == Scheme::kTrilinear || !out.inside_grid) slope = k_blend;
   if (!out.inside_grid) {
     for (int r = 0; r < 3; ++r)
       for (int a = 0; a < 3; ++a) value[r] += k_blend[3 * r + a] * (probe[a] - p_clamped[a]);
   }
   for (int r = 0; r < 3; ++r) out.value[r] = std::isfinite(value[r]) ? value[r] : 0.0;
+  for (int r = 0; r < 9; ++r) out.stiffness[r] = std::isfinite(slope[r]) ? slope[r] : 0.0;
   ++calls_;
   publish(probe, out, s);
   return out;

@@ -37,9 +37,20 @@ int main(int argc, char** argv) {
   for (int k = 0; k < 3; ++k) p[k] = rest[k] + 0.01;
   hs_cursor_force(cursor, p, f);
   CHECK(isfinite(f[0]) && isfinite(f[1]) && isfinite(f[2]) && (f[0] != 0.0 || f[1] != 0.0));
+  /* The same position with the stiffness: the same force, and the stiffness predicts the
+   * force a small step further (first order). */
+  double g[3], k[9], q[3], fq[3];
+  CHECK(hs_cursor_force_stiffness(cursor, p, g, k) == 1);
+  CHECK(g[0] == f[0] && g[1] == f[1] && g[2] == f[2]);
+  double knorm = 0.0;
+  for (int a = 0; a < 9; ++a) knorm += k[a] * k[a];
+  CHECK(knorm > 0.0);
+  for (int a = 0; a < 3; ++a) q[a] = p[a] + (a == 2 ? 1e-6 : 0.0);
+  hs_cursor_force(cursor, q, fq);
+  for (int r = 0; r < 3; ++r) CHECK(fabs(fq[r] - f[r] - k[3 * r + 2] * 1e-6) <= 1e-9 * (1.0 + sqrt(knorm)));
   hs_snapshot snapshot;
   hs_cursor_snapshot(cursor, &snapshot);
-  CHECK(snapshot.sequence == 2);
+  CHECK(snapshot.sequence == 4);
   const int n = hs_playback_num_view_nodes(file);
   float* positions = malloc(sizeof(float) * 3 * (size_t)(n > 0 ? n : 1));
   for (int k = 0; k < 3 * n; ++k) positions[k] = NAN;

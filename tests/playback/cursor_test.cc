@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <new>
 #include <cstdio>
@@ -93,6 +94,77 @@ TEST_F(Cursor, ExactAtEveryCheckpoint) {
               EXPECT_NEAR(u[3 * v + r], test_util::synthetic_displacement(field_, v, p)[r], 1e-6);
         }
   }
+}
+
+Eigen::Matrix3d mat(const std::array<double, 9>& k) {
+  Eigen::Matrix3d m;
+  for (int r = 0; r < 3; ++r)
+    for (int a = 0; a < 3; ++a) m(r, a) = k[3 * r + a];
+  return m;
+}
+
+TEST_F(Cursor, StiffnessIsTheStoredOneAtEveryCheckpoint) {
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  PlaybackFile file(write(test_util::synthetic_content(field_, h), "k.bin"));
+  for (Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    HapticCursor cursor(file, scheme);
+    for (int i = -2; i <= 2; ++i)
+      for (int j = -2; j <= 2; ++j)
+        for (int k = -2; k <= 2; ++k) {
+          const Eigen::Vector3d p = field_.origin + Eigen::Vector3d(i * h[0], j * h[1], k * h[2]);
+          const Eigen::Matrix3d jac = field_.jacobian(p);
+          EXPECT_LE((mat(cursor.force(arr(p)).stiffness) - jac).norm(), 1e-12 * (1 + jac.norm()))
+              << i << j << k;
+        }
+  }
+}
+
+// Inside a cell the Hermite stiffness is the derivative of the interpolated force: central
+// differences of force() (step 1e-6 of the spacing, cell interiors only) agree to 1e-6 of the
+// stiffness's norm. The trilinear scheme returns the blend of the corners' stiffness, which
+// stays within the field's curvature of the true Jacobian.
+TEST_F(Cursor, HermiteStiffnessIsTheDerivativeOfTheInterpolatedForce) {
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  PlaybackFile file(write(test_util::synthetic_content(field_, h), "kd.bin"));
+  HapticCursor cursor(file, Scheme::kHermite);
+  HapticCursor trilinear(file, Scheme::kTrilinear);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> cell(-2.0, 2.0), inner(0.05, 0.95);
+  double worst = 0, worst_tri = 0;
+  for (int n = 0; n < 200; ++n) {
+    Eigen::Vector3d p = field_.origin;
+    for (int a = 0; a < 3; ++a) p[a] += (std::floor(cell(rng)) + inner(rng)) * h[a];
+    const Force at = cursor.force(arr(p));
+    Eigen::Matrix3d fd;
+    for (int a = 0; a < 3; ++a) {
+      const double e = 1e-6 * h[a];
+      Eigen::Vector3d dp = Eigen::Vector3d::Zero();
+      dp[a] = e;
+      fd.col(a) = (vec(cursor.force(arr(p + dp)).value) - vec(cursor.force(arr(p - dp)).value)) / (2 * e);
+    }
+    const Eigen::Matrix3d k = mat(at.stiffness);
+    worst = std::max(worst, (k - fd).norm() / k.norm());
+    const Eigen::Matrix3d jac = field_.jacobian(p);
+    worst_tri = std::max(worst_tri, (mat(trilinear.force(arr(p)).stiffness) - jac).norm() / jac.norm());
+  }
+  std::printf("hermite stiffness vs central differences %.3g; trilinear blend vs exact %.3g\n",
+              worst, worst_tri);
+  EXPECT_LE(worst, 1e-6);
+  EXPECT_LE(worst_tri, 0.5);  // a blend, not the derivative: within the field's variation
+}
+
+TEST_F(Cursor, OutsideTheGridTheStiffnessIsTheExtensionsSlope) {
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  PlaybackFile file(write(test_util::synthetic_content(field_, h), "ko.bin"));
+  HapticCursor cursor(file, Scheme::kHermite);
+  const Eigen::Vector3d edge = field_.origin + Eigen::Vector3d(2 * h[0], 0.3 * h[1], 0.2 * h[2]);
+  for (int s = 1; s <= 20; ++s) cursor.force(arr(field_.origin + (edge - field_.origin) * s / 20.0));
+  const Eigen::Vector3d out = edge + Eigen::Vector3d(0.1, 0, 0);
+  const Force f = cursor.force(arr(out));
+  ASSERT_FALSE(f.inside_grid);
+  const Force g = cursor.force(arr(out + Eigen::Vector3d(1e-3, 0, 0)));
+  EXPECT_LE((mat(f.stiffness).col(0) - (vec(g.value) - vec(f.value)) / 1e-3).norm(),
+            1e-9 * mat(f.stiffness).norm());
 }
 
 TEST_F(Cursor, BothSchemesReproduceALinearField) {
@@ -211,11 +283,14 @@ TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
   HapticCursor cursor(file, Scheme::kHermite);
   std::vector<float> pos(3 * test_util::kSyntheticViewNodes);
   Snapshot s;
+  int bad_numbers = 0;
   g_allocations = 0;
   g_counting = true;
   for (int n = 0; n < 20000; ++n) {
     const double t = 1e-3 * n;
-    cursor.force({1.0 + 1.2 * std::sin(t), 2.0 + 0.9 * std::cos(1.3 * t), 3.0 + 1.5 * std::sin(0.7 * t)});
+    const Force f = cursor.force({1.0 + 1.2 * std::sin(t), 2.0 + 0.9 * std::cos(1.3 * t),
+                                  3.0 + 1.5 * std::sin(0.7 * t)});
+    if (!std::isfinite(f.stiffness[4])) ++bad_numbers;
     if (n % 16 == 0) {
       cursor.snapshot(&s);
       deform(file, s, pos);
@@ -225,6 +300,7 @@ TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
   for (int n = 0; n < 1000; ++n) cursor.force({1.0 + 3e-3 * n, 2.0, 3.0});
   g_counting = false;
   EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(bad_numbers, 0);
   // The counter does count (the check above can fail).
   g_counting = true;
   { std::vector<int> v(10); }
