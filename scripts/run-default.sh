@@ -62,4 +62,8 @@ done
 echo "(the plate, its clamping and the grid are symmetric about the plate's mid-plane, so the two"
 echo " paths give the same errors: the level pushed down mirrors the level pushed up)"
 echo
+echo "-- a random 3-D path pulled toward the plate: pressing, sliding over it, backing off."
+"$build_dir"/tools/hapstate-eval --state pipelines/plate/state --steps 20 --seed 1 \
+  --csv out/plate/eval-random.csv --plot out/plate/eval-random.png
+echo
 echo "total: $(( $(date +%s) - start )) s (build included)"

@@ -48,6 +48,14 @@ constexpr int kMaxLineSearch = 12;
 // Measured: the plate's pressing and sliding moves (factorisations over a 7-move path) 100x 179,
 // 300x 198, 1000x 271; the liver's 3-D expansion 300x 10 failed moves of 14 896, 1000x over 117
 // (and slower); the block's pressing moves need up to 8 updates with 100x, 2-3 with 300x.
+// When a multiplier update shrinks the largest gap violation by less than kSlowContraction,
+// the penalty grows by kPenaltyGrowth for the rest of the sub-step (at most kMaxPenaltyScale x
+// k): the standard augmented-Lagrangian remedy for slow contraction. Measured on the plate of
+// 20 x 20 cells (0.2 cm), 1 558 solved moves: 8 failed with the gaps 1.1-1.3e-6 r from closed
+// after 20 updates, 0 with the growth.
+constexpr double kSlowContraction = 0.5;
+constexpr double kPenaltyGrowth = 4.0;
+constexpr double kMaxPenaltyScale = 64.0;
 // The haptic stiffness treats the active gaps with this multiple of k, as the exact
 // constraints they converge to.
 constexpr double kStiffnessPenaltyFactor = 1e3;
@@ -185,9 +193,17 @@ bool PathSolver::settle_sliding(double rel_tol, bool last, MoveResult* result) {
   const Eigen::Vector3d centre = centre_m(t_solve_);
   const double tolerance = options_.gap_tolerance * sliding_->radius();
   if (!last) sliding_->update_multipliers(u_, centre);
+  double previous = std::numeric_limits<double>::infinity();
+  double scale = 1.0;
   for (int it = 0; last; ++it) {
     const double violation = sliding_->violation(u_, centre);
     if (violation <= tolerance) break;
+    // Nearly redundant gaps (faces wrapped around the sphere) contract slowly: stiffen k.
+    if (violation > kSlowContraction * previous && scale < kMaxPenaltyScale) {
+      scale *= kPenaltyGrowth;
+      sliding_->set_penalty_scale(scale);
+    }
+    previous = violation;
     if (it >= options_.max_active_set_iterations) {
       result->failure = SolveFailure::kContactUnsettled;
       result->reason = "the contact gaps were still " + sci(violation / sliding_->radius()) +
@@ -595,6 +611,7 @@ bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t
                          double rel_tol, bool move_start, MoveResult* result) {
   // Sticking contact: decisions on reactions need converged reactions at every sub-step.
   if (contact_) rel_tol = options_.tolerance;
+  if (sliding_) sliding_->set_penalty_scale(1.0);
   const bool last = rel_tol <= options_.tolerance;
   // Frictionless contact with the body at rest and nothing within reach: nothing to solve.
   if (sliding_ && u_.isZero(0.0)) {
@@ -775,7 +792,7 @@ namespace hapstate {
 Eigen::Matrix3d PathSolver::sliding_stiffness() {
   t_solve_ = t_;
   const Eigen::Vector3d centre = centre_m(t_);
-  const double stiff = kStiffnessPenaltyFactor * sliding_->penalty();
+  const double stiff = kStiffnessPenaltyFactor * sliding_->base_penalty();
   assembler_->energy_force_tangent(u_, &f_, &k_values_);
   sliding_->add_tangent(u_, centre, &k_values_, false, stiff);
   Eigen::Matrix<double, Eigen::Dynamic, 3> k_uc = Eigen::MatrixX3d::Zero(num_dofs(), 3);

@@ -41,6 +41,7 @@ SlidingContact::SlidingContact(const Eigen::Matrix3Xd& positions_m, const Triang
     : reference_(positions_m),
       triangles_(surface),
       radius_(radius_m),
+      base_penalty_(penalty),
       penalty_(penalty),
       lambda_(static_cast<std::size_t>(surface.cols()), 0.0) {
   scatter_.resize(static_cast<std::size_t>(surface.cols()));

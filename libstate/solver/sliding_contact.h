@@ -34,6 +34,10 @@ class SlidingContact {
 
   double radius() const { return radius_; }
   double penalty() const { return penalty_; }
+  double base_penalty() const { return base_penalty_; }
+  // The penalty k = scale x the constructor's (the solver stiffens it when the multiplier
+  // updates contract too slowly, and resets it for every sub-step).
+  void set_penalty_scale(double scale) { penalty_ = base_penalty_ * scale; }
   void reset_multipliers() { std::fill(lambda_.begin(), lambda_.end(), 0.0); }
   const std::vector<double>& multipliers() const { return lambda_; }
   void set_multipliers(const std::vector<double>& m) { lambda_ = m; }
@@ -91,7 +95,7 @@ class SlidingContact {
 
   Eigen::Matrix3Xd reference_;
   Triangles triangles_;
-  double radius_, penalty_;
+  double radius_, base_penalty_, penalty_;
   std::vector<std::array<int, 45>> scatter_;  // per triangle: upper 9x9 entries in the pattern
   std::vector<double> lambda_;
   mutable std::vector<Active> active_;

@@ -69,7 +69,7 @@ TEST_F(Algorithm, FastEqualsReferenceOnTheLiver) {
 // hundredth of the radius) is 1e-4 of its displacement: the two algorithms agree to that
 // (measured 5.8e-5 for the vectors, 5.8e-5 of the force scale).
 TEST_F(Algorithm, FastEqualsReferenceOnThePlate) {
-  expect_same_state_space(HAPSTATE_SOURCE_DIR "/pipelines/plate/scene.toml", "plate", 1e-4);
+  expect_same_state_space(plate_variant(dir_, {}), "plate", 1e-4);
 }
 
 }  // namespace
