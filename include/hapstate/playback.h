@@ -142,9 +142,11 @@ class HapticCursor {
   };
 
  private:
-  // Hermite coefficients of corner c, term t, force component r: t = 0 the force, 1..3 the
-  // stiffness columns d/dx, d/dy, d/dz, 4..6 the cross derivatives d2/dxdy, dxdz, dydz.
-  using CellCoefficients = std::array<std::array<std::array<double, 3>, 7>, 8>;
+  // The cell's Hermite interpolant as a tensor product: per axis 4 bases (index 2 o + k, o the
+  // corner side, k 0 the value and 1 the derivative basis), coefficients [x][y][r][z] for force
+  // component r: a corner's force (k = 000), stiffness columns (one k = 1) and cross
+  // derivatives (two k = 1); zero for k = 111.
+  using CellCoefficients = std::array<std::array<std::array<std::array<double, 4>, 3>, 4>, 4>;
   void update_coefficients();
   void anchor_at(std::int32_t configuration);
   void enter_cell(const std::array<std::int32_t, 3>& base);

@@ -160,20 +160,29 @@ void HapticCursor::resolve_corner(int c, const std::array<Corner, 8>& old,
 void HapticCursor::update_coefficients() {
   const double* h = file_.impl().meta->spacing;
   static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  coef_ = {};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     const Corner& cc = corners_[c];
     auto col = [&](int corner, int r, int axis) { return corners_[corner].stiffness[3 * r + axis]; };
     auto partner = [&](int axis) { return c ^ (4 >> axis); };
     auto sgn = [&](int axis) { return o[axis] ? 1.0 : -1.0; };
+    // The coefficient of the bases with derivative flags (kx, ky, kz) of this corner.
+    auto at = [&](int kx, int ky, int kz, int r) -> double& {
+      return coef_[2 * o[0] + kx][2 * o[1] + ky][r][2 * o[2] + kz];
+    };
     for (int r = 0; r < 3; ++r) {
-      coef_[c][0][r] = cc.force[r];
-      for (int a = 0; a < 3; ++a) coef_[c][1 + a][r] = cc.stiffness[3 * r + a];
+      at(0, 0, 0, r) = cc.force[r];
+      at(1, 0, 0, r) = cc.stiffness[3 * r];
+      at(0, 1, 0, r) = cc.stiffness[3 * r + 1];
+      at(0, 0, 1, r) = cc.stiffness[3 * r + 2];
       for (int pair = 0; pair < 3; ++pair) {
         const int a = kPair[pair][0], bb = kPair[pair][1];
         const double dab = sgn(bb) * (col(c, r, a) - col(partner(bb), r, a)) / h[bb];
         const double dba = sgn(a) * (col(c, r, bb) - col(partner(a), r, bb)) / h[a];
-        coef_[c][4 + pair][r] = 0.5 * (dab + dba);
+        int k[3] = {0, 0, 0};
+        k[a] = k[bb] = 1;
+        at(k[0], k[1], k[2], r) = 0.5 * (dab + dba);
       }
     }
   }
@@ -245,60 +254,56 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
 
   std::array<double, 3> s{};
   for (int a = 0; a < 3; ++a) s[a] = std::clamp(q[a] - base_[a], 0.0, 1.0);
-  // Per axis a and corner side o: the bases b[a][o][kind] (kind 0 the value, 1 the
-  // derivative basis in physical units, 2 the linear weight) and their derivatives db with
-  // respect to the probe coordinate (physical units).
-  double b[3][2][3], db[3][2][3];
+  // Per axis a the 4 Hermite bases B[a][2 o + k] (o the corner side; k 0 the value basis, 1
+  // the derivative basis in physical units) and their derivatives dB with respect to the probe
+  // coordinate; lin[a][o] the linear weights.
+  double B[3][4], dB[3][4], lin[3][2];
   for (int a = 0; a < 3; ++a) {
     const double t = s[a], h = m.spacing[a];
-    b[a][1][0] = t * t * (3.0 - 2.0 * t);
-    b[a][0][0] = 1.0 - b[a][1][0];
-    b[a][0][1] = t * (1.0 - t) * (1.0 - t) * h;
-    b[a][1][1] = -t * t * (1.0 - t) * h;
-    b[a][0][2] = 1.0 - t;
-    b[a][1][2] = t;
-    db[a][1][0] = 6.0 * t * (1.0 - t) / h;
-    db[a][0][0] = -db[a][1][0];
-    db[a][0][1] = (1.0 - t) * (1.0 - 3.0 * t);
-    db[a][1][1] = t * (3.0 * t - 2.0);
-    db[a][0][2] = -1.0 / h;
-    db[a][1][2] = 1.0 / h;
+    B[a][2] = t * t * (3.0 - 2.0 * t);
+    B[a][0] = 1.0 - B[a][2];
+    B[a][1] = t * (1.0 - t) * (1.0 - t) * h;
+    B[a][3] = -t * t * (1.0 - t) * h;
+    dB[a][2] = 6.0 * t * (1.0 - t) / h;
+    dB[a][0] = -dB[a][2];
+    dB[a][1] = (1.0 - t) * (1.0 - 3.0 * t);
+    dB[a][3] = t * (3.0 * t - 2.0);
+    lin[a][0] = 1.0 - t;
+    lin[a][1] = t;
   }
   std::array<double, 3> value{};
   std::array<double, 9> slope{};    // d(value)/d(probe)
   std::array<double, 9> k_blend{};  // trilinear blend of the corners' stiffness
-  // Which basis each Hermite term takes on each axis (0 value, 1 derivative).
-  static constexpr int kTermBasis[7][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1},
-                                           {1, 1, 0}, {1, 0, 1}, {0, 1, 1}};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
-    const Corner& cc = corners_[c];
-    const double* bx = b[0][o[0]];
-    const double* by = b[1][o[1]];
-    const double* bz = b[2][o[2]];
-    const double* dbx = db[0][o[0]];
-    const double* dby = db[1][o[1]];
-    const double* dbz = db[2][o[2]];
-    const double w = bx[2] * by[2] * bz[2];
-    for (int r = 0; r < 9; ++r) k_blend[r] += w * cc.stiffness[r];
-    if (scheme_ == Scheme::kTrilinear) {
-      for (int r = 0; r < 3; ++r) value[r] += w * cc.force[r];
-      continue;
-    }
-    for (int term = 0; term < 7; ++term) {
-      const int* k = kTermBasis[term];
-      const double wt = bx[k[0]] * by[k[1]] * bz[k[2]];
-      const double gx = dbx[k[0]] * by[k[1]] * bz[k[2]];
-      const double gy = bx[k[0]] * dby[k[1]] * bz[k[2]];
-      const double gz = bx[k[0]] * by[k[1]] * dbz[k[2]];
-      const std::array<double, 3>& co = coef_[c][term];
+    const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
+    for (int r = 0; r < 9; ++r) k_blend[r] += w * corners_[c].stiffness[r];
+    if (scheme_ == Scheme::kTrilinear)
+      for (int r = 0; r < 3; ++r) value[r] += w * corners_[c].force[r];
+  }
+  if (scheme_ == Scheme::kHermite) {
+    // Contract the tensor product axis by axis: z (value and derivative), then y, then x.
+    double A[4][4][3], Az[4][4][3];
+    for (int ix = 0; ix < 4; ++ix)
+      for (int iy = 0; iy < 4; ++iy)
+        for (int r = 0; r < 3; ++r) {
+          const std::array<double, 4>& t = coef_[ix][iy][r];
+          A[ix][iy][r] = B[2][0] * t[0] + B[2][1] * t[1] + B[2][2] * t[2] + B[2][3] * t[3];
+          Az[ix][iy][r] = dB[2][0] * t[0] + dB[2][1] * t[1] + dB[2][2] * t[2] + dB[2][3] * t[3];
+        }
+    for (int ix = 0; ix < 4; ++ix)
       for (int r = 0; r < 3; ++r) {
-        value[r] += wt * co[r];
-        slope[3 * r] += gx * co[r];
-        slope[3 * r + 1] += gy * co[r];
-        slope[3 * r + 2] += gz * co[r];
+        double v = 0, vy = 0, vz = 0;
+        for (int iy = 0; iy < 4; ++iy) {
+          v += B[1][iy] * A[ix][iy][r];
+          vy += dB[1][iy] * A[ix][iy][r];
+          vz += B[1][iy] * Az[ix][iy][r];
+        }
+        value[r] += B[0][ix] * v;
+        slope[3 * r] += dB[0][ix] * v;
+        slope[3 * r + 1] += B[0][ix] * vy;
+        slope[3 * r + 2] += B[0][ix] * vz;
       }
-    }
   }
   if (scheme_ == Scheme::kTrilinear || !out.inside_grid) slope = k_blend;
   if (!out.inside_grid) {
