@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hapstate needs to build, test and run (see docs/dependencies.md).
 # Idempotent: does nothing when every package is already installed. Needs root (or sudo).
+# Arguments: extra packages a script needs besides these (scripts/fuzz.sh: clang's).
 set -euo pipefail
 
 packages=(
@@ -21,6 +22,7 @@ packages=(
   calculix-ccx               # the independent reference solver used by the tests
   python3 python3-matplotlib # plots and comparison scripts
   python3-h5py               # the test that a foreign HDF5 reader decodes our blobs
+  "$@"
 )
 
 missing=()

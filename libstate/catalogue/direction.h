@@ -26,7 +26,7 @@ class Direction {
   Direction opposite() const { return Direction(kCount - 1 - index_); }
   int taxicab_length() const;                     // 1 (face), 2 (edge) or 3 (corner) neighbour
 
-  friend constexpr auto operator<=>(Direction, Direction) = default;
+  friend auto operator<=>(Direction, Direction) = default;
 
  private:
   std::uint8_t index_;

@@ -119,7 +119,9 @@ std::optional<SelfIntersection> find_self_intersection(const TriangleSurface& s)
   std::vector<int> seen(s.faces.size(), -1);
   int edge_index = 0;
   std::optional<SelfIntersection> hit;
-  for (const auto& [edge, f] : edges) {
+  for (const auto& entry : edges) {
+    const auto& edge = entry.first;  // plain references: lambdas below capture them
+    const int f = entry.second;
     ++edge_index;
     const Eigen::Vector3d p = point(s, edge.first);
     const Eigen::Vector3d q = point(s, edge.second);

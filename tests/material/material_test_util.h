@@ -64,7 +64,11 @@ auto central_difference(const Fn& f, const Mat3& F, int i, int j, double h) {
     G(i, j) += t;
     return f(G);
   };
-  return (8.0 * (at(h) - at(-h)) - (at(2 * h) - at(-2 * h))) / (12.0 * h);
+  // Evaluated here: for a matrix f the expression refers to the temporaries at(...), which die
+  // at the end of this statement (returning the unevaluated Eigen expression read freed stack:
+  // found by AddressSanitizer).
+  using Result = decltype(f(F));
+  return Result((8.0 * (at(h) - at(-h)) - (at(2 * h) - at(-2 * h))) / (12.0 * h));
 }
 
 // GoogleTest parameter name of a Case: its label with '.' replaced by '_'.
