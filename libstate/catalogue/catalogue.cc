@@ -179,6 +179,15 @@ std::int64_t Catalogue::num_foreign_key_violations() {
 
 namespace catalogue_detail {
 
+int ranged_column(const Statement& s, int column, int lo, int hi, const std::string& label,
+                  const char* name) {
+  const std::int64_t v = s.column_int(column);
+  if (v < lo || v > hi)
+    throw InputError(label + ": damaged catalogue: " + name + " = " + std::to_string(v) + ", not in " +
+                     std::to_string(lo) + ".." + std::to_string(hi));
+  return static_cast<int>(v);
+}
+
 std::vector<std::byte> pack_doubles(std::span<const double> values) {
   std::vector<std::byte> bytes(values.size() * 8);
   for (std::size_t i = 0; i < values.size(); ++i) {

@@ -53,6 +53,12 @@ class Savepoint {
   bool released_ = false;
 };
 
+// Integer column `column` of the current row, which must lie in [lo, hi]: the schema CHECKs
+// these ranges when rows are written, but a damaged file is read without the checks. Throws
+// InputError "label: damaged catalogue: table.name = v, not in lo..hi".
+int ranged_column(const Statement& s, int column, int lo, int hi, const std::string& label,
+                  const char* name);
+
 // float64 vectors stored as little-endian BLOBs (configuration.summary).
 std::vector<std::byte> pack_doubles(std::span<const double> values);
 std::vector<double> unpack_doubles(std::span<const std::byte> bytes, const std::string& where);

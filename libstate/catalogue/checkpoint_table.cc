@@ -16,14 +16,15 @@ constexpr const char* kReadAll =
 constexpr const char* kCount = "SELECT count(*) FROM checkpoint";
 constexpr const char* kExists = "SELECT 1 FROM checkpoint WHERE id = ?";
 
-Checkpoint row_to_checkpoint(const catalogue_detail::Statement& s) {
+Checkpoint row_to_checkpoint(const catalogue_detail::Statement& s, const std::string& label) {
   Checkpoint c;
   c.id = CheckpointId(s.column_int(0));
   for (int a = 0; a < 3; ++a) {
     c.ijk[a] = static_cast<int>(s.column_int(1 + a));
     c.position[a] = s.column_double(4 + a);
   }
-  c.classification = static_cast<CheckpointClass>(s.column_int(7));  // CHECKed by the schema
+  c.classification = static_cast<CheckpointClass>(
+      catalogue_detail::ranged_column(s, 7, 0, 4, label, "checkpoint.classification"));
   return c;
 }
 
@@ -51,20 +52,20 @@ Checkpoint Catalogue::read_checkpoint(CheckpointId id) {
   if (!s->step()) {
     throw InputError(impl_->label() + ": no checkpoint with id " + std::to_string(id.value()));
   }
-  return row_to_checkpoint(*s);
+  return row_to_checkpoint(*s, impl_->label());
 }
 
 std::optional<Checkpoint> Catalogue::find_checkpoint(const std::array<int, 3>& ijk) {
   catalogue_detail::StatementUse s(impl_->statement(kFind));
   for (int a = 0; a < 3; ++a) s->bind(1 + a, ijk[a]);
   if (!s->step()) return std::nullopt;
-  return row_to_checkpoint(*s);
+  return row_to_checkpoint(*s, impl_->label());
 }
 
 std::vector<Checkpoint> Catalogue::read_all_checkpoints() {
   catalogue_detail::StatementUse s(impl_->statement(kReadAll));
   std::vector<Checkpoint> all;
-  while (s->step()) all.push_back(row_to_checkpoint(*s));
+  while (s->step()) all.push_back(row_to_checkpoint(*s, impl_->label()));
   return all;
 }
 

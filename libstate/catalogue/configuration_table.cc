@@ -43,7 +43,8 @@ Configuration row_to_configuration(const catalogue_detail::Statement& s, const s
   for (int a = 0; a < 3; ++a) c.force[a] = s.column_double(4 + a);
   for (int a = 0; a < 9; ++a) c.stiffness[a] = s.column_double(7 + a);
   c.expandable = s.column_int(16) != 0;
-  c.status = static_cast<ConfigStatus>(s.column_int(17));  // CHECKed by the schema
+  c.status = static_cast<ConfigStatus>(
+      catalogue_detail::ranged_column(s, 17, 0, 2, label, "configuration.status"));
   if (!s.is_null(18)) c.blob = BlobRef{SegmentId{s.column_int(18)}, s.column_text(19)};
   c.summary = catalogue_detail::unpack_doubles(
       s.column_blob(20), label + ": configuration " + std::to_string(c.id.value()) + " summary");

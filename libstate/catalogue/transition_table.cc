@@ -23,11 +23,12 @@ constexpr const char* kDelete = "DELETE FROM transition WHERE source = ? AND dir
 
 #undef HAPSTATE_TRANSITION_COLUMNS
 
-Transition row_to_transition(const catalogue_detail::Statement& s) {
+Transition row_to_transition(const catalogue_detail::Statement& s, const std::string& label) {
+  using catalogue_detail::ranged_column;
   Transition t;
   t.source = ConfigId(s.column_int(0));
-  t.direction = Direction(static_cast<int>(s.column_int(1)));  // CHECKed 0..25 by the schema
-  t.outcome = static_cast<TransitionOutcome>(s.column_int(2));
+  t.direction = Direction(ranged_column(s, 1, 0, Direction::kCount - 1, label, "transition.direction"));
+  t.outcome = static_cast<TransitionOutcome>(ranged_column(s, 2, 0, 2, label, "transition.outcome"));
   if (!s.is_null(3)) t.target = ConfigId(s.column_int(3));
   t.substeps = static_cast<int>(s.column_int(4));
   t.newton_iterations = static_cast<int>(s.column_int(5));
@@ -64,21 +65,21 @@ std::optional<Transition> Catalogue::read_transition(ConfigId source, Direction 
   s->bind(1, source.value());
   s->bind(2, direction.index());
   if (!s->step()) return std::nullopt;
-  return row_to_transition(*s);
+  return row_to_transition(*s, impl_->label());
 }
 
 std::vector<Transition> Catalogue::transitions_of(ConfigId source) {
   catalogue_detail::StatementUse s(impl_->statement(kOfSource));
   s->bind(1, source.value());
   std::vector<Transition> out;
-  while (s->step()) out.push_back(row_to_transition(*s));
+  while (s->step()) out.push_back(row_to_transition(*s, impl_->label()));
   return out;
 }
 
 std::vector<Transition> Catalogue::read_all_transitions() {
   catalogue_detail::StatementUse s(impl_->statement(kReadAll));
   std::vector<Transition> out;
-  while (s->step()) out.push_back(row_to_transition(*s));
+  while (s->step()) out.push_back(row_to_transition(*s, impl_->label()));
   return out;
 }
 

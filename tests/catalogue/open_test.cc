@@ -197,6 +197,37 @@ TEST(CatalogueOpen, CorruptFileGivesAClearError) {
                      "the catalogue file is corrupt or not an SQLite database");
 }
 
+// Values outside the schema's CHECKed ranges in a damaged file (found by fuzz/catalogue_fuzz:
+// a transition direction of 31 threw std::out_of_range, an internal error) are bad input that
+// names the catalogue, the column and the value.
+TEST(CatalogueOpen, OutOfRangeValuesInADamagedFileAreInputErrors) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  {
+    Catalogue cat(file, OpenMode::kCreate);
+    fill(cat);
+    Transition t;
+    t.source = cat.read_all_configurations().front().id;
+    t.direction = Direction(3);
+    t.outcome = TransitionOutcome::kOutsideGrid;
+    cat.insert_transition(t);
+  }
+  const std::string damage = "PRAGMA ignore_check_constraints = ON; ";
+  raw_sql(file, damage + "UPDATE transition SET direction = 31");
+  {
+    Catalogue cat(file, OpenMode::kReadOnly);
+    expect_input_error([&] { cat.read_all_transitions(); },
+                       "damaged catalogue: transition.direction = 31, not in 0..25");
+  }
+  raw_sql(file, damage + "UPDATE transition SET direction = 3, outcome = 7");
+  raw_sql(file, damage + "UPDATE checkpoint SET classification = 9");
+  raw_sql(file, damage + "UPDATE configuration SET status = -1");
+  Catalogue cat(file, OpenMode::kReadOnly);
+  expect_input_error([&] { cat.read_all_transitions(); }, "transition.outcome = 7, not in 0..2");
+  expect_input_error([&] { cat.read_all_checkpoints(); }, "checkpoint.classification = 9, not in 0..4");
+  expect_input_error([&] { cat.read_all_configurations(); }, "configuration.status = -1, not in 0..2");
+}
+
 TEST(CatalogueOpen, SecondConnectionSeesCommittedWrites) {
   TempDir dir("open");
   const auto file = dir.path() / "catalogue.sqlite";
