@@ -194,15 +194,12 @@ bool PathSolver::settle_sliding(double rel_tol, bool last, MoveResult* result) {
   const double tolerance = options_.gap_tolerance * sliding_->radius();
   if (!last) sliding_->update_multipliers(u_, centre);
   double previous = std::numeric_limits<double>::infinity();
-  double scale = 1.0;
   for (int it = 0; last; ++it) {
     const double violation = sliding_->violation(u_, centre);
     if (violation <= tolerance) break;
     // Nearly redundant gaps (faces wrapped around the sphere) contract slowly: stiffen k.
-    if (violation > kSlowContraction * previous && scale < kMaxPenaltyScale) {
-      scale *= kPenaltyGrowth;
-      sliding_->set_penalty_scale(scale);
-    }
+    if (violation > kSlowContraction * previous && sliding_->penalty_scale() < kMaxPenaltyScale)
+      sliding_->set_penalty_scale(sliding_->penalty_scale() * kPenaltyGrowth);
     previous = violation;
     if (it >= options_.max_active_set_iterations) {
       result->failure = SolveFailure::kContactUnsettled;

@@ -42,7 +42,6 @@ SlidingContact::SlidingContact(const Eigen::Matrix3Xd& positions_m, const Triang
       triangles_(surface),
       radius_(radius_m),
       base_penalty_(penalty),
-      penalty_(penalty),
       lambda_(static_cast<std::size_t>(surface.cols()), 0.0) {
   scatter_.resize(static_cast<std::size_t>(surface.cols()));
   for (int t = 0; t < surface.cols(); ++t) {
@@ -59,7 +58,7 @@ const std::vector<SlidingContact::Active>& SlidingContact::active(
     const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const {
   const auto start = std::chrono::steady_clock::now();
   active_.clear();
-  const double inverse_k = 1.0 / penalty_;
+  const double inverse_k = 1.0 / penalty();
   for (int t = 0; t < triangles_.cols(); ++t) {
     std::array<Eigen::Vector3d, 3> x;
     for (int i = 0; i < 3; ++i) {
@@ -70,7 +69,7 @@ const std::vector<SlidingContact::Active>& SlidingContact::active(
     // lambda^ > 0 iff d < r + lambda / k.
     if (!box_reaches(x, centre_m, radius_ + lambda * inverse_k)) continue;
     const TrianglePoint tp = closest_point(x[0], x[1], x[2], centre_m);
-    const double lambda_hat = lambda - penalty_ * (tp.distance - radius_);
+    const double lambda_hat = lambda - penalty() * (tp.distance - radius_);
     if (lambda_hat > 0) active_.push_back({t, lambda_hat, x});
   }
   detection_seconds_ +=
@@ -93,7 +92,7 @@ double SlidingContact::add_force(const Eigen::VectorXd& u_m, const Eigen::Vector
     for (int i = 0; i < 3; ++i)
       f->segment<3>(3 * triangles_(i, a.triangle)) += a.lambda_hat * tp.weights[i] * normal;
   }
-  return e / (2 * penalty_);
+  return e / (2 * penalty());
 }
 
 // The Hessian of triangle a's term of Psi with respect to (its three corners, the centre), with
@@ -113,7 +112,7 @@ Mat12d SlidingContact::term_hessian(const Active& a, const Eigen::Vector3d& cent
 void SlidingContact::add_tangent(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m,
                                  std::vector<double>* k_values, bool psd_only,
                                  double hessian_penalty) const {
-  const double k = hessian_penalty > 0 ? hessian_penalty : penalty_;
+  const double k = hessian_penalty > 0 ? hessian_penalty : penalty();
   for (const Active& a : active(u_m, centre_m)) {
     Eigen::Matrix<double, 9, 9> local = term_hessian(a, centre_m, k, false).topLeftCorner<9, 9>();
     if (psd_only) {
@@ -133,7 +132,7 @@ void SlidingContact::add_tangent(const Eigen::VectorXd& u_m, const Eigen::Vector
 void SlidingContact::add_coupling(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m,
                                   Eigen::Matrix<double, Eigen::Dynamic, 3>* k_uc,
                                   Eigen::Matrix3d* k_cc, double hessian_penalty) const {
-  const double k = hessian_penalty > 0 ? hessian_penalty : penalty_;
+  const double k = hessian_penalty > 0 ? hessian_penalty : penalty();
   for (const Active& a : active(u_m, centre_m)) {
     const Mat12d local = term_hessian(a, centre_m, k, false);
     for (int i = 0; i < 3; ++i)
@@ -183,7 +182,7 @@ std::vector<double> SlidingContact::updated(const Eigen::VectorXd& u_m,
   for (const Active& a : active(u_m, centre_m)) hat[static_cast<std::size_t>(a.triangle)] = a.lambda_hat;
   double worst = 0;
   for (std::size_t t = 0; t < lambda_.size(); ++t) worst = std::max(worst, std::abs(hat[t] - lambda_[t]));
-  *worst_change = worst / penalty_;
+  *worst_change = worst / penalty();
   return hat;
 }
 

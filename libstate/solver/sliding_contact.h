@@ -33,11 +33,12 @@ class SlidingContact {
                  double penalty, const SymmetricPattern& pattern);
 
   double radius() const { return radius_; }
-  double penalty() const { return penalty_; }
+  // The penalty k = penalty_scale() x the constructor's base_penalty() (the solver stiffens it
+  // when the multiplier updates contract too slowly, and resets it for every sub-step).
+  double penalty() const { return base_penalty_ * penalty_scale_; }
   double base_penalty() const { return base_penalty_; }
-  // The penalty k = scale x the constructor's (the solver stiffens it when the multiplier
-  // updates contract too slowly, and resets it for every sub-step).
-  void set_penalty_scale(double scale) { penalty_ = base_penalty_ * scale; }
+  double penalty_scale() const { return penalty_scale_; }
+  void set_penalty_scale(double scale) { penalty_scale_ = scale; }
   void reset_multipliers() { std::fill(lambda_.begin(), lambda_.end(), 0.0); }
   const std::vector<double>& multipliers() const { return lambda_; }
   void set_multipliers(const std::vector<double>& m) { lambda_ = m; }
@@ -95,7 +96,8 @@ class SlidingContact {
 
   Eigen::Matrix3Xd reference_;
   Triangles triangles_;
-  double radius_, base_penalty_, penalty_;
+  double radius_, base_penalty_;
+  double penalty_scale_ = 1.0;
   std::vector<std::array<int, 45>> scatter_;  // per triangle: upper 9x9 entries in the pattern
   std::vector<double> lambda_;
   mutable std::vector<Active> active_;

@@ -32,38 +32,6 @@ inline StageResult expand_stage(const fs::path& state, int threads, const fs::pa
   return run_stage(HAPSTATE_EXPAND_EXE, expand_args(state, threads, std::move(extra)), log_dir);
 }
 
-// A copy of `scene` in `dir` named `name`, with each (from, to) text replacement applied (each
-// `from` must occur) and its mesh file `mesh` (beside the scene) named by its absolute path.
-inline std::string scene_variant(const std::string& scene, const std::string& mesh, const fs::path& dir,
-                                 const std::string& name,
-                                 const std::vector<std::pair<std::string, std::string>>& edits) {
-  std::string text = slurp(scene);
-  std::vector<std::pair<std::string, std::string>> all = edits;
-  all.emplace_back("file = \"" + mesh + "\"",
-                   "file = \"" + (fs::path(scene).parent_path() / mesh).string() + "\"");
-  for (const auto& [from, to] : all) {
-    const auto at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) text.replace(at, from.size(), to);
-  }
-  const fs::path file = dir / name;
-  std::ofstream(file) << text;
-  return file.string();
-}
-
-inline std::string beam_variant(const fs::path& dir, const std::string& name,
-                                const std::vector<std::pair<std::string, std::string>>& edits) {
-  return scene_variant(kBeamScene, "beam.msh", dir, name, edits);
-}
-// The bundled plate scene on the tests' coarse plate mesh (plate_coarse.msh: 0.4 cm cells, a
-// quarter of the bundled mesh's nodes), with `edits`.
-inline std::string plate_variant(const fs::path& dir,
-                                 const std::vector<std::pair<std::string, std::string>>& edits) {
-  std::vector<std::pair<std::string, std::string>> all{{"file = \"plate.msh\"", "file = \"plate_coarse.msh\""}};
-  all.insert(all.end(), edits.begin(), edits.end());
-  return scene_variant(kPlateScene, "plate_coarse.msh", dir, "plate.toml", all);
-}
-
 // import + grid + expand of the beam into `state`; asserts each stage succeeded.
 inline void build_beam(const fs::path& state, const std::string& scene, int threads,
                        const fs::path& log_dir) {

@@ -4,6 +4,7 @@
 
 #include "blobs/blob_store.h"
 #include "catalogue/catalogue.h"
+#include "../common/scene_variant.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +18,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -25,16 +25,6 @@
 namespace hapstate::test_util {
 
 namespace fs = std::filesystem;
-
-inline const std::string kBeamScene = HAPSTATE_SOURCE_DIR "/pipelines/beam/scene.toml";
-inline const std::string kPlateScene = HAPSTATE_SOURCE_DIR "/pipelines/plate/scene.toml";
-
-inline std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 struct StageResult {
   int exit_code = -1;  // -1: killed by a signal

@@ -4,6 +4,7 @@
 #include "scene/bind.h"
 #include "scene/scene.h"
 #include "solver/path_solver.h"
+#include "../common/scene_variant.h"
 
 #include <gtest/gtest.h>
 
@@ -33,12 +34,7 @@ std::string quote(const std::string& s) {
   return q + "'";
 }
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test_util::slurp;
 
 std::vector<std::string> lines_of(const fs::path& file) {
   std::ifstream in(file);
@@ -245,20 +241,6 @@ TEST_F(HapstateSolve, ExportCcxWritesDeck) {
 namespace hapstate {
 namespace {
 
-const std::string kPlateDir = HAPSTATE_SOURCE_DIR "/pipelines/plate";
-
-// The bundled plate scene on the tests' coarse plate mesh (plate_coarse.msh, 0.4 cm cells),
-// written into `dir`.
-std::string coarse_plate(const fs::path& dir) {
-  std::string text = slurp(kPlateDir + "/scene.toml");
-  const std::string from = "file = \"plate.msh\"";
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos);
-  if (at != std::string::npos) text.replace(at, from.size(), "file = \"" + kPlateDir + "/plate_coarse.msh\"");
-  const fs::path file = dir / "plate.toml";
-  std::ofstream(file) << text;
-  return file.string();
-}
 const std::string kContactHeader = kHeader + ",touched,active_set_changes";
 
 // Rows of a contact run: (z, fz, status, touched).
@@ -283,7 +265,7 @@ std::vector<ContactRow> contact_rows(const fs::path& csv) {
 // (straight up from rest) and from above (around the plate's edge, then down) gives opposite
 // normal forces; untouched rows are exactly zero.
 TEST_F(HapstateSolve, ContactPlateFromBelowAndFromAbove) {
-  const Run below = solve({coarse_plate(dir_), "--straight", "2", "2", "0.2", "--steps", "12", "-q", "-o",
+  const Run below = solve({test_util::plate_variant(dir_, {}), "--straight", "2", "2", "0.2", "--steps", "12", "-q", "-o",
                            p("below.csv")});
   ASSERT_EQ(below.exit_code, 0) << below.err;
   EXPECT_EQ(lines_of(p("below.csv"))[0], kContactHeader);
@@ -293,7 +275,7 @@ TEST_F(HapstateSolve, ContactPlateFromBelowAndFromAbove) {
     for (double z = 1.3; z > 0.25; z -= 0.2) path << "2,2," << z << "\n";
     path << "2,2,0.2\n";
   }
-  const Run above = solve({coarse_plate(dir_), "--path", p("above.txt"), "-q", "-o", p("above.csv")});
+  const Run above = solve({test_util::plate_variant(dir_, {}), "--path", p("above.txt"), "-q", "-o", p("above.csv")});
   ASSERT_EQ(above.exit_code, 0) << above.err;
   const auto b = contact_rows(p("below.csv"));
   const auto a = contact_rows(p("above.csv"));
@@ -334,7 +316,7 @@ TEST_F(HapstateSolve, ContactLiverPressedConvergesAndPushesBack) {
 }
 
 TEST_F(HapstateSolve, ContactProbeCannotBeExportedToCalculix) {
-  const Run r = solve({coarse_plate(dir_), "--by", "0", "0", "1", "--export-ccx", p("ccx")});
+  const Run r = solve({test_util::plate_variant(dir_, {}), "--by", "0", "0", "1", "--export-ccx", p("ccx")});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("--export-ccx: a contact probe cannot be exported"), std::string::npos)
       << r.err;
