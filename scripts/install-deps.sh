@@ -17,6 +17,7 @@ packages=(
   libcli11-dev               # command-line parsing
   nlohmann-json3-dev         # JSON output of hapstate-inspect
   libgmsh-dev                # tetrahedralising closed STL/OBJ surfaces
+  libopenmpi-dev openmpi-bin # hapstate-expand across MPI ranks and hosts (mpirun)
   libgtest-dev libbenchmark-dev
   libnanoflann-dev           # only bench/contact_bench's k-d tree comparison (optional there)
   calculix-ccx               # the independent reference solver used by the tests

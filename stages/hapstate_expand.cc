@@ -1,4 +1,5 @@
 // hapstate-expand: breadth-first expansion of the state space (the long stage).
+#include "distributed/mpi_engine.h"
 #include "statespace/expand_stage.h"
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
@@ -15,6 +16,8 @@ int main(int argc, char** argv) {
   using namespace hapstate;
   // One BLAS/OpenMP thread per worker: set before any BLAS call (docs/state-space.md).
   limit_math_threads();
+  // Under mpirun: rank 0 runs the stage, the other ranks solve for it (docs/distributed.md).
+  MpiSession mpi(&argc, &argv);
   ExpandOptions o;
   std::string state;
   long long max_transitions = 0;
@@ -24,7 +27,9 @@ int main(int argc, char** argv) {
       "hapstate-expand: compute transitions between neighbouring check-points in breadth-first "
       "waves from the zero configuration until every configuration with |force| <= "
       "probe.max_force has its 26 directions decided. Interrupt it at any time (even kill -9) "
-      "and run it again to resume; the result does not depend on --threads or on interruptions.\n"
+      "and run it again to resume; the result does not depend on --threads, on the number of MPI "
+      "ranks (mpirun -n N hapstate-expand ...: rank 0 coordinates, the others solve, each with "
+      "--threads) or on interruptions.\n"
       "Exit codes: 0 complete, partial (a --max-* limit was reached) or nothing to do; 1 "
       "internal error; 130 stopped by Ctrl-C or SIGTERM (resumable); 2 bad options or state directory (not imported, grid out of date, "
       "missing or damaged segment, newer catalogue): nothing changed. Failed solves do not "
@@ -61,9 +66,15 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // Every rank parsed the same arguments and ends the same way.
     return app.exit(e) == 0 ? kExitOk : kExitBadInput;
   }
-  return guarded_main("hapstate-expand", [&] {
+  if (mpi.distributed() && mpi.rank() > 0)
+    return guarded_main("hapstate-expand (MPI worker)", [] {
+      run_mpi_worker();
+      return kExitOk;
+    });
+  const int code = guarded_main("hapstate-expand", [&] {
     o.state = state;
     if (mt->count()) o.max_transitions = max_transitions;
     if (ms->count()) o.max_seconds = max_seconds;
@@ -71,6 +82,7 @@ int main(int argc, char** argv) {
     install_stop_request_handler(
         "\nhapstate-expand: stopping after the current batch (Ctrl-C again stops at once; "
         "either way, run the same command again to resume)\n");
+    if (mpi.distributed()) o.engine = mpi_engine_factory(mpi, o.threads, o.algorithm);
     const ExpandReport r = run_expand(o);
     if (r.garbage_segments)
       std::fprintf(stderr, "hapstate-expand: removed %zu unreferenced segment(s) left by an "
@@ -104,10 +116,14 @@ int main(int argc, char** argv) {
                     t.contact_queries, cpu > 0 ? 100 * t.contact_detection / cpu : 0.0);
       }
     }
+    if (!r.engine_summary.empty() && (timings || !quiet))
+      std::printf("hapstate-expand: MPI: %s\n", r.engine_summary.c_str());
     if (r.stopped_by_signal) {
       std::fprintf(stderr, "hapstate-expand: stopped; run the same command again to resume\n");
       return kExitInterrupted;
     }
     return kExitOk;
   });
+  release_mpi_workers(mpi);
+  return code;
 }

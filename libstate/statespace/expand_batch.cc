@@ -7,6 +7,7 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <utility>
 
 namespace hapstate {
 
@@ -45,11 +46,17 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
   return v;
 }
 
+SourceLoader blob_source_loader(const BlobStore& blobs, int num_dofs, const VectorLayout& layout) {
+  return [&blobs, num_dofs, layout](const Configuration& c) {
+    return load_config_vectors(blobs, c, num_dofs, layout);
+  };
+}
+
 TransitionSolver::TransitionSolver(const Problem& problem, const ProbeModel& probe,
-                                   const BlobStore& blobs, int threads, SolverAlgorithm algorithm)
+                                   SourceLoader sources, int threads, SolverAlgorithm algorithm)
     : problem_(problem),
       probe_(probe),
-      blobs_(blobs),
+      sources_loader_(std::move(sources)),
       threads_(std::max(1, threads)),
       algorithm_(algorithm) {
   solvers_.resize(threads_);
@@ -62,8 +69,7 @@ const ConfigVectors& TransitionSolver::source_vectors(int worker, const Configur
   std::optional<LoadedSource>& loaded = sources_[worker];
   if (!loaded || loaded->config.id != source.id || loaded->config.blob != source.blob) {
     loaded.reset();
-    loaded = LoadedSource{source, load_config_vectors(blobs_, source, solvers_[worker]->num_dofs(),
-                                                      probe_.layout())};
+    loaded = LoadedSource{source, sources_loader_(source)};
   }
   return loaded->vectors;
 }
@@ -130,6 +136,11 @@ std::vector<TransitionSolve> TransitionSolver::solve(const std::vector<Transitio
     results[k] = solve_one(worker, tasks[k]);
   });
   return results;
+}
+
+std::vector<TransitionSolve> TransitionSolver::solve_range(std::size_t begin, std::size_t end) {
+  const std::vector<TransitionTask> tasks(wave_->begin() + begin, wave_->begin() + end);
+  return solve(tasks);
 }
 
 std::vector<StiffnessResult> TransitionSolver::stiffnesses(const std::vector<StiffnessTask>& tasks) {

@@ -1,7 +1,8 @@
 // The parallel part of the expand stage: solving a batch of transitions on N worker threads,
 // one PathSolver per worker (kept across batches). Each solve is a pure function of the
 // source configuration's stored vectors and the direction, so the results do not depend on
-// the thread count or on which worker ran them.
+// the thread count or on which worker ran them. TransitionEngine is what the stage asks for
+// solves: these threads, or worker ranks over MPI (distributed/).
 #pragma once
 
 #include "blobs/blob_store.h"
@@ -13,7 +14,9 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <functional>
 #include <memory>
+#include <string>
 #include <optional>
 #include <vector>
 
@@ -56,22 +59,53 @@ struct StiffnessResult {
 ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
                                   const VectorLayout& layout);
 
-class TransitionSolver {
+// Who solves the expand stage's transitions. The stage hands it a wave's tasks (canonical
+// order), then asks for the results of consecutive ranges of them (its batches), and for the
+// stiffness of the configurations a batch creates before storing it.
+class TransitionEngine {
  public:
-  // Keeps references to problem, probe and blobs (they must outlive it). threads >= 1.
-  TransitionSolver(const Problem& problem, const ProbeModel& probe, const BlobStore& blobs,
+  virtual ~TransitionEngine() = default;
+  // The tasks of the next wave; the engine may keep a reference until the next call.
+  virtual void start_wave(const std::vector<TransitionTask>& tasks) = 0;
+  // The results of tasks [begin, end) of the wave; ranges come in order. An engine may solve
+  // later tasks of the wave meanwhile (never past the wave).
+  virtual std::vector<TransitionSolve> solve_range(std::size_t begin, std::size_t end) = 0;
+  // The haptic stiffness of each task's state (set from the vectors, as a later move from that
+  // configuration would); result k belongs to task k.
+  virtual std::vector<StiffnessResult> stiffnesses(const std::vector<StiffnessTask>& tasks) = 0;
+  // Time the solvers spent in assembly / factorisation / solves, summed over them (CPU-side
+  // seconds, not wall time).
+  virtual SolverTimings timings() const = 0;
+  // For the stage run's parameters: how the work was distributed (e.g. "ranks=4"); "" for
+  // threads in this process.
+  virtual std::string parameters() const { return ""; }
+  // How the work was shared, for the report (MPI: per-rank throughput and idle time); "" for
+  // threads in this process. Complete after finish().
+  virtual std::string summary() const { return ""; }
+  // Releases the workers (an engine over MPI stops its ranks); results are no longer needed.
+  virtual void finish() {}
+};
+
+// Where a worker gets a source configuration's vectors from.
+using SourceLoader = std::function<ConfigVectors(const Configuration&)>;
+// From the state directory's blobs (load_config_vectors); keeps a reference to blobs.
+SourceLoader blob_source_loader(const BlobStore& blobs, int num_dofs, const VectorLayout& layout);
+
+class TransitionSolver : public TransitionEngine {
+ public:
+  // Keeps references to problem and probe (they must outlive it). threads >= 1.
+  TransitionSolver(const Problem& problem, const ProbeModel& probe, SourceLoader sources,
                    int threads, SolverAlgorithm algorithm = SolverAlgorithm::kFast);
-  ~TransitionSolver();
+  ~TransitionSolver() override;
 
   // Solves every task that has a target, in parallel; result k belongs to task k. An exception
   // in a worker (e.g. an unreadable source blob) is rethrown here after all workers stopped.
   std::vector<TransitionSolve> solve(const std::vector<TransitionTask>& tasks);
-  // The haptic stiffness of each task's state, in parallel (the state is set from the vectors,
-  // as a later move from that configuration would).
-  std::vector<StiffnessResult> stiffnesses(const std::vector<StiffnessTask>& tasks);
-  // Time the workers' solvers spent in assembly / factorisation / solves, summed over workers
-  // (CPU-side seconds, not wall time).
-  SolverTimings timings() const;
+
+  void start_wave(const std::vector<TransitionTask>& tasks) override { wave_ = &tasks; }
+  std::vector<TransitionSolve> solve_range(std::size_t begin, std::size_t end) override;
+  std::vector<StiffnessResult> stiffnesses(const std::vector<StiffnessTask>& tasks) override;
+  SolverTimings timings() const override;
 
  private:
   TransitionSolve solve_one(int worker, const TransitionTask& task);
@@ -83,7 +117,7 @@ class TransitionSolver {
 
   const Problem& problem_;
   const ProbeModel& probe_;
-  const BlobStore& blobs_;
+  SourceLoader sources_loader_;
   int threads_;
   SolverAlgorithm algorithm_;
   std::vector<std::unique_ptr<PathSolver>> solvers_;  // one per worker, created on first use
@@ -92,6 +126,7 @@ class TransitionSolver {
     ConfigVectors vectors;
   };
   std::vector<std::optional<LoadedSource>> sources_;  // per worker: the last source read
+  const std::vector<TransitionTask>* wave_ = nullptr;
 };
 
 }  // namespace hapstate

@@ -171,7 +171,7 @@ class Expander {
 
   // Decides and stores one solved batch (canonical order), then commits it.
   void commit_batch(const std::vector<TransitionTask>& tasks,
-                    const std::vector<TransitionSolve>& solves, TransitionSolver& solver,
+                    const std::vector<TransitionSolve>& solves, TransitionEngine& solver,
                     ExpandReport* report) {
     Catalogue& cat = ctx_.catalogue;
     struct NewConfig {
@@ -338,7 +338,8 @@ class Expander {
   const ProbeModel& probe() const { return *probe_; }
 };
 
-std::string parameters_of(const ExpandOptions& o, const LevelTolerances& tol, double max_force) {
+std::string parameters_of(const ExpandOptions& o, const LevelTolerances& tol, double max_force,
+                          const std::string& engine) {
   char buf[360];
   std::snprintf(buf, sizeof buf,
                 "algorithm=%s threads=%d batch=%d max_transitions=%s max_seconds=%s max_force=%.9g "
@@ -347,7 +348,16 @@ std::string parameters_of(const ExpandOptions& o, const LevelTolerances& tol, do
                 o.batch_size, o.max_transitions ? std::to_string(*o.max_transitions).c_str() : "none",
                 o.max_seconds ? std::to_string(*o.max_seconds).c_str() : "none", max_force,
                 tol.displacement, tol.force);
-  return buf;
+  return engine.empty() ? std::string(buf) : std::string(buf) + " " + engine;
+}
+
+std::unique_ptr<TransitionEngine> make_engine(const ExpandOptions& o, const StageContext& ctx,
+                                              const ProbeModel& probe, const BlobStore& blobs) {
+  if (o.engine) return o.engine(ctx, probe, blobs);
+  return std::make_unique<TransitionSolver>(
+      ctx.problem, probe,
+      blob_source_loader(blobs, 3 * static_cast<int>(ctx.problem.mesh.num_nodes()), probe.layout()),
+      o.threads, o.algorithm);
 }
 
 }  // namespace
@@ -366,6 +376,9 @@ ExpandReport run_expand(const ExpandOptions& options) {
   }
   Expander expander(ctx, options);
   expander.validate_blobs();
+  const std::unique_ptr<TransitionEngine> engine =
+      make_engine(options, ctx, expander.probe(), expander.blobs());
+  TransitionEngine& solver = *engine;
 
   ExpandReport report;
   const auto changes = expander.expandable_changes();
@@ -373,7 +386,8 @@ ExpandReport run_expand(const ExpandOptions& options) {
                               {"problem", ctx.problem_hash},
                               {"scene", ctx.scene_record.hash}};
   StageRun run = make_stage_run("expand", inputs,
-                                parameters_of(options, expander.tolerances(), ctx.scene.probe.max_force));
+                                parameters_of(options, expander.tolerances(),
+                                              ctx.scene.probe.max_force, solver.parameters()));
 
   // The device limit may have changed since the last run: expandable follows max_force.
   if (!changes.empty()) {
@@ -413,8 +427,6 @@ ExpandReport run_expand(const ExpandOptions& options) {
   }
 
   try {
-    TransitionSolver solver(ctx.problem, expander.probe(), expander.blobs(), options.threads,
-                            options.algorithm);
     bool stopped = false;
     auto limit_reached = [&] {
       if (stop_requested()) {
@@ -439,6 +451,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
       if (!wave) break;
       std::vector<ConfigId> complete;
       const std::vector<TransitionTask> tasks = expander.tasks_of_wave(*wave, &complete);
+      solver.start_wave(tasks);
       if (!complete.empty()) {
         Transaction tx(cat);
         for (ConfigId id : complete) cat.update_configuration_status(id, ConfigStatus::kExpanded);
@@ -458,7 +471,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
         const std::size_t e = std::min(tasks.size(), b + options.batch_size);
         const std::vector<TransitionTask> batch(tasks.begin() + b, tasks.begin() + e);
         const auto solve_start = SteadyClock::now();
-        const std::vector<TransitionSolve> solves = solver.solve(batch);
+        const std::vector<TransitionSolve> solves = solver.solve_range(b, e);
         const auto store_start = SteadyClock::now();
         expander.commit_batch(batch, solves, solver, &report);
         report.solve_wall_s += std::chrono::duration<double>(store_start - solve_start).count();
@@ -473,7 +486,9 @@ ExpandReport run_expand(const ExpandOptions& options) {
       progress.finish();
     }
     report.outcome = stopped ? StageOutcome::kPartial : StageOutcome::kOk;
+    solver.finish();
     report.solver = solver.timings();
+    report.engine_summary = solver.summary();
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "%s: %lld transitions decided (%lld solved, %lld failed, %lld outside the "

@@ -3,16 +3,27 @@
 #pragma once
 
 #include "catalogue/records.h"
+#include "solver/path_solver.h"
 
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include "solver/path_solver.h"
-
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
 namespace hapstate {
+
+class BlobStore;
+class ProbeModel;
+class TransitionEngine;
+struct StageContext;
+
+// Makes the engine that solves the transitions (see expand_batch.h); called once the state
+// directory is open and validated. Default: `threads` worker threads in this process.
+using TransitionEngineFactory = std::function<std::unique_ptr<TransitionEngine>(
+    const StageContext& ctx, const ProbeModel& probe, const BlobStore& blobs)>;
 
 struct ExpandOptions {
   std::filesystem::path state;
@@ -22,6 +33,7 @@ struct ExpandOptions {
   std::optional<double> max_seconds;         // stop at the first batch boundary past it
   std::FILE* progress = stderr;         // progress line; nullptr: none
   SolverAlgorithm algorithm = SolverAlgorithm::kFast;  // kReference: the paper's (comparisons)
+  TransitionEngineFactory engine;       // empty: threads in this process
 };
 
 struct ExpandReport {
@@ -45,6 +57,7 @@ struct ExpandReport {
   // `solver` sums the workers' assembly / factorisation / solve seconds.
   double wall_s = 0, solve_wall_s = 0, store_wall_s = 0;
   SolverTimings solver;
+  std::string engine_summary;  // how the work was shared (MPI: per rank); "" for threads
 };
 
 // Runs the expansion until every expandable configuration has all 26 directions decided, or

@@ -19,22 +19,6 @@ std::vector<double> flatten(const Matrix& m) {
   return out;
 }
 
-struct ProblemVectors {
-  std::vector<double> nodes, tets, surface, role, probe_nodes, probe_components, rest;
-};
-
-ProblemVectors vectors_of(const Problem& p) {
-  ProblemVectors v;
-  v.nodes = flatten(p.mesh.nodes);
-  v.tets = flatten(p.mesh.tets);
-  v.surface = flatten(p.mesh.surface);
-  for (DofRole r : p.constraints.role) v.role.push_back(static_cast<double>(r));
-  for (int n : p.constraints.probe_nodes) v.probe_nodes.push_back(n);
-  for (bool b : p.constraints.probe_components) v.probe_components.push_back(b ? 1.0 : 0.0);
-  v.rest = {p.probe_rest.x(), p.probe_rest.y(), p.probe_rest.z()};
-  return v;
-}
-
 ContentHash hash_of(const ProblemVectors& v) {
   ContentHasher h;
   for (const auto* part : {&v.nodes, &v.tets, &v.surface, &v.role, &v.probe_nodes,
@@ -60,12 +44,24 @@ std::vector<int> to_ids(const std::vector<double>& v, double limit, const std::s
 
 }  // namespace
 
-ContentHash problem_hash(const Problem& problem) { return hash_of(vectors_of(problem)); }
+ProblemVectors problem_vectors(const Problem& p) {
+  ProblemVectors v;
+  v.nodes = flatten(p.mesh.nodes);
+  v.tets = flatten(p.mesh.tets);
+  v.surface = flatten(p.mesh.surface);
+  for (DofRole r : p.constraints.role) v.role.push_back(static_cast<double>(r));
+  for (int n : p.constraints.probe_nodes) v.probe_nodes.push_back(n);
+  for (bool b : p.constraints.probe_components) v.probe_components.push_back(b ? 1.0 : 0.0);
+  v.rest = {p.probe_rest.x(), p.probe_rest.y(), p.probe_rest.z()};
+  return v;
+}
+
+ContentHash problem_hash(const Problem& problem) { return hash_of(problem_vectors(problem)); }
 
 void write_stored_problem(const StateDir& dir, const Problem& problem,
                           const ContentHash& scene_hash) {
   std::filesystem::create_directories(dir.problem());
-  const ProblemVectors v = vectors_of(problem);
+  const ProblemVectors v = problem_vectors(problem);
   SegmentWriter writer(dir.problem(), kProblemSegment,
                        SegmentProvenance{scene_hash.hex(), "", "import"});
   writer.write("mesh/nodes", v.nodes);
@@ -89,6 +85,11 @@ Problem load_stored_problem(const StateDir& dir, const Scene& scene, const Conte
   v.probe_nodes = store.read(kProblemSegment, "constraints/probe_nodes");
   v.probe_components = store.read(kProblemSegment, "constraints/probe_components");
   v.rest = store.read(kProblemSegment, "probe/rest");
+  return problem_from_vectors(v, scene, expected, where);
+}
+
+Problem problem_from_vectors(const ProblemVectors& v, const Scene& scene,
+                             const ContentHash& expected, const std::string& where) {
   if (hash_of(v) != expected) {
     throw InputError(where + ": the stored mesh and constraints do not match the catalogue's "
                      "record (hash " + hash_of(v).hex() + ", expected " + expected.hex() +

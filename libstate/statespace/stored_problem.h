@@ -11,7 +11,15 @@
 #include "scene/scene.h"
 #include "statespace/state_dir.h"
 
+#include <string>
+#include <vector>
+
 namespace hapstate {
+
+// The stored problem's vectors, as in the segment (integers as float64).
+struct ProblemVectors {
+  std::vector<double> nodes, tets, surface, role, probe_nodes, probe_components, rest;
+};
 
 inline constexpr SegmentId kProblemSegment{1};
 
@@ -28,5 +36,13 @@ void write_stored_problem(const StateDir& dir, const Problem& problem,
 // and max_force. Throws InputError naming the segment if it is missing or unreadable, or if
 // its hash differs from `expected` (the import stage's record).
 Problem load_stored_problem(const StateDir& dir, const Scene& scene, const ContentHash& expected);
+
+// The vectors load_stored_problem reads, taken from a Problem (what the expand stage's
+// coordinator sends to worker ranks that cannot read the state directory).
+ProblemVectors problem_vectors(const Problem& problem);
+// The Problem those vectors and the scene make; the same checks as load_stored_problem, with
+// `where` naming the source in messages.
+Problem problem_from_vectors(const ProblemVectors& v, const Scene& scene,
+                             const ContentHash& expected, const std::string& where);
 
 }  // namespace hapstate

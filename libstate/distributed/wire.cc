@@ -1,0 +1,252 @@
+#include "distributed/wire.h"
+
+#include <cstring>
+#include <stdexcept>
+
+namespace hapstate::wire {
+namespace {
+
+// No count in a message can exceed the bytes left (each element is at least one byte).
+std::uint64_t checked_count(std::uint64_t count, std::size_t left) {
+  if (count > left) throw std::runtime_error("MPI message: count " + std::to_string(count) +
+                                             " exceeds the message (different builds?)");
+  return count;
+}
+
+void put_vec3(Writer& w, const Eigen::Vector3d& v) {
+  w.pod(v.x());
+  w.pod(v.y());
+  w.pod(v.z());
+}
+
+Eigen::Vector3d get_vec3(Reader& r) {
+  const double x = r.pod<double>(), y = r.pod<double>(), z = r.pod<double>();
+  return {x, y, z};
+}
+
+}  // namespace
+
+void Writer::append(const void* data, std::size_t size) {
+  if (size == 0) return;
+  const std::size_t at = bytes_.size();
+  bytes_.resize(at + size);
+  std::memcpy(bytes_.data() + at, data, size);
+}
+
+void Writer::string(const std::string& s) {
+  pod<std::uint64_t>(s.size());
+  append(s.data(), s.size());
+}
+
+void Writer::doubles(const std::vector<double>& v) {
+  pod<std::uint64_t>(v.size());
+  append(v.data(), v.size() * sizeof(double));
+}
+
+void Writer::ints(const std::vector<int>& v) {
+  pod<std::uint64_t>(v.size());
+  append(v.data(), v.size() * sizeof(int));
+}
+
+const char* Reader::take(std::size_t n) {
+  if (static_cast<std::size_t>(end_ - p_) < n)
+    throw std::runtime_error("MPI message ends early (different builds?)");
+  const char* p = p_;
+  p_ += n;
+  return p;
+}
+
+std::string Reader::string() {
+  const auto n = checked_count(pod<std::uint64_t>(), end_ - p_);
+  const char* p = take(n);
+  return std::string(p, n);
+}
+
+std::vector<double> Reader::doubles() {
+  const auto n = checked_count(pod<std::uint64_t>(), end_ - p_);
+  std::vector<double> v(n);
+  std::memcpy(v.data(), take(n * sizeof(double)), n * sizeof(double));
+  return v;
+}
+
+std::vector<int> Reader::ints() {
+  const auto n = checked_count(pod<std::uint64_t>(), end_ - p_);
+  std::vector<int> v(n);
+  std::memcpy(v.data(), take(n * sizeof(int)), n * sizeof(int));
+  return v;
+}
+
+void put(Writer& w, const Setup& s) {
+  w.pod(static_cast<int>(s.algorithm));
+  w.pod(s.threads);
+  w.string(s.scene_text);
+  w.string(s.scene_label);
+  w.pod(s.problem_hash);
+  const ProblemVectors& p = s.problem;
+  for (const auto* v : {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes,
+                        &p.probe_components, &p.rest})
+    w.doubles(*v);
+}
+
+Setup get_setup(Reader& r) {
+  Setup s;
+  s.algorithm = static_cast<SolverAlgorithm>(r.pod<int>());
+  s.threads = r.pod<int>();
+  s.scene_text = r.string();
+  s.scene_label = r.string();
+  s.problem_hash = r.pod<std::uint64_t>();
+  ProblemVectors& p = s.problem;
+  for (auto* v : {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes, &p.probe_components,
+                  &p.rest})
+    *v = r.doubles();
+  return s;
+}
+
+void put(Writer& w, const ConfigVectors& v) {
+  w.doubles(v.u);
+  w.doubles(v.t);
+  w.doubles(v.h);
+  w.ints(v.touched);
+  w.doubles(v.multipliers);
+}
+
+ConfigVectors get_vectors(Reader& r) {
+  ConfigVectors v;
+  v.u = r.doubles();
+  v.t = r.doubles();
+  v.h = r.doubles();
+  v.touched = r.ints();
+  v.multipliers = r.doubles();
+  return v;
+}
+
+void put(Writer& w, const TransitionChunk& c) {
+  w.pod<std::uint64_t>(c.sources.size());
+  for (const ConfigVectors& v : c.sources) put(w, v);
+  w.pod<std::uint64_t>(c.tasks.size());
+  for (std::size_t k = 0; k < c.tasks.size(); ++k) {
+    const TransitionTask& t = c.tasks[k];
+    w.pod(c.jobs[k]);
+    w.pod(c.source_of[k]);
+    w.pod(t.source.id.value());
+    w.pod<std::uint8_t>(t.source.blob ? 1 : 0);
+    w.pod(t.direction.index());
+    put_vec3(w, t.from);
+    put_vec3(w, t.to);
+    w.pod<std::uint8_t>(t.target ? 1 : 0);
+    w.pod(t.target ? t.target->value() : std::int64_t{0});
+  }
+}
+
+TransitionChunk get_transition_chunk(Reader& r) {
+  TransitionChunk c;
+  const auto sources = r.pod<std::uint64_t>();
+  for (std::uint64_t k = 0; k < sources; ++k) c.sources.push_back(get_vectors(r));
+  const auto tasks = r.pod<std::uint64_t>();
+  for (std::uint64_t k = 0; k < tasks; ++k) {
+    TransitionTask t;
+    c.jobs.push_back(r.pod<std::uint64_t>());
+    const int source = r.pod<int>();
+    if (source < 0 || static_cast<std::size_t>(source) >= c.sources.size())
+      throw std::runtime_error("MPI message: source index out of range (different builds?)");
+    c.source_of.push_back(source);
+    t.source.id = ConfigId(r.pod<std::int64_t>());
+    // The worker never reads blobs: a placeholder marks "has stored vectors" (they travel here).
+    if (r.pod<std::uint8_t>()) t.source.blob = BlobRef{SegmentId(1), "sent"};
+    t.direction = Direction(r.pod<int>());
+    t.from = get_vec3(r);
+    t.to = get_vec3(r);
+    const bool has_target = r.pod<std::uint8_t>() != 0;
+    const auto target = r.pod<std::int64_t>();
+    if (has_target) t.target = CheckpointId(target);
+    c.tasks.push_back(std::move(t));
+  }
+  return c;
+}
+
+void put(Writer& w, const StiffnessChunk& c) {
+  w.pod<std::uint64_t>(c.jobs.size());
+  for (std::size_t k = 0; k < c.jobs.size(); ++k) {
+    w.pod(c.jobs[k]);
+    put_vec3(w, c.positions[k]);
+    put(w, c.vectors[k]);
+  }
+}
+
+StiffnessChunk get_stiffness_chunk(Reader& r) {
+  StiffnessChunk c;
+  const auto n = r.pod<std::uint64_t>();
+  for (std::uint64_t k = 0; k < n; ++k) {
+    c.jobs.push_back(r.pod<std::uint64_t>());
+    c.positions.push_back(get_vec3(r));
+    c.vectors.push_back(get_vectors(r));
+  }
+  return c;
+}
+
+void put(Writer& w, const TransitionSolve& s) {
+  w.pod<std::uint8_t>(s.solved);
+  w.pod<std::uint8_t>(s.trivial);
+  const MoveResult& m = s.move;
+  w.pod<std::uint8_t>(m.ok);
+  w.pod(static_cast<int>(m.failure));
+  w.string(m.reason);
+  for (int v : {m.substeps, m.cutbacks, m.iterations, m.factorisations, m.start_factorisations,
+                m.active_set_iterations})
+    w.pod(v);
+  w.pod(m.residual);
+  w.pod(m.wall_ms);
+  w.doubles(m.residual_history);
+  put(w, s.vectors);
+  for (double f : s.force) w.pod(f);
+}
+
+TransitionSolve get_transition_solve(Reader& r) {
+  TransitionSolve s;
+  s.solved = r.pod<std::uint8_t>() != 0;
+  s.trivial = r.pod<std::uint8_t>() != 0;
+  MoveResult& m = s.move;
+  m.ok = r.pod<std::uint8_t>() != 0;
+  m.failure = static_cast<SolveFailure>(r.pod<int>());
+  m.reason = r.string();
+  for (int* v : {&m.substeps, &m.cutbacks, &m.iterations, &m.factorisations,
+                 &m.start_factorisations, &m.active_set_iterations})
+    *v = r.pod<int>();
+  m.residual = r.pod<double>();
+  m.wall_ms = r.pod<double>();
+  m.residual_history = r.doubles();
+  s.vectors = get_vectors(r);
+  for (double& f : s.force) f = r.pod<double>();
+  return s;
+}
+
+void put(Writer& w, const StiffnessResult& s) {
+  for (double k : s.stiffness) w.pod(k);
+  w.pod(s.factorisations);
+}
+
+StiffnessResult get_stiffness_result(Reader& r) {
+  StiffnessResult s;
+  for (double& k : s.stiffness) k = r.pod<double>();
+  s.factorisations = r.pod<int>();
+  return s;
+}
+
+void put(Writer& w, const SolverTimings& t) {
+  for (double v : {t.assembly, t.factorize, t.solve, t.analyze, t.contact_detection}) w.pod(v);
+  for (long long v : {t.assemblies, t.factorizations, t.psd_fallbacks, t.inner_iterations,
+                      t.contact_queries})
+    w.pod(v);
+}
+
+SolverTimings get_timings(Reader& r) {
+  SolverTimings t;
+  for (double* v : {&t.assembly, &t.factorize, &t.solve, &t.analyze, &t.contact_detection})
+    *v = r.pod<double>();
+  for (long long* v : {&t.assemblies, &t.factorizations, &t.psd_fallbacks, &t.inner_iterations,
+                       &t.contact_queries})
+    *v = r.pod<long long>();
+  return t;
+}
+
+}  // namespace hapstate::wire
