@@ -95,14 +95,15 @@ int main(int argc, char** argv) {
       const SolverTimings& t = r.solver;
       const double cpu = t.assembly + t.factorize + t.solve;
       std::printf("hapstate-expand: timings: wall %.2f s = solves %.2f s (%.0f%%) + storing %.2f s "
-                  "(%.0f%%) + other %.2f s; in the solvers (summed over %d threads): assembly "
+                  "(%.0f%%) + other %.2f s; in the solvers (summed over %d threads%s): assembly "
                   "%.0f%%, factorisation %.0f%%, solve %.0f%% of %.2f s; %.1f transitions/s, "
                   "%.1f ms per solved transition; per solved transition %.2f factorisations (%.2f "
                   "the transition's own, as the catalogue records them, the rest the source "
                   "states', shared by their directions) and %.1f conjugate-gradient iterations\n",
                   r.wall_s, r.solve_wall_s, 100 * r.solve_wall_s / r.wall_s, r.store_wall_s,
                   100 * r.store_wall_s / r.wall_s, r.wall_s - r.solve_wall_s - r.store_wall_s,
-                  o.threads, cpu > 0 ? 100 * t.assembly / cpu : 0,
+                  o.threads, mpi.distributed() ? " per worker rank" : "",
+                  cpu > 0 ? 100 * t.assembly / cpu : 0,
                   cpu > 0 ? 100 * t.factorize / cpu : 0, cpu > 0 ? 100 * t.solve / cpu : 0, cpu,
                   r.decided / r.wall_s, r.solved ? 1e3 * r.wall_s / r.solved : 0.0,
                   r.solved ? double(t.factorizations) / r.solved : 0.0,

@@ -55,7 +55,7 @@ class MpiEngine final : public TransitionEngine {
         load_source_(blob_source_loader(
             blobs, 3 * static_cast<int>(ctx.problem.mesh.num_nodes()), probe.layout())),
         start_(Clock::now()) {
-    for (int r = 1; r < session.size(); ++r) workers_.push_back(Worker{r, 0, 0, 0, 0.0, SolverTimings{}});
+    for (int r = 1; r < session.size(); ++r) workers_.push_back(Worker{r, 0, 0, 0, 0.0, SolverTimings{}, 0});
     wire::Setup setup;
     setup.algorithm = algorithm;
     setup.threads = threads;
@@ -156,19 +156,22 @@ class MpiEngine final : public TransitionEngine {
     for (const Worker& w : workers_) solved += w.transitions;
     std::snprintf(buf, sizeof buf,
                   "%zu worker ranks x %d threads over %.1f s; rank 0 (coordinator) waited for "
-                  "results %.1f s (%.0f%%), sent %s, received %s (%.1f KB per solved transition)",
+                  "results %.1f s (%.0f%%), sent %s, received %s (%.1f KB per solved transition), "
+                  "peak memory %s",
                   workers_.size(), threads_, wall, waited_s_, wall > 0 ? 100 * waited_s_ / wall : 0,
                   megabytes(sends_.bytes_sent()).c_str(), megabytes(bytes_received_).c_str(),
-                  solved ? (sends_.bytes_sent() + bytes_received_) / 1e3 / solved : 0.0);
+                  solved ? (sends_.bytes_sent() + bytes_received_) / 1e3 / solved : 0.0,
+                  megabytes(peak_rss_bytes()).c_str());
     out += buf;
     for (const Worker& w : workers_) {
       std::snprintf(buf, sizeof buf,
                     "\n  rank %d: %lld transitions solved, %lld stiffnesses, %.1f transitions/s "
-                    "while busy; busy %.1f s, idle %.1f s (%.0f%%)",
+                    "while busy; busy %.1f s, idle %.1f s (%.0f%%); peak memory %s",
                     w.rank, w.transitions, w.stiffnesses,
                     w.busy_s > 0 ? w.transitions / w.busy_s : 0.0, w.busy_s,
                     std::max(0.0, wall - w.busy_s),
-                    wall > 0 ? 100 * std::max(0.0, wall - w.busy_s) / wall : 0.0);
+                    wall > 0 ? 100 * std::max(0.0, wall - w.busy_s) / wall : 0.0,
+                    megabytes(w.peak_rss).c_str());
       out += buf;
     }
     return out;
@@ -184,6 +187,7 @@ class MpiEngine final : public TransitionEngine {
       Worker& w = workers_[rank - 1];
       w.busy_s = r.pod<double>();
       w.timings = wire::get_timings(r);
+      w.peak_rss = r.pod<long long>();
     }
     g_workers_released = true;
   }
@@ -195,6 +199,7 @@ class MpiEngine final : public TransitionEngine {
     long long transitions = 0, stiffnesses = 0;
     double busy_s = 0;
     SolverTimings timings;
+    long long peak_rss = 0;  // bytes, reported when it stops
   };
   static constexpr int kChunksPerWorker = 2;
 

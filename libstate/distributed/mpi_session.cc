@@ -3,6 +3,7 @@
 #include <mpi.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -19,6 +20,12 @@ bool launched_by_mpi() {
   for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "PMI_RANK"})
     if (std::getenv(var)) return true;
   return false;
+}
+
+long long peak_rss_bytes() {
+  struct rusage usage {};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return 1024LL * usage.ru_maxrss;  // Linux: kilobytes
 }
 
 MpiSession::MpiSession(int* argc, char*** argv) {

@@ -14,6 +14,9 @@ namespace hapstate {
 // True when an MPI launcher started this process.
 bool launched_by_mpi();
 
+// This process's peak resident memory so far, bytes (each rank reports its own).
+long long peak_rss_bytes();
+
 class MpiSession {
  public:
   // Calls MPI_Init_thread (FUNNELED) if launched_by_mpi(); otherwise does nothing. Under MPI the

@@ -102,6 +102,7 @@ void run_mpi_worker() {
       wire::Writer w;
       w.pod(state ? state->busy_s : 0.0);
       wire::put(w, state ? state->solver->timings() : SolverTimings{});
+      w.pod(peak_rss_bytes());
       mpi::send(0, mpi::kBye, w.bytes());
       return;
     }

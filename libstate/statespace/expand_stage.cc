@@ -3,6 +3,7 @@
 #include "blobs/blob_store.h"
 #include "blobs/segment_writer.h"
 #include "catalogue/transaction.h"
+#include "statespace/batch_decision.h"
 #include "statespace/expand_batch.h"
 #include "statespace/level_match.h"
 #include "statespace/probe_model.h"
@@ -36,6 +37,17 @@ struct GridIndexOf {
   std::map<GridIndex, Checkpoint> by_ijk;
   std::unordered_map<CheckpointId, GridIndex> ijk_of;
 };
+
+void add_counts(const BatchCounts& n, ExpandReport* r) {
+  r->decided += n.decided;
+  r->solved += n.solved;
+  r->trivial += n.trivial;
+  r->failed += n.failed;
+  r->factorisations += n.factorisations;
+  r->outside += n.outside;
+  r->new_configurations += n.new_configurations;
+  r->reused_levels += n.reused_levels;
+}
 
 // Everything the batches share.
 class Expander {
@@ -169,122 +181,43 @@ class Expander {
     return tasks;
   }
 
-  // Decides and stores one solved batch (canonical order), then commits it.
+  // Decides one solved batch (canonical order, batch_decision.h), stores it (the new
+  // configurations' stiffness from the engine, their vectors in a new segment closed before
+  // the one transaction that references it) and commits.
   void commit_batch(const std::vector<TransitionTask>& tasks,
                     const std::vector<TransitionSolve>& solves, TransitionEngine& solver,
                     ExpandReport* report) {
     Catalogue& cat = ctx_.catalogue;
-    struct NewConfig {
-      Configuration config;
-      const ConfigVectors* vectors;
-      std::size_t transition;  // index in `transitions` of the transition that reached it
-      Eigen::Vector3d position;
+    DecideSettings settings;
+    settings.sketch = &sketch_;
+    settings.tolerances = tolerances_;
+    settings.bound_by_touched = probe_->stores_touched();
+    settings.num_probe_nodes = num_probe_nodes_;
+    settings.expandable = [this](CheckpointId c, const std::array<double, 3>& f) {
+      return is_expandable(c, f);
     };
-    std::vector<NewConfig> fresh;
-    std::vector<Transition> transitions;
-    std::map<ConfigId, int> decided;
-    ConfigId next_id(std::max<std::int64_t>(cat.max_config_id().value(), 0) + 1);
-    const SegmentId segment = blobs_.next_segment_id();
+    settings.next_id = ConfigId(std::max<std::int64_t>(cat.max_config_id().value(), 0) + 1);
+    settings.segment = blobs_.next_segment_id();
+    CatalogueLevels stored(*this);
+    BatchDecision decision = decide_batch(tasks, solves, stored, settings);
+    add_counts(decision.counts, report);
 
-    for (std::size_t k = 0; k < tasks.size(); ++k) {
-      const TransitionTask& task = tasks[k];
-      const TransitionSolve& solve = solves[k];
-      Transition t;
-      t.source = task.source.id;
-      t.direction = task.direction;
-      ++decided[task.source.id];
-      ++report->decided;
-      if (!task.target) {
-        t.outcome = TransitionOutcome::kOutsideGrid;
-        ++report->outside;
-        transitions.push_back(t);
-        continue;
-      }
-      ++report->solved;
-      if (solve.trivial) ++report->trivial;
-      t.substeps = solve.move.substeps;
-      t.newton_iterations = solve.move.iterations;
-      // The start state's factorisation is shared by the source's directions, and which of them
-      // pays it depends on the threads and batches: the catalogue keeps the transition's own.
-      t.factorisations = solve.move.factorisations - solve.move.start_factorisations;
-      report->factorisations += solve.move.factorisations - solve.move.start_factorisations;
-      t.final_residual = std::isfinite(solve.move.residual) ? solve.move.residual : 0.0;
-      t.wall_ms = solve.move.wall_ms;
-      if (!solve.move.ok) {
-        t.outcome = TransitionOutcome::kFailed;
-        t.failure_reason = std::string(failure_name(solve.move.failure)) + ": " + solve.move.reason;
-        ++report->failed;
-        transitions.push_back(t);
-        continue;
-      }
-      t.outcome = TransitionOutcome::kReached;
-      // Compare with every level at the target, stored or new in this batch.
-      const std::vector<double> summary = sketch_.summary(solve.vectors.u);
-      double best = 2.0;
-      ConfigId best_id;
-      auto consider = [&](const Configuration& level, const ConfigVectors* in_memory) {
-        if (level.status == ConfigStatus::kMerged) return;
-        // Sticking contact: levels with a different touched set are never equal, so the bound
-        // may use this result's touched count; frictionless: h is the resultant force itself.
-        const int probe_nodes =
-            probe_->stores_touched()
-                ? std::max<int>(1, static_cast<int>(solve.vectors.touched.size()))
-                : num_probe_nodes_;
-        if (level_distance_bound(summary, solve.force, level.summary, level.force, tolerances_,
-                                 probe_nodes) > 1.0)
-          return;
-        const ConfigVectors& v = in_memory ? *in_memory : cached_vectors(level);
-        const double d = level_distance(solve.vectors, v, tolerances_);
-        if (d <= 1.0 && d < best) {
-          best = d;
-          best_id = level.id;
-        }
-      };
-      for (const Configuration& level : cat.configurations_at(*task.target)) consider(level, nullptr);
-      int new_here = 0;
-      for (const NewConfig& n : fresh) {
-        if (n.config.checkpoint != *task.target) continue;
-        ++new_here;
-        consider(n.config, n.vectors);
-      }
-      if (best_id.valid()) {
-        t.target = best_id;
-        ++report->reused_levels;
-      } else {
-        Configuration c;
-        c.id = next_id;
-        next_id = ConfigId(next_id.value() + 1);
-        c.checkpoint = *task.target;
-        c.level = Level(cat.next_level(*task.target).value() + new_here);
-        c.wave = task.source.wave + 1;
-        c.force = solve.force;
-        c.expandable = is_expandable(c.checkpoint, c.force);
-        c.status = ConfigStatus::kOpen;
-        c.blob = BlobRef{segment, "c" + std::to_string(c.id.value())};
-        c.summary = summary;
-        t.target = c.id;
-        fresh.push_back({c, &solve.vectors, transitions.size(), task.to});
-        ++report->new_configurations;
-      }
-      transitions.push_back(t);
-    }
-
-    // The new configurations' haptic stiffness (in parallel; the transition that reached one
-    // is charged its factorisation).
+    // The new configurations' haptic stiffness (the transition that reached one is charged
+    // its factorisation).
     std::vector<StiffnessTask> stiffness_tasks;
-    for (const NewConfig& n : fresh) stiffness_tasks.push_back({n.vectors, n.position});
+    for (const NewConfiguration& n : decision.fresh) stiffness_tasks.push_back({n.vectors, n.position});
     const std::vector<StiffnessResult> stiffness = solver.stiffnesses(stiffness_tasks);
-    for (std::size_t k = 0; k < fresh.size(); ++k) {
-      fresh[k].config.stiffness = stiffness[k].stiffness;
-      transitions[fresh[k].transition].factorisations += stiffness[k].factorisations;
+    for (std::size_t k = 0; k < decision.fresh.size(); ++k) {
+      decision.fresh[k].config.stiffness = stiffness[k].stiffness;
+      decision.transitions[decision.fresh[k].transition].factorisations += stiffness[k].factorisations;
       report->factorisations += stiffness[k].factorisations;
     }
 
     // Vectors first, durable, then the rows that reference them.
-    if (!fresh.empty()) {
-      SegmentWriter writer(blobs_.directory(), segment,
+    if (!decision.fresh.empty()) {
+      SegmentWriter writer(blobs_.directory(), settings.segment,
                            SegmentProvenance{ctx_.scene_record.hash.hex(), "", "expand"});
-      for (const NewConfig& n : fresh) {
+      for (const NewConfiguration& n : decision.fresh) {
         writer.write(n.config.blob->name + "/u", n.vectors->u);
         writer.write(n.config.blob->name + "/t", n.vectors->t);
         writer.write(n.config.blob->name + "/h", n.vectors->h);
@@ -298,9 +231,9 @@ class Expander {
       writer.close();
     }
     Transaction tx(cat);
-    for (const NewConfig& n : fresh) cat.insert_configuration(n.config);
-    for (const Transition& t : transitions) cat.insert_transition(t);
-    for (const auto& [source, count] : decided) {
+    for (const NewConfiguration& n : decision.fresh) cat.insert_configuration(n.config);
+    for (const Transition& t : decision.transitions) cat.insert_transition(t);
+    for (const auto& [source, count] : decision.decided) {
       if (decided_before_[source] + count == Direction::kCount) {
         cat.update_configuration_status(source, ConfigStatus::kExpanded);
       }
@@ -310,6 +243,20 @@ class Expander {
   }
 
  private:
+  // The stored levels as decide_batch sees them: the catalogue's rows, vectors from the blobs.
+  class CatalogueLevels final : public StoredLevels {
+   public:
+    explicit CatalogueLevels(Expander& e) : e_(e) {}
+    std::vector<Configuration> at(CheckpointId c) override {
+      return e_.ctx_.catalogue.configurations_at(c);
+    }
+    Level next_level(CheckpointId c) override { return e_.ctx_.catalogue.next_level(c); }
+    const ConfigVectors& vectors(const Configuration& c) override { return e_.cached_vectors(c); }
+
+   private:
+    Expander& e_;
+  };
+
   const ConfigVectors& cached_vectors(const Configuration& c) {
     auto it = cache_.find(c.id);
     if (it != cache_.end()) return it->second;
@@ -362,9 +309,19 @@ std::unique_ptr<TransitionEngine> make_engine(const ExpandOptions& o, const Stag
 
 }  // namespace
 
+void ExpandOptions::check() const {
+  if (state.empty()) throw InputError("--state: no state directory given");
+  if (threads < 1) throw InputError("--threads must be >= 1 (got " + std::to_string(threads) + ")");
+  if (batch_size < 1)
+    throw InputError("--batch must be >= 1 (got " + std::to_string(batch_size) + ")");
+  if (max_transitions && *max_transitions < 1)
+    throw InputError("--max-transitions must be >= 1 (got " + std::to_string(*max_transitions) + ")");
+  if (max_seconds && !(*max_seconds > 0))
+    throw InputError("--max-seconds must be > 0 (got " + std::to_string(*max_seconds) + ")");
+}
+
 ExpandReport run_expand(const ExpandOptions& options) {
-  if (options.threads < 1) throw InputError("--threads must be >= 1");
-  if (options.batch_size < 1) throw InputError("--batch must be >= 1");
+  options.check();
   const auto start = SteadyClock::now();
   StageContext ctx = open_stage_context(options.state);
   Catalogue& cat = ctx.catalogue;

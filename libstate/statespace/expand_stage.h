@@ -34,6 +34,9 @@ struct ExpandOptions {
   std::FILE* progress = stderr;         // progress line; nullptr: none
   SolverAlgorithm algorithm = SolverAlgorithm::kFast;  // kReference: the paper's (comparisons)
   TransitionEngineFactory engine;       // empty: threads in this process
+
+  // Throws InputError naming the first option out of range (run_expand calls it first).
+  void check() const;
 };
 
 struct ExpandReport {

@@ -15,6 +15,7 @@ namespace hapstate::test_util {
 namespace {
 
 const std::string kLiverScene = HAPSTATE_SOURCE_DIR "/pipelines/liver/scene.toml";
+const std::string kLiverContactScene = HAPSTATE_SOURCE_DIR "/pipelines/liver-contact/scene.toml";
 
 class Mpi : public StageTest {
  protected:
@@ -100,6 +101,19 @@ TEST_F(Mpi, RanksAndThreadsDoNotChangeTheLiverCatalogue) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     expect_same_catalogue(reference, state);
   }
+}
+
+// A sphere touching the liver (frictionless): the contact multipliers travel with the source
+// vectors and come back with the results.
+TEST_F(Mpi, ContactProbeCatalogueIsTheSame) {
+  const std::vector<std::string> limit{"--max-transitions", "320"};
+  const fs::path reference = dir_ / "reference", state = dir_ / "state";
+  import_and_grid(reference, kLiverContactScene);
+  ASSERT_EQ(expand_stage(reference, 1, dir_, limit).exit_code, 0);
+  import_and_grid(state, kLiverContactScene);
+  const StageResult r = mpi_expand(3, state, 1, limit);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_same_catalogue(reference, state);
 }
 
 TEST_F(Mpi, KilledMpirunResumesToTheSameCatalogue) {
