@@ -188,7 +188,14 @@ void require_expansion(StageContext& ctx) {
 
 }  // namespace
 
+void IndexOptions::check() const {
+  if (state.empty()) throw InputError("--state: no state directory given");
+  if (!output.empty() && output.filename().empty())
+    throw InputError("--output " + output.string() + ": names a directory, not a file");
+}
+
 IndexReport run_index(const IndexOptions& options) {
+  options.check();
   const auto start = std::chrono::steady_clock::now();
   StageContext ctx = open_stage_context(options.state);
   require_expansion(ctx);
@@ -207,7 +214,7 @@ IndexReport run_index(const IndexOptions& options) {
     report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
     report.message = "unchanged: " + report.output.string() + " is up to date (" +
                      std::to_string(report.configurations) + " configurations)";
-    run.outcome = StageOutcome::kUnchanged;
+    record_unchanged(ctx.catalogue, run, report.message);
   } else {
     const std::string replaced = describe_existing(report.output);
     BlobStore blobs(ctx.dir.blobs());
@@ -239,10 +246,10 @@ IndexReport run_index(const IndexOptions& options) {
                   static_cast<long long>(report.view_nodes), report.bytes / 1e6);
     report.message = "wrote " + report.output.string() + ": " + text;
     if (!replaced.empty()) report.message += " (replaced the previous file: " + replaced + ")";
+    run.ended = now_ms();
+    run.message = report.message;
+    ctx.catalogue.insert_stage_run(run);
   }
-  run.ended = now_ms();
-  run.message = report.message;
-  ctx.catalogue.insert_stage_run(run);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

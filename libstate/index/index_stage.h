@@ -16,6 +16,9 @@ struct IndexOptions {
   std::filesystem::path output;         // "" = <state>/playback.bin
   ViewNodes view = ViewNodes::kAll;  // whose displacements are stored
   std::FILE* progress = stderr;         // progress line; nullptr: none
+
+  // Throws InputError naming the first missing option (run_index calls it first).
+  void check() const;
 };
 
 struct IndexReport {

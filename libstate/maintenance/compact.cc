@@ -5,6 +5,7 @@
 #include "catalogue/transaction.h"
 #include "maintenance/level_merge.h"
 #include "scene/scene.h"
+#include "statespace/stage_record.h"
 #include "util/error.h"
 
 #include <algorithm>
@@ -13,8 +14,6 @@
 
 namespace hapstate {
 namespace {
-
-TimeMs now_ms() { return std::chrono::time_point_cast<std::chrono::milliseconds>(Clock::now()); }
 
 void say(std::FILE* log, const std::string& line) {
   if (log != nullptr) std::fprintf(log, "hapstate-compact: %s\n", line.c_str());
@@ -84,8 +83,17 @@ std::string CompactReport::text() const {
   return s.str();
 }
 
+void CompactOptions::check() const {
+  if (repack.max_segment_values < 1)
+    throw InputError("--segment-values must be >= 1 (got " +
+                     std::to_string(repack.max_segment_values) + ")");
+  if (repack.zstd_level < 1 || repack.zstd_level > 22)
+    throw InputError("--zstd-level must be in 1..22 (got " + std::to_string(repack.zstd_level) + ")");
+}
+
 CompactReport compact_state(const std::filesystem::path& state_dir, const CompactOptions& options,
                             std::FILE* log) {
+  options.check();
   const StateDir dir = locate_state(state_dir);
   std::optional<StateDirLock> lock;
   if (!options.dry_run) lock.emplace(dir);
@@ -106,15 +114,13 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
 
   StageRunId run_id;
   if (!options.dry_run) {
-    StageRun run;
-    run.stage = "compact";
-    run.inputs = {{"scene", scene_hash}};
-    run.parameters = "max_segment_values=" + std::to_string(options.repack.max_segment_values) +
-                     " zstd_level=" + std::to_string(options.repack.zstd_level);
-    run.started = now_ms();
-    run_id = catalogue.insert_stage_run(run);
+    run_id = catalogue.insert_stage_run(make_stage_run(
+        "compact", {{"scene", scene_hash}},
+        "max_segment_values=" + std::to_string(options.repack.max_segment_values) +
+            " zstd_level=" + std::to_string(options.repack.zstd_level)));
   }
-  try {
+  // Returns true when a dry run found and reported what it would do.
+  auto work = [&]() -> bool {
     // 1. Garbage left by a crash (or by an earlier compaction that died before deleting).
     const std::set<SegmentId> referenced = catalogue.referenced_segments();
     report.garbage_segments = static_cast<std::int64_t>(blobs.unreferenced_segments(referenced).size());
@@ -154,7 +160,7 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
         if (c.blob && !(plan.needed && emptied.contains(c.blob->segment))) kept.insert(c.blob->segment);
       report.after = report.before;
       report.after.segments = static_cast<std::int64_t>(kept.size()) + report.new_segments;
-      return report;
+      return true;  // a dry run ends here
     }
 
     RepackResult repacked;
@@ -184,15 +190,10 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     catalogue.update_stage_run_end(run_id, report.nothing_to_do ? StageOutcome::kUnchanged : StageOutcome::kOk,
                                    now_ms(), report.nothing_to_do ? "nothing to do" : counts_text(report));
     if (!report.nothing_to_do) catalogue.vacuum();
-  } catch (const std::exception& e) {
-    if (run_id.valid()) {
-      try {
-        catalogue.update_stage_run_end(run_id, StageOutcome::kFailed, now_ms(), e.what());
-      } catch (...) {
-      }
-    }
-    throw;
-  }
+    return false;
+  };
+  // A dry run records no stage run.
+  if (run_id.valid() ? with_run_record(catalogue, run_id, work) : work()) return report;
   blobs.close_all();
   catalogue_slot.reset();  // closing the last connection folds the WAL into the file
   report.after = measure_disk_use(dir);

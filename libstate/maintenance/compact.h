@@ -22,6 +22,9 @@ struct CompactOptions {
   // durable, catalogue not yet changed) and "committed" (catalogue repointed, old segments
   // not yet deleted). Throwing from it simulates a crash there.
   std::function<void(std::string_view point)> fault_point;
+
+  // Throws InputError naming the first option out of range (compact_state calls it first).
+  void check() const;
 };
 
 struct CompactReport {

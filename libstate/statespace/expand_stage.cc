@@ -354,10 +354,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
     report.expandable_changed = static_cast<long long>(changes.size());
   }
   if (!expander.next_wave()) {
-    run.outcome = StageOutcome::kUnchanged;
-    run.ended = now_ms();
-    run.message = "nothing to do";
-    cat.insert_stage_run(run);
+    record_unchanged(cat, run, "nothing to do");
     report.outcome = StageOutcome::kUnchanged;
     report.message = "nothing to do: every expandable configuration is fully expanded (" +
                      std::to_string(cat.num_configurations()) + " configurations, " +
@@ -383,7 +380,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
     tx.commit();
   }
 
-  try {
+  with_run_record(cat, run_id, [&] {
     bool stopped = false;
     auto limit_reached = [&] {
       if (stop_requested()) {
@@ -460,13 +457,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
                   static_cast<long long>(cat.num_transitions()));
     report.message = buf;
     cat.update_stage_run_end(run_id, report.outcome, now_ms(), report.message);
-  } catch (const std::exception& e) {
-    try {
-      cat.update_stage_run_end(run_id, StageOutcome::kFailed, now_ms(), e.what());
-    } catch (...) {
-    }
-    throw;
-  }
+  });
   report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();
   return report;
 }

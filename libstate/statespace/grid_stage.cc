@@ -43,7 +43,12 @@ Configuration zero_configuration(const StageContext& ctx, CheckpointId checkpoin
 
 }  // namespace
 
+void GridOptions::check() const {
+  if (state.empty()) throw InputError("--state: no state directory given");
+}
+
 GridReport run_grid(const GridOptions& options) {
+  options.check();
   StageContext ctx = open_stage_context(options.state);
   Catalogue& cat = ctx.catalogue;
   const GridSpec& grid = ctx.grid;
@@ -73,10 +78,7 @@ GridReport run_grid(const GridOptions& options) {
   }
   const auto last = cat.last_successful_stage_run("grid");
   if (last && same_inputs(*last, inputs, {"grid", "problem"}) && !existing.empty()) {
-    run.outcome = StageOutcome::kUnchanged;
-    run.ended = now_ms();
-    run.message = "unchanged";
-    cat.insert_stage_run(run);
+    record_unchanged(cat, run, "unchanged");
     report.unchanged = true;
     report.checkpoints_total = static_cast<std::int64_t>(existing.size());
     report.message = "unchanged: the grid is up to date (" + std::to_string(existing.size()) +

@@ -10,6 +10,9 @@ namespace hapstate {
 
 struct GridOptions {
   std::filesystem::path state;
+
+  // Throws InputError naming the first missing option (run_grid calls it first).
+  void check() const;
 };
 
 struct GridReport {

@@ -82,7 +82,13 @@ std::string format_force(double f) {
 
 }  // namespace
 
+void ImportOptions::check() const {
+  if (scene.empty()) throw InputError("no scene file given");
+  if (state.empty()) throw InputError("--state: no state directory given");
+}
+
 ImportReport run_import(const ImportOptions& options) {
+  options.check();
   // 1. Validate everything before touching the state directory.
   const Scene scene = load_scene(options.scene);
   MeshReport mesh_report;
@@ -159,11 +165,8 @@ ImportReport run_import(const ImportOptions& options) {
   }
   Catalogue catalogue(dir.catalogue(), OpenMode::kMigrate);
   StageRun run = make_stage_run("import", identity, parameters_of(options));
-  run.ended = now_ms();
   if (changed.empty()) {
-    run.outcome = StageOutcome::kUnchanged;
-    run.message = "unchanged";
-    catalogue.insert_stage_run(run);
+    record_unchanged(catalogue, run, "unchanged");
     report.result = ImportResult::kUnchanged;
     report.message = "unchanged: the same scene was imported before, nothing to do";
     return report;

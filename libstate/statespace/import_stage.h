@@ -11,6 +11,9 @@ struct ImportOptions {
   std::filesystem::path scene;  // scene.toml
   std::filesystem::path state;  // state directory (created if missing)
   bool fresh = false;           // replace the state directory's contents (after validation)
+
+  // Throws InputError naming the first missing option (run_import calls it first).
+  void check() const;
 };
 
 enum class ImportResult {

@@ -19,6 +19,13 @@ StageRun make_stage_run(const std::string& stage, NamedHashes inputs, const std:
   return run;
 }
 
+void record_unchanged(Catalogue& catalogue, StageRun run, const std::string& message) {
+  run.outcome = StageOutcome::kUnchanged;
+  run.ended = now_ms();
+  run.message = message;
+  catalogue.insert_stage_run(run);
+}
+
 bool same_inputs(const StageRun& a, const NamedHashes& b, const std::vector<std::string>& names) {
   for (const auto& name : names) {
     std::optional<ContentHash> hb;

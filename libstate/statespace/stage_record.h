@@ -5,6 +5,7 @@
 #include "catalogue/catalogue.h"
 #include "statespace/scene_identity.h"
 
+#include <exception>
 #include <string>
 
 namespace hapstate {
@@ -15,6 +16,28 @@ TimeMs now_ms();
 // A StageRun row with the given inputs (sorted by name) and parameters, started now, outcome
 // kRunning (not inserted).
 StageRun make_stage_run(const std::string& stage, NamedHashes inputs, const std::string& parameters);
+
+// The one way a stage records that it had nothing to do: `run` inserted as ended now with
+// outcome kUnchanged and `message`.
+void record_unchanged(Catalogue& catalogue, StageRun run, const std::string& message);
+
+// The scope of a stage run recorded while it works (expand, compact): runs body() for the run
+// `id` already inserted as running, and returns what it returns. The body records the normal
+// end; if it throws, the run is
+// recorded as failed with the exception's message (best effort: a catalogue that cannot be
+// written is not hidden behind a second error) and the exception goes on.
+template <typename Body>
+auto with_run_record(Catalogue& catalogue, StageRunId id, Body&& body) -> decltype(body()) {
+  try {
+    return body();
+  } catch (const std::exception& e) {
+    try {
+      catalogue.update_stage_run_end(id, StageOutcome::kFailed, now_ms(), e.what());
+    } catch (...) {
+    }
+    throw;
+  }
+}
 
 // Whether `a` and `b` record the same hash for every name in `names`.
 bool same_inputs(const StageRun& a, const NamedHashes& b, const std::vector<std::string>& names);
