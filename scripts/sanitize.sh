@@ -24,7 +24,5 @@ excluded+="|blobs/h5py_read_test|package/find_package"
 # contact and kill cases run the same code under mpirun).
 export GTEST_FILTER=${GTEST_FILTER:--Mpi.RanksAndThreadsDoNotChangeTheLiverCatalogue}
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}
-# OpenMPI's libraries' allocations kept until exit (stages/mpi_test runs hapstate-expand under mpirun).
-export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan-mpi.supp:print_suppressions=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" -E "$excluded" "$@"

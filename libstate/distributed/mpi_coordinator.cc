@@ -126,19 +126,7 @@ class MpiEngine final : public TransitionEngine {
 
   SolverTimings timings() const override {
     SolverTimings sum;
-    for (const Worker& w : workers_) {
-      const SolverTimings& t = w.timings;
-      sum.assembly += t.assembly;
-      sum.factorize += t.factorize;
-      sum.solve += t.solve;
-      sum.analyze += t.analyze;
-      sum.assemblies += t.assemblies;
-      sum.factorizations += t.factorizations;
-      sum.psd_fallbacks += t.psd_fallbacks;
-      sum.inner_iterations += t.inner_iterations;
-      sum.contact_detection += t.contact_detection;
-      sum.contact_queries += t.contact_queries;
-    }
+    for (const Worker& w : workers_) sum += w.timings;
     return sum;
   }
 

@@ -27,7 +27,7 @@ Eigen::Vector3d get_vec3(Reader& r) {
 }  // namespace
 
 void Writer::append(const void* data, std::size_t size) {
-  if (size == 0) return;
+  if (size == 0) return;  // data may be null (an empty vector's)
   const std::size_t at = bytes_.size();
   bytes_.resize(at + size);
   std::memcpy(bytes_.data() + at, data, size);
@@ -65,14 +65,16 @@ std::string Reader::string() {
 std::vector<double> Reader::doubles() {
   const auto n = checked_count(pod<std::uint64_t>(), end_ - p_);
   std::vector<double> v(n);
-  std::memcpy(v.data(), take(n * sizeof(double)), n * sizeof(double));
+  const char* p = take(n * sizeof(double));
+  if (n) std::memcpy(v.data(), p, n * sizeof(double));  // (memcpy of null, even 0 bytes, is UB)
   return v;
 }
 
 std::vector<int> Reader::ints() {
   const auto n = checked_count(pod<std::uint64_t>(), end_ - p_);
   std::vector<int> v(n);
-  std::memcpy(v.data(), take(n * sizeof(int)), n * sizeof(int));
+  const char* p = take(n * sizeof(int));
+  if (n) std::memcpy(v.data(), p, n * sizeof(int));
   return v;
 }
 

@@ -70,6 +70,21 @@ struct SolverTimings {
   // PathSolver::contact_timings; PathSolver::timings leaves them 0).
   double contact_detection = 0;
   long long contact_queries = 0;
+
+  // Adds every field of `other` (sums over solvers, threads or ranks).
+  SolverTimings& operator+=(const SolverTimings& other) {
+    assembly += other.assembly;
+    factorize += other.factorize;
+    solve += other.solve;
+    analyze += other.analyze;
+    assemblies += other.assemblies;
+    factorizations += other.factorizations;
+    psd_fallbacks += other.psd_fallbacks;
+    inner_iterations += other.inner_iterations;
+    contact_detection += other.contact_detection;
+    contact_queries += other.contact_queries;
+    return *this;
+  }
 };
 
 class PathSolver {

@@ -83,6 +83,8 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
     // The zero configuration moved past the body: still at rest, nothing touched.
     out.trivial = true;
     out.vectors.u.assign(solver.num_dofs(), 0.0);
+    out.vectors.t.assign(probe_.layout().t_size(0), 0.0);  // the layout of a stored zero state
+    out.vectors.h.assign(probe_.layout().h_size(0), 0.0);
     return out;
   }
   probe_.set_state(solver, source_vectors(worker, task.source), task.from);
@@ -162,15 +164,7 @@ SolverTimings TransitionSolver::timings() const {
   SolverTimings sum;
   for (const auto& solver : solvers_) {
     if (!solver) continue;
-    const SolverTimings& t = solver->timings();
-    sum.assembly += t.assembly;
-    sum.factorize += t.factorize;
-    sum.solve += t.solve;
-    sum.analyze += t.analyze;
-    sum.assemblies += t.assemblies;
-    sum.factorizations += t.factorizations;
-    sum.psd_fallbacks += t.psd_fallbacks;
-    sum.inner_iterations += t.inner_iterations;
+    sum += solver->timings();  // its contact fields are 0: taken from contact_timings()
     if (const ContactTimings* c = solver->contact_timings()) {
       sum.contact_detection += c->detection;
       sum.contact_queries += c->queries;

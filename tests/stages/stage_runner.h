@@ -174,6 +174,19 @@ inline int expect_same_decisions(const Snapshot& a, const Snapshot& b, bool cost
 }
 
 // A fresh directory per test, removed when the test passed.
+// The state directory `state` holds the same decisions as `reference`, vectors within 1e-12
+// of their scale, an intact catalogue and no unreferenced segment (after a crash, a resume,
+// other threads or ranks).
+inline void expect_same_catalogue(const fs::path& reference, const fs::path& state) {
+  const Snapshot a = snapshot(reference), b = snapshot(state);
+  expect_same_decisions(a, b);
+  EXPECT_LE(max_vector_difference(reference, state, a.configurations), 1e-12);
+  Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+  EXPECT_EQ(cat.integrity_check(), "ok");
+  BlobStore blobs(state / "blobs");
+  EXPECT_TRUE(blobs.unreferenced_segments(cat.referenced_segments()).empty());
+}
+
 class StageTest : public ::testing::Test {
  protected:
   void SetUp() override {
