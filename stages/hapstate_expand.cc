@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
       "ranks (mpirun -n N hapstate-expand ...: rank 0 coordinates, the others solve, each with "
       "--threads) or on interruptions.\n"
       "Exit codes: 0 complete, partial (a --max-* limit was reached) or nothing to do; 1 "
-      "internal error; 130 stopped by Ctrl-C or SIGTERM (resumable); 2 bad options or state directory (not imported, grid out of date, "
+      "internal error; 130 stopped by Ctrl-C or SIGTERM (resumable; under mpirun every rank "
+      "ends at once, also resumable); 2 bad options or state directory (not imported, grid out of date, "
       "missing or damaged segment, newer catalogue): nothing changed. Failed solves do not "
       "change the exit code: they are recorded as transitions with outcome 'failed'."};
   use_hapstate_help(app);
@@ -102,7 +103,8 @@ int main(int argc, char** argv) {
                   "states', shared by their directions) and %.1f conjugate-gradient iterations\n",
                   r.wall_s, r.solve_wall_s, 100 * r.solve_wall_s / r.wall_s, r.store_wall_s,
                   100 * r.store_wall_s / r.wall_s, r.wall_s - r.solve_wall_s - r.store_wall_s,
-                  o.threads, mpi.distributed() ? " per worker rank" : "",
+                  mpi.distributed() ? (mpi.size() - 1) * o.threads : o.threads,
+                  mpi.distributed() ? ": the worker ranks' threads" : "",
                   cpu > 0 ? 100 * t.assembly / cpu : 0,
                   cpu > 0 ? 100 * t.factorize / cpu : 0, cpu > 0 ? 100 * t.solve / cpu : 0, cpu,
                   r.decided / r.wall_s, r.solved ? 1e3 * r.wall_s / r.solved : 0.0,

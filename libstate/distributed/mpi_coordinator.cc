@@ -65,7 +65,9 @@ class MpiEngine final : public TransitionEngine {
     setup.problem = problem_vectors(ctx.problem);
     wire::Writer w;
     wire::put(w, setup);
-    for (const Worker& worker : workers_) sends_.post(worker.rank, mpi::kSetup, w.bytes());
+    // One buffer for all (it holds the mesh): every worker is waiting for it, so a blocking
+    // send returns at once.
+    for (const Worker& worker : workers_) mpi::send(worker.rank, mpi::kSetup, w.bytes());
     // How far past the batch being collected workers may run: enough that none waits while
     // the batch's slowest transition finishes and rank 0 stores it, bounded by the wave.
     lookahead_ = 4 * workers_.size() * static_cast<std::size_t>(threads_);
@@ -170,14 +172,21 @@ class MpiEngine final : public TransitionEngine {
     finished_ = true;
     std::vector<int> ranks;
     for (const Worker& w : workers_) ranks.push_back(w.rank);
-    for (auto& [rank, bye] : stop_workers(ranks, sends_)) {
+    // Stopped once: a second stop would wait for byes from ranks that already ended.
+    g_workers_released = true;
+    std::map<int, mpi::Message> byes;
+    try {
+      byes = stop_workers(ranks, sends_);
+    } catch (...) {
+      mpi::abort_job(kExitFailure);  // workers left waiting for a stop would never end
+    }
+    for (auto& [rank, bye] : byes) {
       wire::Reader r(bye.bytes.data(), bye.bytes.size());
       Worker& w = workers_[rank - 1];
       w.busy_s = r.pod<double>();
       w.timings = wire::get_timings(r);
       w.peak_rss = r.pod<long long>();
     }
-    g_workers_released = true;
   }
 
  private:
@@ -344,9 +353,13 @@ void release_mpi_workers(const MpiSession& session) {
   if (!session.distributed() || session.rank() != 0 || g_workers_released) return;
   std::vector<int> ranks;
   for (int r = 1; r < session.size(); ++r) ranks.push_back(r);
-  mpi::PendingSends sends;
-  stop_workers(ranks, sends);
   g_workers_released = true;
+  try {
+    mpi::PendingSends sends;
+    stop_workers(ranks, sends);
+  } catch (...) {
+    mpi::abort_job(kExitFailure);
+  }
 }
 
 }  // namespace hapstate

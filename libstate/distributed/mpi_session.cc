@@ -86,6 +86,11 @@ void send(int dest, int tag, const std::vector<char>& bytes) {
   MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD);
 }
 
+void abort_job(int code) {
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);  // MPI_Abort does not return; in case it does
+}
+
 struct PendingSends::Pending {
   std::vector<char> bytes;
   MPI_Request request = MPI_REQUEST_NULL;
@@ -103,11 +108,12 @@ PendingSends::~PendingSends() {
 void PendingSends::post(int dest, int tag, std::vector<char> bytes) {
   if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::runtime_error("MPI message of " + std::to_string(bytes.size()) + " bytes is too large");
-  auto p = std::make_unique<Pending>(Pending{std::move(bytes), MPI_REQUEST_NULL});
-  bytes_sent_ += static_cast<long long>(p->bytes.size());
-  MPI_Isend(p->bytes.data(), static_cast<int>(p->bytes.size()), MPI_BYTE, dest, tag,
-            MPI_COMM_WORLD, &p->request);
-  pending_.push_back(std::move(p));
+  // Kept first, then sent: the buffer outlives the send even if keeping it throws.
+  pending_.push_back(std::make_unique<Pending>(Pending{std::move(bytes), MPI_REQUEST_NULL}));
+  Pending& p = *pending_.back();
+  bytes_sent_ += static_cast<long long>(p.bytes.size());
+  MPI_Isend(p.bytes.data(), static_cast<int>(p.bytes.size()), MPI_BYTE, dest, tag,
+            MPI_COMM_WORLD, &p.request);
 }
 
 void PendingSends::progress() {

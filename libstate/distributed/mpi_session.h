@@ -66,6 +66,9 @@ std::optional<Message> try_receive(int source);
 Message receive(int source);
 // Sends and returns once the buffer may be reused (the peer may not have received it yet).
 void send(int dest, int tag, const std::vector<char>& bytes);
+// Ends every rank of the job (MPI_Abort) with `code`: for a rank that cannot go on with the
+// protocol (the others would wait for it forever).
+[[noreturn]] void abort_job(int code);
 
 // Sends that must not block the coordinator while the receiving worker is busy solving (a
 // large message waits for the receiver under MPI's rendezvous protocol): post() keeps the

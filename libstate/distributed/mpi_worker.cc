@@ -9,6 +9,7 @@
 #include "util/error.h"
 
 #include <chrono>
+#include <cstdio>
 #include <memory>
 #include <new>
 #include <unordered_map>
@@ -95,43 +96,59 @@ std::vector<char> error_message(std::uint8_t kind, const std::string& what) {
 }  // namespace
 
 void run_mpi_worker() {
-  std::unique_ptr<WorkerState> state;
-  for (;;) {
-    const mpi::Message m = mpi::receive(0);
-    if (m.tag == mpi::kStop) {
-      wire::Writer w;
-      w.pod(state ? state->busy_s : 0.0);
-      wire::put(w, state ? state->solver->timings() : SolverTimings{});
-      w.pod(peak_rss_bytes());
-      mpi::send(0, mpi::kBye, w.bytes());
-      return;
-    }
-    const auto t0 = SteadyClock::now();
-    try {
-      if (m.tag == mpi::kSetup) {
-        state = set_up(m);
-        continue;
+  try {
+    // Results go out without waiting for rank 0 to take them (it may be storing a batch):
+    // the worker goes on with its next chunk meanwhile.
+    mpi::PendingSends sends;
+    std::unique_ptr<WorkerState> state;
+    for (;;) {
+      sends.progress();
+      const mpi::Message m = mpi::receive(0);
+      if (m.tag == mpi::kStop) {
+        sends.wait_all();
+        wire::Writer w;
+        w.pod(state ? state->busy_s : 0.0);
+        wire::put(w, state ? state->solver->timings() : SolverTimings{});
+        w.pod(peak_rss_bytes());
+        mpi::send(0, mpi::kBye, w.bytes());
+        return;
       }
-      if (!state) throw std::logic_error("MPI worker: work before the set-up");
-      wire::Writer reply;
-      if (m.tag == mpi::kTransitions) {
-        solve_transitions(*state, m, reply);
-      } else {
-        solve_stiffnesses(*state, m, reply);
+      if (m.tag != mpi::kSetup && m.tag != mpi::kTransitions && m.tag != mpi::kStiffness)
+        throw std::logic_error("unexpected message tag " + std::to_string(m.tag) + " from rank 0");
+      const auto t0 = SteadyClock::now();
+      // An error while working on one message is rank 0's to report (it ends the stage and
+      // then stops this worker).
+      try {
+        if (m.tag == mpi::kSetup) {
+          state = set_up(m);
+          continue;
+        }
+        if (!state) throw std::logic_error("MPI worker: work before the set-up");
+        wire::Writer reply;
+        if (m.tag == mpi::kTransitions) {
+          solve_transitions(*state, m, reply);
+        } else {
+          solve_stiffnesses(*state, m, reply);
+        }
+        state->busy_s += std::chrono::duration<double>(SteadyClock::now() - t0).count();
+        reply.pod(state->busy_s);
+        wire::put(reply, state->solver->timings());
+        sends.post(0, mpi::kResult, std::move(reply.bytes()));
+      } catch (const InputError& e) {
+        sends.post(0, mpi::kError, error_message(1, e.what()));
+      } catch (const EnvironmentError& e) {
+        sends.post(0, mpi::kError, error_message(2, e.what()));
+      } catch (const std::bad_alloc&) {
+        sends.post(0, mpi::kError, error_message(0, "out of memory"));
+      } catch (const std::exception& e) {
+        sends.post(0, mpi::kError, error_message(0, e.what()));
       }
-      state->busy_s += std::chrono::duration<double>(SteadyClock::now() - t0).count();
-      reply.pod(state->busy_s);
-      wire::put(reply, state->solver->timings());
-      mpi::send(0, mpi::kResult, reply.bytes());
-    } catch (const InputError& e) {
-      mpi::send(0, mpi::kError, error_message(1, e.what()));
-    } catch (const EnvironmentError& e) {
-      mpi::send(0, mpi::kError, error_message(2, e.what()));
-    } catch (const std::bad_alloc&) {
-      mpi::send(0, mpi::kError, error_message(0, "out of memory"));
-    } catch (const std::exception& e) {
-      mpi::send(0, mpi::kError, error_message(0, e.what()));
     }
+  } catch (const std::exception& e) {
+    // The protocol itself failed (e.g. no memory for a message): rank 0 would wait forever.
+    std::fprintf(stderr, "hapstate-expand (MPI worker): internal error: %s; ending the job\n",
+                 e.what());
+    mpi::abort_job(kExitFailure);
   }
 }
 
