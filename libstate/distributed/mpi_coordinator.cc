@@ -15,7 +15,6 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace hapstate {
@@ -39,8 +38,7 @@ std::map<int, mpi::Message> stop_workers(const std::vector<int>& ranks, mpi::Pen
   for (int r : ranks) sends.post(r, mpi::kStop, {});
   std::map<int, mpi::Message> byes;
   while (byes.size() < ranks.size()) {
-    sends.progress();
-    mpi::Message m = mpi::receive(-1);
+    mpi::Message m = mpi::receive(-1, &sends);
     if (m.tag == mpi::kBye) byes.emplace(m.source, std::move(m));
   }
   sends.wait_all();
@@ -271,17 +269,10 @@ class MpiEngine final : public TransitionEngine {
 
   mpi::Message wait() {
     const auto t0 = Clock::now();
-    auto pause = std::chrono::microseconds(20);
-    for (;;) {
-      sends_.progress();
-      if (std::optional<mpi::Message> m = mpi::try_receive(-1)) {
-        waited_s_ += std::chrono::duration<double>(Clock::now() - t0).count();
-        bytes_received_ += static_cast<long long>(m->bytes.size());
-        return std::move(*m);
-      }
-      std::this_thread::sleep_for(pause);
-      pause = std::min(pause * 2, std::chrono::microseconds(1000));
-    }
+    mpi::Message m = mpi::receive(-1, &sends_);
+    waited_s_ += std::chrono::duration<double>(Clock::now() - t0).count();
+    bytes_received_ += static_cast<long long>(m.bytes.size());
+    return m;
   }
 
   void handle(const mpi::Message& m) {

@@ -71,9 +71,10 @@ std::optional<Message> try_receive(int source) {
   return receive_probed(status);
 }
 
-Message receive(int source) {
+Message receive(int source, PendingSends* sends) {
   auto pause = std::chrono::microseconds(20);
   for (;;) {
+    if (sends) sends->progress();
     if (std::optional<Message> m = try_receive(source)) return std::move(*m);
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(1000));

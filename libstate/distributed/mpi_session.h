@@ -60,10 +60,12 @@ struct Message {
 
 // The next message from `source` (any rank if negative), if one has arrived.
 std::optional<Message> try_receive(int source);
-// Waits for the next message from `source` (any rank if negative). Polls with short sleeps
-// (20 us growing to 1 ms) instead of spinning, so a waiting rank leaves its core to the others
-// (ranks are often oversubscribed: a coordinator beside workers on the same cores).
-Message receive(int source);
+class PendingSends;
+// Waits for the next message from `source` (any rank if negative), completing `sends` (if
+// given) meanwhile. Polls with short sleeps (20 us growing to 1 ms) instead of spinning, so a
+// waiting rank leaves its core to the others (ranks are often oversubscribed: a coordinator
+// beside workers on the same cores).
+Message receive(int source, PendingSends* sends = nullptr);
 // Sends and returns once the buffer may be reused (the peer may not have received it yet).
 void send(int dest, int tag, const std::vector<char>& bytes);
 // Ends every rank of the job (MPI_Abort) with `code`: for a rank that cannot go on with the

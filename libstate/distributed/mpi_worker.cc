@@ -102,8 +102,7 @@ void run_mpi_worker() {
     mpi::PendingSends sends;
     std::unique_ptr<WorkerState> state;
     for (;;) {
-      sends.progress();
-      const mpi::Message m = mpi::receive(0);
+      const mpi::Message m = mpi::receive(0, &sends);
       if (m.tag == mpi::kStop) {
         sends.wait_all();
         wire::Writer w;

@@ -132,6 +132,8 @@ void put(Writer& w, const TransitionChunk& c) {
     w.pod(c.source_of[k]);
     w.pod(t.source.id.value());
     w.pod<std::uint8_t>(t.source.blob ? 1 : 0);
+    w.pod(t.source.blob ? t.source.blob->segment.value : SegmentId{}.value);
+    w.string(t.source.blob ? t.source.blob->name : std::string());
     w.pod(t.direction.index());
     put_vec3(w, t.from);
     put_vec3(w, t.to);
@@ -153,8 +155,12 @@ TransitionChunk get_transition_chunk(Reader& r) {
       throw std::runtime_error("MPI message: source index out of range (different builds?)");
     c.source_of.push_back(source);
     t.source.id = ConfigId(r.pod<std::int64_t>());
-    // The worker never reads blobs: a placeholder marks "has stored vectors" (they travel here).
-    if (r.pod<std::uint8_t>()) t.source.blob = BlobRef{SegmentId(1), "sent"};
+    // The source's blob reference as stored (the worker never reads it: the vectors travel in
+    // the chunk; a source without one is a zero state).
+    const bool has_blob = r.pod<std::uint8_t>() != 0;
+    const auto segment = r.pod<std::int64_t>();
+    std::string name = r.string();
+    if (has_blob) t.source.blob = BlobRef{SegmentId{segment}, std::move(name)};
     t.direction = Direction(r.pod<int>());
     t.from = get_vec3(r);
     t.to = get_vec3(r);

@@ -132,7 +132,7 @@ void TransitionSolver::for_each_parallel(std::size_t count, Body&& body) {
   if (error) std::rethrow_exception(error);
 }
 
-std::vector<TransitionSolve> TransitionSolver::solve(const std::vector<TransitionTask>& tasks) {
+std::vector<TransitionSolve> TransitionSolver::solve(std::span<const TransitionTask> tasks) {
   std::vector<TransitionSolve> results(tasks.size());
   for_each_parallel(tasks.size(), [&](int worker, std::size_t k) {
     results[k] = solve_one(worker, tasks[k]);
@@ -141,8 +141,7 @@ std::vector<TransitionSolve> TransitionSolver::solve(const std::vector<Transitio
 }
 
 std::vector<TransitionSolve> TransitionSolver::solve_range(std::size_t begin, std::size_t end) {
-  const std::vector<TransitionTask> tasks(wave_->begin() + begin, wave_->begin() + end);
-  return solve(tasks);
+  return solve(std::span<const TransitionTask>(*wave_).subspan(begin, end - begin));
 }
 
 std::vector<StiffnessResult> TransitionSolver::stiffnesses(const std::vector<StiffnessTask>& tasks) {

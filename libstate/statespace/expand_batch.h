@@ -18,6 +18,7 @@
 #include <memory>
 #include <string>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace hapstate {
@@ -100,7 +101,7 @@ class TransitionSolver : public TransitionEngine {
 
   // Solves every task that has a target, in parallel; result k belongs to task k. An exception
   // in a worker (e.g. an unreadable source blob) is rethrown here after all workers stopped.
-  std::vector<TransitionSolve> solve(const std::vector<TransitionTask>& tasks);
+  std::vector<TransitionSolve> solve(std::span<const TransitionTask> tasks);
 
   void start_wave(const std::vector<TransitionTask>& tasks) override { wave_ = &tasks; }
   std::vector<TransitionSolve> solve_range(std::size_t begin, std::size_t end) override;

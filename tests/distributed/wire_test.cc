@@ -95,7 +95,7 @@ TEST(Wire, TransitionChunkRoundTripsWithSharedSources) {
   EXPECT_EQ(d.source_of, c.source_of);
   for (int k = 0; k < 3; ++k) {
     EXPECT_EQ(d.tasks[k].source.id, c.tasks[k].source.id);
-    EXPECT_EQ(d.tasks[k].source.blob.has_value(), c.tasks[k].source.blob.has_value());
+    EXPECT_EQ(d.tasks[k].source.blob, c.tasks[k].source.blob);
     EXPECT_EQ(d.tasks[k].direction, c.tasks[k].direction);
     EXPECT_EQ(d.tasks[k].from, c.tasks[k].from);
     EXPECT_EQ(d.tasks[k].to, c.tasks[k].to);
