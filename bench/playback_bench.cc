@@ -70,9 +70,10 @@ void BM_ForceQuery(benchmark::State& state, Scheme scheme) {
                  std::to_string(file.num_configurations()) + " configurations");
 }
 
-// One frame: the snapshot of a cursor inside a cell (8 blended corners) and deform().
-void frame(benchmark::State& state, const PlaybackFile& file, const std::string& name) {
-  HapticCursor cursor(file, Scheme::kHermite);
+// One frame: the snapshot of a cursor inside a cell (8 corners) and deform() with the scheme
+// (Hermite: the 8 corners' displacements and slopes, 32 arrays).
+void frame(benchmark::State& state, const PlaybackFile& file, const std::string& name, Scheme scheme) {
+  HapticCursor cursor(file, scheme);
   std::array<double, 3> p = file.rest_position();
   for (int a = 0; a < 3; ++a) p[a] += (0.3 + 0.2 * a) * file.grid_spacing()[a];
   cursor.force(p);
@@ -91,12 +92,15 @@ void frame(benchmark::State& state, const PlaybackFile& file, const std::string&
     benchmark::DoNotOptimize(positions.data());
     benchmark::ClobberMemory();
   });
-  state.SetLabel(name + ", " + std::to_string(file.num_view_nodes()) + " view nodes");
+  state.SetLabel(std::string(scheme == Scheme::kHermite ? "hermite" : "trilinear") + ", " + name +
+                 ", " + std::to_string(file.num_view_nodes()) + " view nodes");
 }
 
-void BM_FrameLiver(benchmark::State& state) { frame(state, liver_playback(), "liver surface"); }
-void BM_FrameSynthetic(benchmark::State& state) {
-  frame(state, synthetic_playback(), "synthetic box, all nodes");
+void BM_FrameLiver(benchmark::State& state, Scheme scheme) {
+  frame(state, liver_playback(), "liver surface", scheme);
+}
+void BM_FrameSynthetic(benchmark::State& state, Scheme scheme) {
+  frame(state, synthetic_playback(), "synthetic box, all nodes", scheme);
 }
 
 // One precise transition as hapstate-expand solves it: the liver at rest, the probe moved to
@@ -119,8 +123,10 @@ void BM_NewtonSolve(benchmark::State& state) {
 
 BENCHMARK_CAPTURE(BM_ForceQuery, trilinear, Scheme::kTrilinear)->Unit(benchmark::kNanosecond);
 BENCHMARK_CAPTURE(BM_ForceQuery, hermite, Scheme::kHermite)->Unit(benchmark::kNanosecond);
-BENCHMARK(BM_FrameLiver)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_FrameSynthetic)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_FrameLiver, trilinear, Scheme::kTrilinear)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_FrameLiver, hermite, Scheme::kHermite)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_FrameSynthetic, trilinear, Scheme::kTrilinear)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_FrameSynthetic, hermite, Scheme::kHermite)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_NewtonSolve)->Unit(benchmark::kMillisecond);
 
 }  // namespace

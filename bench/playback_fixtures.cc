@@ -108,6 +108,13 @@ void write_synthetic(const std::filesystem::path& file) {
       for (int a = 0; a < 3; ++a)
         out[3 * n + a] = static_cast<float>((p[a] + lo) * kSpacing) * (*bump)[n];
   };
+  // Their slopes: d u_a / d p_b = bump if a == b (the arrays of axis b, 3 per node).
+  c.displacement_slopes = [bump](std::int32_t, std::span<float> out) {
+    const std::size_t v = bump->size();
+    for (int b = 0; b < 3; ++b)
+      for (std::size_t n = 0; n < v; ++n)
+        for (int a = 0; a < 3; ++a) out[3 * (b * v + n) + a] = a == b ? (*bump)[n] : 0.0f;
+  };
   playback::write_file(std::move(c), file);
 }
 

@@ -20,7 +20,7 @@
 namespace hapstate {
 
 // Interpolation of the force over the 8 corners of the probe's grid cell.
-enum class Scheme {
+enum class Scheme : std::int32_t {
   kTrilinear = 0,  // the paper's: corner forces, trilinear weights
   kHermite = 1,    // cubic Hermite per axis: corner forces and their stiffness (derivatives)
 };
@@ -73,6 +73,12 @@ class PlaybackFile {
   std::array<double, 3> force(std::int32_t c) const;
   std::array<double, 9> stiffness(std::int32_t c) const;  // row-major d(force)/d(probe)
   std::span<const float> displacements(std::int32_t c) const;  // 3 per view node, mesh units
+  // Whether the file holds every configuration's displacement slopes d u / d p (hapstate-index
+  // of a state expanded by this version; without them Hermite deformation is trilinear).
+  bool has_displacement_slopes() const;
+  // The slopes of configuration c along probe axis a (0..2): 3 per view node, dimensionless.
+  // Empty if the file has none.
+  std::span<const float> displacement_slopes(std::int32_t c, int axis) const;
 
   struct Impl;
   const Impl& impl() const { return *impl_; }
@@ -82,14 +88,20 @@ class PlaybackFile {
   Impl* impl_ = nullptr;
 };
 
-// What the visual thread needs of a cursor: the corner configurations of its cell and the
-// trilinear weights of the probe position.
+// What the visual thread needs of a cursor: the corner configurations of its cell, the probe's
+// place in the cell and the scheme (deform() interpolates the displacements as the cursor
+// interpolates the force: trilinear, or cubic Hermite from the corners' displacement slopes).
 struct Snapshot {
   std::uint64_t sequence = 0;          // force() calls so far (0: none yet)
   std::array<double, 3> probe{};       // mesh units
   std::array<double, 3> force{};       // N, as returned by force()
   std::array<std::int32_t, 8> corner_configuration{};  // displacement source, -1: zero
-  std::array<double, 8> weight{};
+  std::array<double, 8> weight{};      // trilinear weights of the corners
+  std::array<double, 3> cell_position{};  // the probe in its cell, 0..1 per axis
+  // Grid offset of each corner from its displacement source's check-point (non-zero for an
+  // extended corner: its displacements are extended from the source's by its slopes).
+  std::array<std::array<std::int32_t, 3>, 8> corner_shift{};
+  Scheme scheme = Scheme::kTrilinear;
 };
 
 // Result of one haptic query.
@@ -136,6 +148,7 @@ class HapticCursor {
   struct Corner {
     std::int32_t configuration = -1;   // stored configuration, -1 if extended
     std::int32_t displacement = -1;    // configuration whose displacements are shown, -1: zero
+    std::array<std::int32_t, 3> shift{};  // grid offset from that configuration's check-point
     CornerSource source = CornerSource::kExtended;
     std::array<double, 3> force{};
     std::array<double, 9> stiffness{};
@@ -171,10 +184,11 @@ class HapticCursor {
   mutable std::atomic<std::uint32_t> middle_{1};  // slot index | kFresh
 };
 
-// Vertex positions of the view nodes for a snapshot: reference + blended displacements
-// (trilinear weights of the snapshot's corners). `out` holds 3 * num_view_nodes() floats.
+// Vertex positions of the view nodes for a snapshot: reference + interpolated displacements
+// (the snapshot's scheme; Hermite needs the file's displacement slopes, else trilinear).
+// `out` holds 3 * num_view_nodes() floats. No allocation.
 void deform(const PlaybackFile& file, const Snapshot& snapshot, std::span<float> out);
-// The blended displacements only (3 per view node, mesh units).
+// The interpolated displacements only (3 per view node, mesh units).
 void displacements(const PlaybackFile& file, const Snapshot& snapshot, std::span<float> out);
 
 }  // namespace hapstate

@@ -31,6 +31,9 @@ typedef struct hs_snapshot {
   double force[3];
   int32_t corner_configuration[8];
   double weight[8];
+  double cell_position[3];
+  int32_t corner_shift[8][3];
+  int32_t scheme; /* HS_SCHEME_*: how hs_deform interpolates the displacements */
 } hs_snapshot;
 
 int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size);

@@ -6,12 +6,6 @@
 namespace hapstate::wire {
 namespace {
 
-// No count in a message can exceed the bytes left (each element is at least one byte).
-std::uint64_t checked_count(std::uint64_t count, std::size_t left) {
-  if (count > left) throw std::runtime_error("MPI message: count " + std::to_string(count) +
-                                             " exceeds the message (different builds?)");
-  return count;
-}
 
 void put_vec3(Writer& w, const Eigen::Vector3d& v) {
   w.pod(v.x());
@@ -38,16 +32,6 @@ void Writer::string(const std::string& s) {
   append(s.data(), s.size());
 }
 
-void Writer::doubles(const std::vector<double>& v) {
-  pod<std::uint64_t>(v.size());
-  append(v.data(), v.size() * sizeof(double));
-}
-
-void Writer::ints(const std::vector<int>& v) {
-  pod<std::uint64_t>(v.size());
-  append(v.data(), v.size() * sizeof(int));
-}
-
 const char* Reader::take(std::size_t n) {
   if (static_cast<std::size_t>(end_ - p_) < n)
     throw std::runtime_error("MPI message ends early (different builds?)");
@@ -56,26 +40,18 @@ const char* Reader::take(std::size_t n) {
   return p;
 }
 
+// No count in a message can exceed the elements the bytes left could hold.
+std::uint64_t Reader::count(std::uint64_t n, std::size_t size) const {
+  if (n > static_cast<std::uint64_t>(end_ - p_) / size)
+    throw std::runtime_error("MPI message: count " + std::to_string(n) +
+                             " exceeds the message (different builds?)");
+  return n;
+}
+
 std::string Reader::string() {
-  const auto n = checked_count(pod<std::uint64_t>(), end_ - p_);
+  const auto n = count(pod<std::uint64_t>(), 1);
   const char* p = take(n);
   return std::string(p, n);
-}
-
-std::vector<double> Reader::doubles() {
-  const auto n = checked_count(pod<std::uint64_t>(), end_ - p_);
-  std::vector<double> v(n);
-  const char* p = take(n * sizeof(double));
-  if (n) std::memcpy(v.data(), p, n * sizeof(double));  // (memcpy of null, even 0 bytes, is UB)
-  return v;
-}
-
-std::vector<int> Reader::ints() {
-  const auto n = checked_count(pod<std::uint64_t>(), end_ - p_);
-  std::vector<int> v(n);
-  const char* p = take(n * sizeof(int));
-  if (n) std::memcpy(v.data(), p, n * sizeof(int));
-  return v;
 }
 
 void put(Writer& w, const Setup& s) {
@@ -87,7 +63,7 @@ void put(Writer& w, const Setup& s) {
   const ProblemVectors& p = s.problem;
   for (const auto* v : {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes,
                         &p.probe_components, &p.rest})
-    w.doubles(*v);
+    w.values(*v);
 }
 
 Setup get_setup(Reader& r) {
@@ -100,25 +76,25 @@ Setup get_setup(Reader& r) {
   ProblemVectors& p = s.problem;
   for (auto* v : {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes, &p.probe_components,
                   &p.rest})
-    *v = r.doubles();
+    *v = r.values<double>();
   return s;
 }
 
 void put(Writer& w, const ConfigVectors& v) {
-  w.doubles(v.u);
-  w.doubles(v.t);
-  w.doubles(v.h);
-  w.ints(v.touched);
-  w.doubles(v.multipliers);
+  w.values(v.u);
+  w.values(v.t);
+  w.values(v.h);
+  w.values(v.touched);
+  w.values(v.multipliers);
 }
 
 ConfigVectors get_vectors(Reader& r) {
   ConfigVectors v;
-  v.u = r.doubles();
-  v.t = r.doubles();
-  v.h = r.doubles();
-  v.touched = r.ints();
-  v.multipliers = r.doubles();
+  v.u = r.values<double>();
+  v.t = r.values<double>();
+  v.h = r.values<double>();
+  v.touched = r.values<int>();
+  v.multipliers = r.values<double>();
   return v;
 }
 
@@ -204,7 +180,7 @@ void put(Writer& w, const TransitionSolve& s) {
     w.pod(v);
   w.pod(m.residual);
   w.pod(m.wall_ms);
-  w.doubles(m.residual_history);
+  w.values(m.residual_history);
   put(w, s.vectors);
   for (double f : s.force) w.pod(f);
 }
@@ -222,7 +198,7 @@ TransitionSolve get_transition_solve(Reader& r) {
     *v = r.pod<int>();
   m.residual = r.pod<double>();
   m.wall_ms = r.pod<double>();
-  m.residual_history = r.doubles();
+  m.residual_history = r.values<double>();
   s.vectors = get_vectors(r);
   for (double& f : s.force) f = r.pod<double>();
   return s;
@@ -230,12 +206,14 @@ TransitionSolve get_transition_solve(Reader& r) {
 
 void put(Writer& w, const StiffnessResult& s) {
   for (double k : s.stiffness) w.pod(k);
+  w.values(s.du_dp);
   w.pod(s.factorisations);
 }
 
 StiffnessResult get_stiffness_result(Reader& r) {
   StiffnessResult s;
   for (double& k : s.stiffness) k = r.pod<double>();
+  s.du_dp = r.values<float>();
   s.factorisations = r.pod<int>();
   return s;
 }

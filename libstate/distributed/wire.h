@@ -28,8 +28,13 @@ class Writer {
   }
   void append(const void* data, std::size_t size);
   void string(const std::string& s);
-  void doubles(const std::vector<double>& v);
-  void ints(const std::vector<int>& v);
+  // A count, then the values (doubles, floats, ints).
+  template <typename T>
+  void values(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    pod<std::uint64_t>(v.size());
+    append(v.data(), v.size() * sizeof(T));
+  }
   std::vector<char>& bytes() { return bytes_; }
 
  private:
@@ -49,12 +54,21 @@ class Reader {
     return value;
   }
   std::string string();
-  std::vector<double> doubles();
-  std::vector<int> ints();
+  template <typename T>
+  std::vector<T> values() {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const std::uint64_t n = count(pod<std::uint64_t>(), sizeof(T));
+    std::vector<T> v(n);
+    const char* p = take(n * sizeof(T));
+    if (n) std::memcpy(v.data(), p, n * sizeof(T));  // (memcpy of null, even 0 bytes, is UB)
+    return v;
+  }
   bool done() const { return p_ == end_; }
 
  private:
   const char* take(std::size_t n);
+  // A count of elements of `size` bytes read from the buffer, checked against what is left.
+  std::uint64_t count(std::uint64_t n, std::size_t size) const;
   const char* p_;
   const char* end_;
 };

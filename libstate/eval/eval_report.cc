@@ -123,8 +123,8 @@ std::string eval_table(const EvalResult& result) {
     t << line;
   }
   t << "force error |f - f*| / max|f*| over the path; deformation error ||u - u*|| / ||u*|| per "
-       "step (f*, u*: the precise solve; both schemes blend the stored displacements the same "
-       "way, so their deformation errors are equal)\n";
+       "step (f*, u*: the precise solve; each scheme interpolates the displacements as it does the "
+       "force: trilinear, or cubic Hermite from the stored displacement slopes)\n";
   t << "scheme      force error          deformation error (all)   deformation error (surface)\n"
        "            max      mean        max      mean             max      mean\n";
   constexpr double kPaperForce = 0.04, kPaperDeformation = 0.14;

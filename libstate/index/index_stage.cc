@@ -4,6 +4,7 @@
 #include "hapstate/playback.h"
 #include "playback/file_impl.h"
 #include "playback/writer.h"
+#include "statespace/expand_batch.h"
 #include "statespace/stage_context.h"
 #include "statespace/stage_record.h"
 #include "util/error.h"
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
 
 namespace hapstate {
 namespace {
@@ -236,14 +238,44 @@ IndexReport run_index(const IndexOptions& options) {
       }
       progress.update(k + 1);
     };
+    // The slopes d u / d p, if every configuration has them (a state expanded before they were
+    // stored has none: the file then has none and Hermite deformation is trilinear).
+    report.slopes = std::all_of(configs.begin(), configs.end(), [&](const Configuration& conf) {
+      return !conf.blob || blobs.contains(conf.blob->segment, conf.blob->name + "/du_dp");
+    });
+    std::optional<StiffnessResult> rest;  // of the zero configurations, computed once
+    if (report.slopes)
+      g.content.displacement_slopes = [&](std::int32_t k, std::span<float> out) {
+        const Configuration& conf = configs[k];
+        std::vector<float> du_dp;
+        if (conf.blob) {
+          du_dp = blobs.read_float32(conf.blob->segment, conf.blob->name + "/du_dp");
+        } else if (std::any_of(conf.stiffness.begin(), conf.stiffness.end(), [](double v) { return v != 0.0; })) {
+          if (!rest) rest = rest_stiffness(ctx.problem);
+          du_dp = rest->du_dp;
+        } else {
+          return;  // a zero configuration the probe does not touch: no slopes
+        }
+        if (static_cast<int>(du_dp.size()) != 9 * num_nodes)
+          throw InputError(ctx.dir.blobs().string() + ": configuration " + std::to_string(conf.id.value()) +
+                           " has " + std::to_string(du_dp.size()) + " displacement slope values, the mesh needs " +
+                           std::to_string(9 * num_nodes));
+        const std::size_t v = view_nodes.size();
+        for (int a = 0; a < 3; ++a)
+          for (std::size_t n = 0; n < v; ++n)
+            for (int r = 0; r < 3; ++r)
+              out[3 * (a * v + n) + r] = du_dp[std::size_t(a) * 3 * num_nodes + 3 * std::size_t(view_nodes[n]) + r];
+      };
     playback::write_file(std::move(g.content), report.output);
     progress.finish();
     report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
     run.outcome = StageOutcome::kOk;
-    char text[256];
-    std::snprintf(text, sizeof text, "%lld configurations, %lld view nodes, %.1f MB",
+    char text[512];
+    std::snprintf(text, sizeof text, "%lld configurations, %lld view nodes, %.1f MB%s",
                   static_cast<long long>(report.configurations),
-                  static_cast<long long>(report.view_nodes), report.bytes / 1e6);
+                  static_cast<long long>(report.view_nodes), report.bytes / 1e6,
+                  report.slopes ? "" : "; no displacement slopes (a state expanded before they "
+                                       "were stored): Hermite deformation falls back to trilinear");
     report.message = "wrote " + report.output.string() + ": " + text;
     if (!replaced.empty()) report.message += " (replaced the previous file: " + replaced + ")";
     run.ended = now_ms();

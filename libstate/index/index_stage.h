@@ -27,6 +27,7 @@ struct IndexReport {
   std::int64_t configurations = 0;
   std::int64_t view_nodes = 0;
   std::int64_t bytes = 0;
+  bool slopes = false;  // the file holds displacement slopes (Hermite deformation)
   double seconds = 0;
   std::string message;
 };

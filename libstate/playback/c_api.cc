@@ -20,6 +20,9 @@ static_assert(sizeof(hs_snapshot) == sizeof(hapstate::Snapshot));
 static_assert(offsetof(hs_snapshot, weight) == offsetof(hapstate::Snapshot, weight));
 static_assert(offsetof(hs_snapshot, corner_configuration) ==
               offsetof(hapstate::Snapshot, corner_configuration));
+static_assert(offsetof(hs_snapshot, cell_position) == offsetof(hapstate::Snapshot, cell_position));
+static_assert(offsetof(hs_snapshot, corner_shift) == offsetof(hapstate::Snapshot, corner_shift));
+static_assert(offsetof(hs_snapshot, scheme) == offsetof(hapstate::Snapshot, scheme));
 
 namespace {
 

@@ -144,6 +144,7 @@ void HapticCursor::resolve_corner(int c, const std::array<Corner, 8>& old,
   Corner e;
   e.configuration = -1;
   e.displacement = src.displacement;
+  for (int a = 0; a < 3; ++a) e.shift[a] = src.shift[a] + target[a] - old_base[a] - ok[a];
   e.source = CornerSource::kExtended;
   e.stiffness = src.stiffness;
   for (int r = 0; r < 3; ++r) {
@@ -323,10 +324,13 @@ void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
   slot.sequence = calls_;
   slot.probe = probe;
   slot.force = f.value;
+  slot.cell_position = s;
+  slot.scheme = scheme_;
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     slot.weight[c] = (o[0] ? s[0] : 1 - s[0]) * (o[1] ? s[1] : 1 - s[1]) * (o[2] ? s[2] : 1 - s[2]);
     slot.corner_configuration[c] = corners_[c].displacement;
+    slot.corner_shift[c] = corners_[c].shift;
   }
   back_ = middle_.exchange(back_ | kFresh, std::memory_order_acq_rel) & 3u;
 }

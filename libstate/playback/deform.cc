@@ -1,4 +1,10 @@
-// Blending the corner displacement arrays of a snapshot into view-node positions (visual thread).
+// The displacements of the view nodes for a snapshot (visual thread): the corner arrays of the
+// cursor's cell blended with scalar weights. Trilinear: the 8 corners' displacements. Hermite:
+// the same tensor-product cubic as the force (docs/playback.md), with each corner's
+// displacement slopes d u / d p as the derivatives and the cross derivatives estimated from
+// the slopes of the corners on the same cell face; an extended corner's displacements are its
+// source's extended by the source's slopes. Either way the result is a sum over at most 32
+// arrays (8 configurations x value and 3 slopes) with weights computed once per frame.
 #include "playback/file_impl.h"
 
 #include <algorithm>
@@ -6,28 +12,117 @@
 namespace hapstate {
 namespace {
 
-// out = Σ w_c u_c over the distinct corner configurations with a non-zero weight.
-void blend(const PlaybackFile& file, const Snapshot& s, std::span<float> out) {
-  const PlaybackFile::Impl& f = file.impl();
-  const std::size_t n = 3 * static_cast<std::size_t>(f.meta->num_view_nodes);
-  std::int32_t config[8];
-  float weight[8];
-  int count = 0;
+// The arrays to add and their weights, one entry per distinct (configuration, array).
+class Blend {
+ public:
+  static constexpr int kMax = 32;
+  // kind 0: the displacements of configuration k, kind 1 + a: its slopes along axis a.
+  void add(std::int32_t k, int kind, double w) {
+    if (k < 0 || w == 0.0) return;  // -1: a zero corner, nothing to add
+    for (int j = 0; j < count_; ++j)
+      if (config_[j] == k && kind_[j] == kind) {
+        weight_[j] += w;
+        return;
+      }
+    if (count_ == kMax) return;  // cannot happen: 8 corners x 4 arrays
+    config_[count_] = k, kind_[count_] = kind, weight_[count_++] = w;
+  }
+  // out += Σ weight x array, in blocks so that out stays in cache while the arrays stream by.
+  void apply(const PlaybackFile::Impl& f, std::span<float> out) const {
+    const std::size_t n = 3 * static_cast<std::size_t>(f.meta->num_view_nodes);
+    const std::size_t m = std::min(n, out.size());
+    const float* src[kMax];
+    float w[kMax];
+    for (int j = 0; j < count_; ++j) {
+      const std::size_t k = static_cast<std::size_t>(config_[j]);
+      src[j] = kind_[j] == 0 ? f.displacements + n * k : f.slopes + n * (3 * k + kind_[j] - 1);
+      w[j] = static_cast<float>(weight_[j]);
+    }
+    constexpr std::size_t kBlock = 2048;
+    float* o = out.data();
+    for (std::size_t begin = 0; begin < m; begin += kBlock) {
+      const std::size_t end = std::min(m, begin + kBlock);
+      for (int j = 0; j < count_; ++j) {
+        const float* __restrict u = src[j];
+        float* __restrict dst = o;
+        const float wj = w[j];
+        for (std::size_t i = begin; i < end; ++i) dst[i] += wj * u[i];
+      }
+    }
+  }
+
+ private:
+  std::int32_t config_[kMax];
+  int kind_[kMax];
+  double weight_[kMax];
+  int count_ = 0;
+};
+
+std::array<int, 3> corner_side(int c) { return {(c >> 2) & 1, (c >> 1) & 1, c & 1}; }
+
+void add_trilinear(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
   for (int c = 0; c < 8; ++c) {
     const std::int32_t k = s.corner_configuration[c];
-    if (k < 0 || k >= f.meta->num_configurations || s.weight[c] == 0.0) continue;
-    int j = 0;
-    while (j < count && config[j] != k) ++j;
-    if (j == count) config[count] = k, weight[count++] = 0.0f;
-    weight[j] += static_cast<float>(s.weight[c]);
+    if (k >= f.meta->num_configurations) continue;
+    blend->add(k, 0, s.weight[c]);
   }
-  float* o = out.data();
-  const std::size_t m = std::min(n, out.size());
-  for (int j = 0; j < count; ++j) {
-    const float* u = f.displacements + n * static_cast<std::size_t>(config[j]);
-    const float w = weight[j];
-    for (std::size_t i = 0; i < m; ++i) o[i] += w * u[i];
+}
+
+// The Hermite interpolant's weights: corner c contributes its value (the source's
+// displacements plus the slopes times its shift), its slopes along each axis, and the cross
+// derivatives of each face pair (a, b): half the difference quotients of the slopes along a
+// across b and along b across a (the force's estimate, cursor.cc).
+void add_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
+  const double* h = f.meta->spacing;
+  double B[3][4];  // per axis: value and derivative bases of side 0 and side 1 (derivative x h)
+  for (int a = 0; a < 3; ++a) {
+    const double t = std::clamp(s.cell_position[a], 0.0, 1.0);
+    B[a][2] = t * t * (3.0 - 2.0 * t);
+    B[a][0] = 1.0 - B[a][2];
+    B[a][1] = t * (1.0 - t) * (1.0 - t) * h[a];
+    B[a][3] = -t * t * (1.0 - t) * h[a];
   }
+  std::int32_t config[8];
+  for (int c = 0; c < 8; ++c) {
+    config[c] = s.corner_configuration[c];
+    if (config[c] >= f.meta->num_configurations) config[c] = -1;
+  }
+  static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_side(c);
+    auto weight = [&](int kx, int ky, int kz) {
+      return B[0][2 * o[0] + kx] * B[1][2 * o[1] + ky] * B[2][2 * o[2] + kz];
+    };
+    const double w0 = weight(0, 0, 0);
+    blend->add(config[c], 0, w0);
+    for (int a = 0; a < 3; ++a) {
+      int k[3] = {0, 0, 0};
+      k[a] = 1;
+      blend->add(config[c], 1 + a, w0 * s.corner_shift[c][a] * h[a] + weight(k[0], k[1], k[2]));
+    }
+    for (const auto& pair : kPair) {
+      const int a = pair[0], b = pair[1];
+      int k[3] = {0, 0, 0};
+      k[a] = k[b] = 1;
+      const double w = 0.5 * weight(k[0], k[1], k[2]);
+      const double sa = o[a] ? 1.0 : -1.0, sb = o[b] ? 1.0 : -1.0;
+      const int partner_b = c ^ (4 >> b), partner_a = c ^ (4 >> a);
+      blend->add(config[c], 1 + a, w * sb / h[b]);
+      blend->add(config[partner_b], 1 + a, -w * sb / h[b]);
+      blend->add(config[c], 1 + b, w * sa / h[a]);
+      blend->add(config[partner_a], 1 + b, -w * sa / h[a]);
+    }
+  }
+}
+
+void blend(const PlaybackFile& file, const Snapshot& s, std::span<float> out) {
+  const PlaybackFile::Impl& f = file.impl();
+  Blend blend;
+  if (s.scheme == Scheme::kHermite && f.slopes)
+    add_hermite(f, s, &blend);
+  else
+    add_trilinear(f, s, &blend);
+  blend.apply(f, out);
 }
 
 }  // namespace

@@ -34,6 +34,7 @@ std::string section_name(SectionId id) {
     case SectionId::kTriangles: return "triangles";
     case SectionId::kDisplacements: return "displacements";
     case SectionId::kConfigZero: return "zero configurations";
+    case SectionId::kDisplacementSlopes: return "displacement slopes";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -114,6 +115,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   for (int a = 0; a < 3; ++a)
     if (m2.dims[a] < 1 || m2.dims[a] > (1 << 20) || !(m2.spacing[a] > 0) || !std::isfinite(m2.origin[a]))
       fail("meta: bad grid (dims, spacing or origin) on axis " + std::to_string(a));
+  if (m2.has_displacement_slopes != 0 && m2.has_displacement_slopes != 1)
+    fail("meta: has_displacement_slopes is " + std::to_string(m2.has_displacement_slopes) + ", not 0 or 1");
   if (m2.num_configurations < 1 || m2.num_view_nodes < 0 || m2.num_triangles < 0 ||
       m2.rest_configuration < 0 || m2.rest_configuration >= m2.num_configurations)
     fail("meta: bad counts");
@@ -127,7 +130,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
       {SectionId::kStiffness, 72 * n},            {SectionId::kTransitions, 104 * n},
       {SectionId::kViewNodes, 4 * v},             {SectionId::kReference, 12 * v},
       {SectionId::kTriangles, 12 * std::uint64_t(m2.num_triangles)},
-      {SectionId::kDisplacements, 12 * v * n}};
+      {SectionId::kDisplacements, 12 * v * n},
+      {SectionId::kDisplacementSlopes, m2.has_displacement_slopes ? 36 * v * n : 0}};
   for (const auto& [id, size] : expected)
     if (bytes[static_cast<int>(id)] != size)
       fail("section '" + section_name(id) + "' has " + std::to_string(bytes[static_cast<int>(id)]) +
@@ -143,6 +147,7 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   f.reference = reinterpret_cast<const float*>(section(SectionId::kReference));
   f.triangles = reinterpret_cast<const std::int32_t*>(section(SectionId::kTriangles));
   f.displacements = reinterpret_cast<const float*>(section(SectionId::kDisplacements));
+  if (m2.has_displacement_slopes) f.slopes = reinterpret_cast<const float*>(section(SectionId::kDisplacementSlopes));
 }
 
 PlaybackFile::~PlaybackFile() {
@@ -232,6 +237,18 @@ std::array<double, 9> PlaybackFile::stiffness(std::int32_t c) const {
 std::span<const float> PlaybackFile::displacements(std::int32_t c) const {
   const std::size_t v = static_cast<std::size_t>(impl_->meta->num_view_nodes);
   return {impl_->displacements + 3 * v * static_cast<std::size_t>(c), 3 * v};
+}
+
+}  // namespace hapstate
+
+namespace hapstate {
+
+bool PlaybackFile::has_displacement_slopes() const { return impl_->slopes != nullptr; }
+
+std::span<const float> PlaybackFile::displacement_slopes(std::int32_t c, int axis) const {
+  if (!impl_->slopes) return {};
+  const std::size_t v = static_cast<std::size_t>(impl_->meta->num_view_nodes);
+  return {impl_->slopes + 3 * v * (3 * static_cast<std::size_t>(c) + axis), 3 * v};
 }
 
 }  // namespace hapstate

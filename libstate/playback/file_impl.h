@@ -27,6 +27,7 @@ struct PlaybackFile::Impl {
   const float* reference = nullptr;
   const std::int32_t* triangles = nullptr;
   const float* displacements = nullptr;
+  const float* slopes = nullptr;                   // nullptr: the file has none
 
   // Linear index of grid point ijk (absolute grid indices), or -1 outside the grid.
   std::int32_t point_index(const std::array<std::int32_t, 3>& ijk) const {

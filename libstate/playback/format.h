@@ -1,5 +1,5 @@
 // The playback file's layout on disk (docs/playback.md): little-endian, a 64-byte header,
-// a table of sections, every section's data 64-byte aligned. Version 2 (kVersion).
+// a table of sections, every section's data 64-byte aligned. Version 3 (kVersion).
 //
 //   header | section table | section data ...
 //
@@ -17,7 +17,7 @@ static_assert(std::endian::native == std::endian::little,
               "the playback file is little-endian and mapped as is");
 
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
-inline constexpr std::uint32_t kVersion = 2;
+inline constexpr std::uint32_t kVersion = 3;  // 3: displacement slopes
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -47,8 +47,11 @@ enum class SectionId : std::uint32_t {
   kTriangles = 10,     // int32 x 3 per surface triangle, view-node indices
   kDisplacements = 11, // float32 x 3 per view node per configuration, mesh units
   kConfigZero = 12,    // int32 per configuration: 1 for a zero configuration (the body at rest)
+  // float32 per configuration: 3 arrays (probe axis x, y, z) of 3 per view node, d u / d p,
+  // dimensionless; empty when Meta::has_displacement_slopes is 0.
+  kDisplacementSlopes = 13,
 };
-inline constexpr int kSectionCount = 12;
+inline constexpr int kSectionCount = 13;
 
 struct SectionEntry {
   std::uint32_t id;             // SectionId
@@ -84,7 +87,7 @@ struct Meta {
   std::int32_t num_mesh_nodes;
   std::int32_t num_triangles;
   std::int32_t view_all_nodes;  // 1: view nodes are every mesh node in order
-  std::int32_t reserved;
+  std::int32_t has_displacement_slopes;  // 1: kDisplacementSlopes holds every configuration's
   std::uint64_t scene_hash;     // XXH64 of the scene text
   std::uint64_t source_hash;    // of what the index was built from (hapstate-index skips)
 };

@@ -128,12 +128,17 @@ void write_file(Content c, const std::filesystem::path& file) {
   c.meta.num_view_nodes = static_cast<std::int32_t>(v);
   c.meta.num_triangles = static_cast<std::int32_t>(c.triangles.size() / 3);
   c.meta.force_change_bound = force_change_bound(c);
+  c.meta.has_displacement_slopes = c.displacement_slopes ? 1 : 0;
+  const std::uint64_t slope_floats = c.displacement_slopes ? 9 * v : 0;
 
   struct Pending {
     SectionId id;
     std::uint32_t element_bytes;
-    std::span<const std::byte> data;  // empty for the streamed displacements
+    std::span<const std::byte> data;  // empty for the streamed sections
     std::uint64_t bytes;
+    // A streamed section: fills the floats of one configuration.
+    const std::function<void(std::int32_t, std::span<float>)>* stream = nullptr;
+    std::uint64_t row_floats = 0;
   };
   const std::vector<Meta> meta{c.meta};
   const Pending pending[kSectionCount] = {
@@ -148,7 +153,8 @@ void write_file(Content c, const std::filesystem::path& file) {
       {SectionId::kViewNodes, 4, bytes_of(c.view_nodes), 4 * v},
       {SectionId::kReference, 12, bytes_of(c.reference), 12 * v},
       {SectionId::kTriangles, 12, bytes_of(c.triangles), 4 * c.triangles.size()},
-      {SectionId::kDisplacements, 12, {}, 12 * v * n},
+      {SectionId::kDisplacements, 12, {}, 12 * v * n, &c.displacements, 3 * v},
+      {SectionId::kDisplacementSlopes, 36, {}, 4 * slope_floats * n, &c.displacement_slopes, slope_floats},
   };
 
   std::filesystem::path tmp = file;
@@ -161,16 +167,16 @@ void write_file(Content c, const std::filesystem::path& file) {
     for (int s = 0; s < kSectionCount; ++s) {
       const Pending& p = pending[s];
       table[s] = {static_cast<std::uint32_t>(p.id), p.element_bytes, offset, p.bytes, 0};
-      if (p.id != SectionId::kDisplacements) {
+      if (!p.stream) {
         out.write_at(offset, p.data.data(), p.data.size());
         table[s].checksum = content_hash(p.data).value;
       } else {
         ContentHasher hasher;
-        std::vector<float> row(3 * v);
-        for (std::size_t k = 0; k < n; ++k) {
+        std::vector<float> row(p.row_floats);
+        for (std::size_t k = 0; k < n && p.row_floats > 0; ++k) {
           std::fill(row.begin(), row.end(), 0.0f);
-          c.displacements(static_cast<std::int32_t>(k), row);
-          out.write_at(offset + 12 * v * k, row.data(), 12 * v);
+          (*p.stream)(static_cast<std::int32_t>(k), row);
+          out.write_at(offset + 4 * p.row_floats * k, row.data(), 4 * p.row_floats);
           hasher.update(std::as_bytes(std::span<const float>(row)));
         }
         table[s].checksum = hasher.value().value;

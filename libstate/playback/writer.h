@@ -26,6 +26,9 @@ struct Content {
   std::vector<std::int32_t> triangles;          // 3 per triangle, view-node indices
   // Fills `out` (3 per view node) with the displacements of configuration c.
   std::function<void(std::int32_t c, std::span<float> out)> displacements;
+  // Fills `out` (9 per view node: the x, y, z arrays of 3 per view node) with the
+  // displacement slopes of configuration c; empty: the file has none (Meta flag 0).
+  std::function<void(std::int32_t c, std::span<float> out)> displacement_slopes;
 };
 
 // The bound on |f(p) - f(q)| / |p - q| the cursor keeps (docs/playback.md), from the forces of

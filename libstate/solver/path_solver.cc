@@ -746,8 +746,9 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
   return result;
 }
 
-Eigen::Matrix3d PathSolver::haptic_stiffness() {
-  if (sliding_) return sliding_stiffness();
+Eigen::Matrix3d PathSolver::haptic_stiffness(Eigen::MatrixX3d* du_dp) {
+  if (sliding_) return sliding_stiffness(du_dp);
+  if (du_dp) du_dp->setZero(num_dofs(), 3);
   double energy = 0;
   assemble(u_, false, &energy);
   const std::vector<double> k_full = k_values_;
@@ -768,6 +769,10 @@ Eigen::Matrix3d PathSolver::haptic_stiffness() {
   for (int c = 0; c < 3; ++c) {
     Eigen::VectorXd z;
     cholesky_->solve(y_free.col(c), &z);
+    // du/dp_c: the probe DOFs of component c move with the probe, the free ones by -K_FF^-1 K_FP.
+    if (du_dp)
+      for (int d = 0; d < num_dofs(); ++d)
+        (*du_dp)(d, c) = role_[d] == DofRole::kFree ? -z[d] : probe_dof_component_[d] == c ? 1.0 : 0.0;
     for (int c2 = 0; c2 < 3; ++c2) {
       double kpp = 0;
       for (int d = 0; d < num_dofs(); ++d)
@@ -786,7 +791,8 @@ namespace hapstate {
 // Frictionless contact: F = -dPsi/dc at the equilibrium u*(c), so
 // dF/dc = -(Psi_cc - Psi_cu K^-1 Psi_uc) with K the full tangent on the free DOFs; the active
 // gaps are held as the constraints they converge to (a stiff penalty in the Hessian).
-Eigen::Matrix3d PathSolver::sliding_stiffness() {
+Eigen::Matrix3d PathSolver::sliding_stiffness(Eigen::MatrixX3d* du_dp) {
+  if (du_dp) du_dp->setZero(num_dofs(), 3);
   t_solve_ = t_;
   const Eigen::Vector3d centre = centre_m(t_);
   const double stiff = kStiffnessPenaltyFactor * sliding_->base_penalty();
@@ -803,6 +809,8 @@ Eigen::Matrix3d PathSolver::sliding_stiffness() {
   for (int c = 0; c < 3; ++c) {
     Eigen::VectorXd z;
     cholesky_->solve(k_uc.col(c), &z);
+    if (du_dp)  // du/dc = -K^-1 K_uc on the free DOFs
+      for (int d = 0; d < num_dofs(); ++d) (*du_dp)(d, c) = role_[d] == DofRole::kFree ? -z[d] : 0.0;
     for (int c2 = 0; c2 < 3; ++c2)
       stiffness(c2, c) = -(k_cc(c2, c) - k_uc.col(c2).dot(z)) * unit_;  // per mesh unit
   }

@@ -128,7 +128,10 @@ class PathSolver {
   Eigen::VectorXd probe_reactions() const;
   // d force_felt / d probe position [N per mesh unit] at the current state (one extra
   // assembly and factorisation; the reduced-stiffness Schur complement on the probe DOFs).
-  Eigen::Matrix3d haptic_stiffness();
+  // du_dp, if given, receives the displacement's derivative with respect to the probe
+  // position at equilibrium: column c = d u / d p_c, one row per DOF, dimensionless (the
+  // back-substitutions of the Schur complement give it at no extra factorisation).
+  Eigen::Matrix3d haptic_stiffness(Eigen::MatrixX3d* du_dp = nullptr);
 
   const SolverTimings& timings() const { return timings_; }
   const SparseCholesky& linear_solver() const { return *cholesky_; }
@@ -168,7 +171,7 @@ class PathSolver {
   Eigen::Vector3d centre_m(const Eigen::Vector3d& t) const { return (probe_rest_ + t) * unit_; }
   double total_energy_and_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const;
   bool settle_sliding(double rel_tol, bool last, MoveResult* result);
-  Eigen::Matrix3d sliding_stiffness();
+  Eigen::Matrix3d sliding_stiffness(Eigen::MatrixX3d* du_dp);
   // The internal force at u_: state_force_ when valid, else assembled into *scratch.
   const Eigen::VectorXd& state_force(Eigen::VectorXd* scratch) const;
 

@@ -144,17 +144,34 @@ std::vector<TransitionSolve> TransitionSolver::solve_range(std::size_t begin, st
   return solve(std::span<const TransitionTask>(*wave_).subspan(begin, end - begin));
 }
 
+StiffnessResult stiffness_result(const Eigen::Matrix3d& stiffness, const Eigen::MatrixX3d& du_dp) {
+  StiffnessResult out;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out.stiffness[3 * r + c] = std::isfinite(stiffness(r, c)) ? stiffness(r, c) : 0.0;
+  if (du_dp.allFinite()) {
+    out.du_dp.resize(static_cast<std::size_t>(du_dp.size()));
+    Eigen::Map<Eigen::MatrixX3f>(out.du_dp.data(), du_dp.rows(), 3) = du_dp.cast<float>();
+  }
+  return out;
+}
+
+StiffnessResult rest_stiffness(const Problem& problem) {
+  PathSolver solver(problem);
+  Eigen::MatrixX3d du_dp;
+  const Eigen::Matrix3d k = solver.haptic_stiffness(&du_dp);
+  return stiffness_result(k, du_dp);
+}
+
 std::vector<StiffnessResult> TransitionSolver::stiffnesses(const std::vector<StiffnessTask>& tasks) {
   std::vector<StiffnessResult> results(tasks.size());
   for_each_parallel(tasks.size(), [&](int worker, std::size_t k) {
     PathSolver& solver = *solvers_[worker];
     probe_.set_state(solver, *tasks[k].vectors, tasks[k].position);
     const long long before = solver.timings().factorizations;
-    const Eigen::Matrix3d stiffness = solver.haptic_stiffness();
+    Eigen::MatrixX3d du_dp;
+    const Eigen::Matrix3d stiffness = solver.haptic_stiffness(&du_dp);
+    results[k] = stiffness_result(stiffness, du_dp);
     results[k].factorisations = static_cast<int>(solver.timings().factorizations - before);
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        results[k].stiffness[3 * r + c] = std::isfinite(stiffness(r, c)) ? stiffness(r, c) : 0.0;
   });
   return results;
 }

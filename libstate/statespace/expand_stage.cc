@@ -217,10 +217,12 @@ class Expander {
     if (!decision.fresh.empty()) {
       SegmentWriter writer(blobs_.directory(), settings.segment,
                            SegmentProvenance{ctx_.scene_record.hash.hex(), "", "expand"});
-      for (const NewConfiguration& n : decision.fresh) {
+      for (std::size_t k = 0; k < decision.fresh.size(); ++k) {
+        const NewConfiguration& n = decision.fresh[k];
         writer.write(n.config.blob->name + "/u", n.vectors->u);
         writer.write(n.config.blob->name + "/t", n.vectors->t);
         writer.write(n.config.blob->name + "/h", n.vectors->h);
+        if (!stiffness[k].du_dp.empty()) writer.write(n.config.blob->name + "/du_dp", stiffness[k].du_dp);
         if (probe_->layout().multipliers)
           writer.write(n.config.blob->name + "/multipliers", n.vectors->multipliers);
         if (probe_->stores_touched()) {

@@ -1,7 +1,7 @@
 #include "statespace/grid_stage.h"
 
 #include "catalogue/transaction.h"
-#include "solver/path_solver.h"
+#include "statespace/expand_batch.h"
 #include "statespace/level_match.h"
 #include "statespace/probe_model.h"
 #include "statespace/stage_context.h"
@@ -27,14 +27,11 @@ bool in_workspace(CheckpointClass c) {
 
 // The zero configuration (no blob: u = 0, nothing touched or t = 0) of `checkpoint`.
 Configuration zero_configuration(const StageContext& ctx, CheckpointId checkpoint) {
-  PathSolver solver(ctx.problem);
-  const Eigen::Matrix3d k = solver.haptic_stiffness();
   Configuration c;
   c.checkpoint = checkpoint;
   c.level = Level(0);
   c.wave = 0;
-  for (int r = 0; r < 3; ++r)
-    for (int s = 0; s < 3; ++s) c.stiffness[3 * r + s] = std::isfinite(k(r, s)) ? k(r, s) : 0.0;
+  c.stiffness = rest_stiffness(ctx.problem).stiffness;
   c.expandable = 0.0 <= ctx.scene.probe.max_force;
   c.status = ConfigStatus::kOpen;
   c.summary.assign(LevelSketch(ctx.problem).summary_size(), 0.0);

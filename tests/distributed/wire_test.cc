@@ -114,6 +114,7 @@ TEST(Wire, SetupStiffnessAndTimingsRoundTrip) {
   s.problem.rest = {1, 2, 3};
   StiffnessResult k;
   for (int i = 0; i < 9; ++i) k.stiffness[i] = i - 4.5;
+  k.du_dp = {0.5f, -1.25f, 3.0f, 1e-7f, 0.0f, 2.5f};
   k.factorisations = 2;
   SolverTimings t;
   t.assembly = 1.5;
@@ -138,6 +139,7 @@ TEST(Wire, SetupStiffnessAndTimingsRoundTrip) {
   EXPECT_EQ(s2.problem.rest, s.problem.rest);
   EXPECT_TRUE(s2.problem.tets.empty());
   EXPECT_EQ(k2.stiffness, k.stiffness);
+  EXPECT_EQ(k2.du_dp, k.du_dp);
   EXPECT_EQ(k2.factorisations, 2);
   EXPECT_EQ(t2.assembly, 1.5);
   EXPECT_EQ(t2.contact_detection, 0.25);

@@ -51,21 +51,46 @@ class Cursor : public ::testing::Test {
     playback::write_file(std::move(content), f);
     return f;
   }
-  // Max |f - f_exact| (absolute, N) over random points within 1.5 spacings of rest, walking
-  // there in small steps from rest.
-  double max_error(const PlaybackFile& file, Scheme scheme, const Field& field, const Eigen::Vector3d& h) {
-    HapticCursor cursor(file, scheme);
-    std::mt19937_64 rng(7);
+  // Walks a cursor from rest to 300 random points within 1.5 spacings of rest in small steps
+  // and calls at(p) at each.
+  template <typename At>
+  static void visit_random_points(HapticCursor& cursor, const Field& field, const Eigen::Vector3d& h,
+                                  unsigned seed, At&& at) {
+    std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-1.5, 1.5);
-    double err = 0;
     Eigen::Vector3d p = field.origin;
     for (int n = 0; n < 300; ++n) {
       const Eigen::Vector3d target = field.origin + Eigen::Vector3d(u(rng) * h[0], u(rng) * h[1], u(rng) * h[2]);
-      for (int s = 1; s <= 10; ++s) cursor.force(arr(p + (target - p) * s / 10.0));
+      for (int s = 1; s < 10; ++s) cursor.force(arr(p + (target - p) * s / 10.0));
       p = target;
-      const Eigen::Vector3d f = vec(cursor.force(arr(p)).value);
-      err = std::max(err, (f - field.force(p)).norm());
+      at(p);
     }
+  }
+  // Max |f - f_exact| (absolute, N) over those points.
+  double max_error(const PlaybackFile& file, Scheme scheme, const Field& field, const Eigen::Vector3d& h) {
+    HapticCursor cursor(file, scheme);
+    double err = 0;
+    visit_random_points(cursor, field, h, 7, [&](const Eigen::Vector3d& p) {
+      err = std::max(err, (vec(cursor.force(arr(p)).value) - field.force(p)).norm());
+    });
+    return err;
+  }
+  // Max |u - u_exact| over the view nodes (absolute, mesh units) at those points.
+  double max_displacement_error(const PlaybackFile& file, Scheme scheme, const Field& field,
+                                const Eigen::Vector3d& h) {
+    HapticCursor cursor(file, scheme);
+    std::vector<float> d(3 * test_util::kSyntheticViewNodes);
+    double err = 0;
+    visit_random_points(cursor, field, h, 11, [&](const Eigen::Vector3d& p) {
+      cursor.force(arr(p));
+      Snapshot snap;
+      cursor.snapshot(&snap);
+      displacements(file, snap, d);
+      for (int v = 0; v < test_util::kSyntheticViewNodes; ++v) {
+        const Eigen::Vector3d exact = test_util::synthetic_displacement(field, v, p);
+        err = std::max(err, (Eigen::Vector3d(d[3 * v], d[3 * v + 1], d[3 * v + 2]) - exact).norm());
+      }
+    });
     return err;
   }
 
@@ -174,6 +199,41 @@ TEST_F(Cursor, BothSchemesReproduceALinearField) {
   PlaybackFile file(write(test_util::synthetic_content(linear, h), "linear.bin"));
   EXPECT_LE(max_error(file, Scheme::kTrilinear, linear, h), 1e-12);
   EXPECT_LE(max_error(file, Scheme::kHermite, linear, h), 1e-12);
+  // The displacements too (float32 storage: 1e-6 of their size).
+  EXPECT_LE(max_displacement_error(file, Scheme::kTrilinear, linear, h), 1e-6);
+  EXPECT_LE(max_displacement_error(file, Scheme::kHermite, linear, h), 1e-6);
+}
+
+TEST_F(Cursor, HermiteDisplacementsConvergeFasterThanTrilinear) {
+  // As the force: halving the spacing divides the trilinear error by about 4 and the Hermite
+  // error (corner slopes as derivatives, cross derivatives estimated) by 8 or more.
+  double tri[2], her[2];
+  for (int level = 0; level < 2; ++level) {
+    const Eigen::Vector3d h = Eigen::Vector3d(0.5, 0.4, 0.6) / (level ? 2.0 : 1.0);
+    PlaybackFile file(write(test_util::synthetic_content(field_, h), "dconv" + std::to_string(level) + ".bin"));
+    ASSERT_TRUE(file.has_displacement_slopes());
+    tri[level] = max_displacement_error(file, Scheme::kTrilinear, field_, h);
+    her[level] = max_displacement_error(file, Scheme::kHermite, field_, h);
+  }
+  std::printf("max displacement error trilinear %.3g -> %.3g, hermite %.3g -> %.3g\n", tri[0], tri[1],
+              her[0], her[1]);
+  EXPECT_GT(tri[0] / tri[1], 3.0);
+  EXPECT_GT(her[0] / her[1], 6.0);
+  EXPECT_LT(her[0], tri[0] / 3);
+  EXPECT_LT(her[1], tri[1] / 6);
+}
+
+TEST_F(Cursor, WithoutSlopesHermiteDeformationIsTrilinear) {
+  // A file indexed from a state without displacement slopes: Hermite deform() blends like
+  // trilinear (and says so through has_displacement_slopes()).
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  playback::Content c = test_util::synthetic_content(field_, h);
+  c.displacement_slopes = nullptr;
+  PlaybackFile file(write(std::move(c), "noslopes.bin"));
+  EXPECT_FALSE(file.has_displacement_slopes());
+  EXPECT_TRUE(file.displacement_slopes(0, 0).empty());
+  EXPECT_NEAR(max_displacement_error(file, Scheme::kHermite, field_, h),
+              max_displacement_error(file, Scheme::kTrilinear, field_, h), 1e-9);
 }
 
 TEST_F(Cursor, HermiteConvergesFasterThanTrilinear) {
@@ -225,6 +285,23 @@ TEST_F(Cursor, ContinuousWithMissingCornersAndOutsideTheGrid) {
   int extended = 0;
   for (int k = 0; k < 8; ++k) extended += cursor.corner_source(k) == CornerSource::kExtended;
   EXPECT_GE(extended, 4);
+  // At the unreached check-point (2, 0, 0) the Hermite displacements are those of (1, 0, 0)
+  // extended by its slopes (first-order Taylor), the trilinear ones those of (1, 0, 0).
+  const Eigen::Vector3d p1 = field_.origin + Eigen::Vector3d(h[0], 0, 0);
+  const Eigen::Vector3d p2 = field_.origin + Eigen::Vector3d(2 * h[0], 0, 0);
+  std::vector<float> d(3 * test_util::kSyntheticViewNodes);
+  for (Scheme scheme : {Scheme::kHermite, Scheme::kTrilinear}) {
+    cursor.set_scheme(scheme);
+    cursor.force(arr(p2));
+    Snapshot snap;
+    cursor.snapshot(&snap);
+    displacements(file, snap, d);
+    for (int v = 0; v < test_util::kSyntheticViewNodes; ++v) {
+      Eigen::Vector3d want = test_util::synthetic_displacement(field_, v, p1);
+      if (scheme == Scheme::kHermite) want += test_util::synthetic_displacement_slope(field_, v, p1) * (p2 - p1);
+      for (int r = 0; r < 3; ++r) EXPECT_NEAR(d[3 * v + r], want[r], 1e-5) << v << r;
+    }
+  }
 }
 
 TEST_F(Cursor, PlanarWorkspaceWithOneCheckpointAlongAnAxis) {

@@ -70,6 +70,10 @@ TEST_F(PlaybackFormat, RoundTripKeepsEveryValue) {
   EXPECT_EQ(k[5], field_.jacobian(p)(1, 2));
   const auto u = f.displacements(124);
   EXPECT_EQ(u[3 * 4 + 1], static_cast<float>(test_util::synthetic_displacement(field_, 4, p)[1]));
+  ASSERT_TRUE(f.has_displacement_slopes());
+  const auto du_dz = f.displacement_slopes(124, 2);
+  ASSERT_EQ(du_dz.size(), 3u * test_util::kSyntheticViewNodes);
+  EXPECT_EQ(du_dz[3 * 4 + 1], static_cast<float>(test_util::synthetic_displacement_slope(field_, 4, p)(1, 2)));
   EXPECT_GT(f.force_change_bound(), 0.0);
   // Every section is 64-byte aligned in the file.
   const auto* table = reinterpret_cast<const playback::SectionEntry*>(bytes_.data() + 64);
@@ -94,8 +98,8 @@ TEST_F(PlaybackFormat, DamagedHeaderIsRefusedAtOpen) {
   b[0] = 'X';
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "bad magic");
   b = bytes_;
-  b[8] = 1;  // version
-  expect_input_error([&] { PlaybackFile p(damaged(b)); }, "format version 1, this build reads version 2");
+  b[8] = 2;  // version 2: no displacement slopes
+  expect_input_error([&] { PlaybackFile p(damaged(b)); }, "format version 2, this build reads version 3 (run hapstate-index again)");
   b = bytes_;
   b[30] ^= 1;  // section table offset, covered by the header checksum
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "header checksum mismatch");
@@ -115,6 +119,7 @@ TEST_F(PlaybackFormat, DamagedMetaIsRefusedAtOpen) {
 
 TEST_F(PlaybackFormat, DamagedDataIsFoundByVerify) {
   for (auto [id, name] : {std::pair{playback::SectionId::kDisplacements, "displacements"},
+                          std::pair{playback::SectionId::kDisplacementSlopes, "displacement slopes"},
                           std::pair{playback::SectionId::kTransitions, "transitions"},
                           std::pair{playback::SectionId::kForce, "forces"}}) {
     std::string b = bytes_;

@@ -1,7 +1,7 @@
 // A synthetic playback file for the runtime tests: a 5 x 5 x 5 grid (anisotropic spacing)
 // whose configurations carry an analytic force field f(P) and its exact Jacobian, one level
-// each, every transition between neighbours stored, and displacements that are a known
-// function of the check-point. Edits (missing transitions) are applied by the tests.
+// each, every transition between neighbours stored, and displacements (with their slopes)
+// that are a known function of the check-point. Edits (missing transitions) are applied by the tests.
 #pragma once
 
 #include "playback/writer.h"
@@ -40,6 +40,11 @@ inline constexpr int kSyntheticViewNodes = 6;
 // Displacement of view node v at check-point position P.
 inline Eigen::Vector3d synthetic_displacement(const Field& field, int v, const Eigen::Vector3d& p) {
   return (0.1 * (v + 1)) * (p - field.origin) + 0.01 * field.force(p);
+}
+
+// Its derivative with respect to the probe position: column a = d u / d p_a.
+inline Eigen::Matrix3d synthetic_displacement_slope(const Field& field, int v, const Eigen::Vector3d& p) {
+  return (0.1 * (v + 1)) * Eigen::Matrix3d::Identity() + 0.01 * field.jacobian(p);
 }
 
 // Content of the synthetic file with spacing h (grid indices -2..2 per axis; with flat_z only
@@ -98,6 +103,14 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
     for (int v = 0; v < kSyntheticViewNodes; ++v) {
       const Eigen::Vector3d u = synthetic_displacement(field, v, position(i, j, k));
       for (int r = 0; r < 3; ++r) out[3 * v + r] = static_cast<float>(u[r]);
+    }
+  };
+  c.displacement_slopes = [field, h, position, nk, klo](std::int32_t config, std::span<float> out) {
+    const int i = config / (5 * nk) - 2, j = (config / nk) % 5 - 2, k = config % nk + klo;
+    for (int v = 0; v < kSyntheticViewNodes; ++v) {
+      const Eigen::Matrix3d d = synthetic_displacement_slope(field, v, position(i, j, k));
+      for (int a = 0; a < 3; ++a)
+        for (int r = 0; r < 3; ++r) out[3 * (a * kSyntheticViewNodes + v) + r] = static_cast<float>(d(r, a));
     }
   };
   return c;

@@ -149,27 +149,36 @@ TEST(PathSolver, ImpossibleMoveReportsReasonAndKeepsState) {
   EXPECT_EQ(solver.probe_displacement(), Eigen::Vector3d(0, 0.5, 0));
 }
 
-TEST(PathSolver, HapticStiffnessIsDerivativeOfFeltForce) {
+TEST(PathSolver, HapticStiffnessAndDisplacementSlopesAreDerivativesOfTheEquilibrium) {
   for (Law law : {Law::kStvk, Law::kNeoHooke, Law::kMooney}) {
     Problem problem = cantilever_problem(law);
     problem.solver.tolerance = 1e-12;
     PathSolver solver(problem);
     const Eigen::Vector3d t(0.3, 2.0, -1.0);
     ASSERT_TRUE(solver.move_to(t).ok);
-    const Eigen::Matrix3d k = solver.haptic_stiffness();
+    Eigen::MatrixX3d du_dp;
+    const Eigen::Matrix3d k = solver.haptic_stiffness(&du_dp);
     const Eigen::VectorXd u0 = solver.state_m();
     Eigen::Matrix3d fd;
+    Eigen::MatrixX3d fd_du(u0.size(), 3);
     const double h = 1e-4;
     for (int c = 0; c < 3; ++c) {
       Eigen::Vector3d f[2];
+      Eigen::VectorXd u[2];
       for (int s = 0; s < 2; ++s) {
         solver.set_state(u0, t);
         ASSERT_TRUE(solver.move_to(t + (s ? h : -h) * Eigen::Vector3d::Unit(c)).ok);
         f[s] = solver.force_felt();
+        u[s] = solver.state_m();
       }
       fd.col(c) = (f[1] - f[0]) / (2 * h);
+      fd_du.col(c) = (u[1] - u[0]) / (2 * h * problem.unit);  // metres per metre
     }
     EXPECT_LE((fd - k).norm(), 1e-5 * k.norm()) << law_name(law) << "\n" << k << "\n" << fd;
+    // d u / d p: the grabbed DOFs move with the probe (1), the others by the equilibrium.
+    ASSERT_EQ(du_dp.rows(), u0.size());
+    EXPECT_LE((fd_du - du_dp).norm(), 1e-5 * du_dp.norm()) << law_name(law);
+    EXPECT_GT(du_dp.norm(), 1.0) << law_name(law);
     // Pulling a node out of a stable body: the felt force opposes the motion.
     EXPECT_LT(k.trace(), 0) << law_name(law);
   }

@@ -145,12 +145,15 @@ TEST(SlidingContact, FeltForceIsMinusTheEnergyDerivativeAndStiffnessItsDerivativ
   ASSERT_TRUE(solver.move_to(t0).ok);
   const Eigen::VectorXd u0 = solver.state_m();
   const Eigen::Vector3d felt = solver.force_felt();
-  const Eigen::Matrix3d stiffness = solver.haptic_stiffness();
+  Eigen::MatrixX3d du_dp;
+  const Eigen::Matrix3d stiffness = solver.haptic_stiffness(&du_dp);
   const double h = 1e-4;  // mesh units
   Eigen::Matrix3d fd_stiffness;
+  Eigen::MatrixX3d fd_du(u0.size(), 3);
   for (int c = 0; c < 3; ++c) {
     double e[2];
     Eigen::Vector3d f[2];
+    Eigen::VectorXd u[2];
     for (int s = 0; s < 2; ++s) {
       solver.set_state(u0, t0);
       Eigen::Vector3d t = t0;
@@ -159,7 +162,9 @@ TEST(SlidingContact, FeltForceIsMinusTheEnergyDerivativeAndStiffnessItsDerivativ
       ASSERT_TRUE(r.ok) << r.reason;
       e[s] = truth.energy(solver.state_m());
       f[s] = solver.force_felt();
+      u[s] = solver.state_m();
     }
+    fd_du.col(c) = (u[0] - u[1]) / (2 * h * p.unit);
     const double derivative = (e[0] - e[1]) / (2 * h * p.unit);  // J per metre = N
     EXPECT_NEAR(felt[c], -derivative, 1e-5 * felt.norm()) << "component " << c;
     fd_stiffness.col(c) = (f[0] - f[1]) / (2 * h);
@@ -168,6 +173,10 @@ TEST(SlidingContact, FeltForceIsMinusTheEnergyDerivativeAndStiffnessItsDerivativ
               (std::ostringstream() << stiffness).str().c_str(),
               (std::ostringstream() << fd_stiffness).str().c_str());
   EXPECT_LE((stiffness - fd_stiffness).norm(), 1e-3 * stiffness.norm());
+  // The displacement slopes (Hermite deformation) to the same accuracy as the stiffness.
+  ASSERT_EQ(du_dp.rows(), u0.size());
+  std::printf("|du/dp - central differences| / |du/dp| = %.2e\n", (du_dp - fd_du).norm() / du_dp.norm());
+  EXPECT_LE((du_dp - fd_du).norm(), 1e-3 * du_dp.norm());
   // The sphere's curvature: pressing straight down, moving sideways tilts the force.
   EXPECT_GT(std::abs(stiffness(0, 0)), 1e-3 * std::abs(stiffness(2, 2)));
 }
