@@ -29,8 +29,8 @@ class BlobStore {
 
   const std::filesystem::path& directory() const;
 
-  // The vector `name` of segment `id`, converted to float64 / float32 from whatever
-  // precision it was stored in.
+  // The vector `name` of segment `id`, converted to float64 / float32 from whatever type it
+  // was stored as (int32 indices included).
   std::vector<double> read(SegmentId id, std::string_view name) const;
   std::vector<float> read_float32(SegmentId id, std::string_view name) const;
 
@@ -41,10 +41,10 @@ class BlobStore {
   // Number of values of vector `name`, without reading it.
   std::size_t size_of(SegmentId id, std::string_view name) const;
 
-  // Full names of every vector (dataset) of segment `id`, e.g. "c42/u", sorted.
+  // Full names of every vector of segment `id`, e.g. "c42/u", sorted.
   std::vector<std::string> list_vectors(SegmentId id) const;
 
-  // Storage precision of vector `name` (float32 or float64).
+  // Storage type of vector `name` (float64, float32 or int32).
   Precision precision_of(SegmentId id, std::string_view name) const;
 
   // The provenance root attributes of segment `id`.

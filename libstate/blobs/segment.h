@@ -22,8 +22,10 @@ struct SegmentId {
 };
 inline constexpr SegmentId kInvalidSegmentId{};
 
-// Version of the segment layout (root attribute "hapstate_segment_format").
-inline constexpr int kSegmentFormatVersion = 1;
+// Version of the segment layout (root attribute "hapstate_segment_format"). 1: one 1-D
+// dataset per vector, at its name; 2: the vectors as rows of one 2-D dataset per leaf name
+// (docs/storage.md). Writers write 2; readers read both.
+inline constexpr int kSegmentFormatVersion = 2;
 
 // Canonical file name of a segment: "seg-000042.h5" (at least six digits).
 // Precondition: id.valid().
@@ -46,7 +48,7 @@ struct SegmentProvenance {
 bool is_valid_vector_name(std::string_view name);
 
 // Storage type of a vector in a segment. float64 for solver state (u, t, h); float32 for
-// data only drawn on screen (visual displacements).
-enum class Precision { kFloat64, kFloat32 };
+// data only drawn on screen (displacement slopes); int32 for indices (touched nodes, tets).
+enum class Precision { kFloat64, kFloat32, kInt32 };
 
 }  // namespace hapstate

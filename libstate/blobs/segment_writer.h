@@ -18,8 +18,11 @@ struct SegmentWriterOptions {
 };
 
 // Creates blobs_dir/seg-NNNNNN.h5 (never overwrites: an existing file is an InputError) and
-// writes vectors into it as 1-D datasets, chunked, byte-shuffled and zstd-compressed
-// (filter 32015). Root attributes record the provenance. Crash-safety contract: the catalogue
+// writes vectors into it: the vector "<group>/<leaf>" is a row of the 2-D dataset "<leaf>"
+// (one row per group; rows may be shorter than the dataset, their lengths are in the index
+// written by close()), chunked one row at a time, byte-shuffled and zstd-compressed (filter
+// 32015). Root attributes record the provenance. Rows are written as they come: nothing is
+// held in memory but the index. Crash-safety contract: the catalogue
 // may reference the segment only after close() returned. A writer destroyed without close()
 // (an exception unwound past it) deletes its file. Not thread-safe: one thread per writer;
 // several writers on different threads are fine.
@@ -37,6 +40,7 @@ class SegmentWriter {
   void write(std::string_view name, std::span<const double> values,
              Precision precision = Precision::kFloat64);
   void write(std::string_view name, std::span<const float> values);
+  void write(std::string_view name, std::span<const int> values);  // int32 (indices)
 
   // Marks the segment complete, flushes and closes it, then fsyncs the file and blobs_dir.
   // After it returns the segment survives a power cut. Throws InputError on any I/O error

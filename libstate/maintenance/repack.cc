@@ -151,10 +151,18 @@ RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& bl
       current = packing.segment[k];
     }
     for (const std::string& v : move.vectors) {
-      if (blobs.precision_of(move.from.segment, v) == Precision::kFloat32) {
-        writer->write(v, std::span<const float>(blobs.read_float32(move.from.segment, v)));
-      } else {
-        writer->write(v, std::span<const double>(blobs.read(move.from.segment, v)));
+      switch (blobs.precision_of(move.from.segment, v)) {
+        case Precision::kFloat32:
+          writer->write(v, std::span<const float>(blobs.read_float32(move.from.segment, v)));
+          break;
+        case Precision::kInt32: {  // indices: exact in float64
+          const std::vector<double> values = blobs.read(move.from.segment, v);
+          writer->write(v, std::span<const int>(std::vector<int>(values.begin(), values.end())));
+          break;
+        }
+        case Precision::kFloat64:
+          writer->write(v, std::span<const double>(blobs.read(move.from.segment, v)));
+          break;
       }
     }
     result.values_written += packing.values[k];

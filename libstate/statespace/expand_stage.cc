@@ -225,10 +225,8 @@ class Expander {
         if (!stiffness[k].du_dp.empty()) writer.write(n.config.blob->name + "/du_dp", stiffness[k].du_dp);
         if (probe_->layout().multipliers)
           writer.write(n.config.blob->name + "/multipliers", n.vectors->multipliers);
-        if (probe_->stores_touched()) {
-          const std::vector<double> touched(n.vectors->touched.begin(), n.vectors->touched.end());
-          writer.write(n.config.blob->name + "/touched", touched);
-        }
+        if (probe_->stores_touched())
+          writer.write(n.config.blob->name + "/touched", std::span<const int>(n.vectors->touched));
       }
       writer.close();
     }

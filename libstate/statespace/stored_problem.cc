@@ -64,12 +64,14 @@ void write_stored_problem(const StateDir& dir, const Problem& problem,
   const ProblemVectors v = problem_vectors(problem);
   SegmentWriter writer(dir.problem(), kProblemSegment,
                        SegmentProvenance{scene_hash.hex(), "", "import"});
+  // Indices and flags as int32 datasets (read back as float64, the vectors' in-memory type).
+  const auto ints = [](const std::vector<double>& values) { return std::vector<int>(values.begin(), values.end()); };
   writer.write("mesh/nodes", v.nodes);
-  writer.write("mesh/tets", v.tets);
-  writer.write("mesh/surface", v.surface);
-  writer.write("constraints/role", v.role);
-  writer.write("constraints/probe_nodes", v.probe_nodes);
-  writer.write("constraints/probe_components", v.probe_components);
+  writer.write("mesh/tets", std::span<const int>(ints(v.tets)));
+  writer.write("mesh/surface", std::span<const int>(ints(v.surface)));
+  writer.write("constraints/role", std::span<const int>(ints(v.role)));
+  writer.write("constraints/probe_nodes", std::span<const int>(ints(v.probe_nodes)));
+  writer.write("constraints/probe_components", std::span<const int>(ints(v.probe_components)));
   writer.write("probe/rest", v.rest);
   writer.close();
 }

@@ -2,6 +2,8 @@
 HDF5_PLUGIN_PATH) reads every configuration of a real state directory, and what it reads agrees
 with the catalogue: force felt = -(sum of the probe reactions h), and the grabbed node's
 displacement equals the probe displacement t (beam scene: one grabbed node, all components).
+The vectors are rows of one 2-D dataset per leaf name; hapstate_index says which row holds which
+configuration's vector and its length (docs/storage.md).
 
 Usage: python3 h5py_read_test.py STATE_DIR
 """
@@ -17,13 +19,29 @@ db = sqlite3.connect("file:%s?mode=ro" % os.path.join(state, "catalogue.sqlite")
 rows = db.execute("SELECT id, force_x, force_y, force_z, blob_segment, blob_name FROM configuration "
                   "WHERE blob_segment IS NOT NULL ORDER BY id").fetchall()
 assert len(rows) >= 40, "expected the beam's configurations, got %d" % len(rows)
+
+
+def vector(f, group, leaf):
+    """The vector group/leaf of an open segment, through its index."""
+    groups = bytes(f["hapstate_index/groups"][()]).decode().split("\n")[:-1]
+    for table in f["hapstate_index"]:
+        if table == "groups":
+            continue
+        name = f[table].attrs.get("hapstate_leaf", table)
+        if (name.decode() if isinstance(name, bytes) else name) != leaf:
+            continue
+        assert f[table].ndim == 2 and "32015" in f[table]._filters, f[table]._filters  # zstd, by the plugin
+        for row, (g, length) in enumerate(f["hapstate_index/" + table][()]):
+            if groups[g] == group:
+                return np.asarray(f[table][row, :length])
+    raise KeyError(group + "/" + leaf)
+
+
 checked = 0
 for cid, fx, fy, fz, segment, name in rows:
     path = os.path.join(state, "blobs", "seg-%06d.h5" % segment)
     with h5py.File(path, "r") as f:
-        u, t, h = (f[name][k] for k in ("u", "t", "h"))
-        assert "32015" in u._filters, u._filters  # zstd, decoded by the plugin
-        u, t, h = np.asarray(u), np.asarray(t), np.asarray(h)
+        u, t, h = (vector(f, name, k) for k in ("u", "t", "h"))
     assert u.shape == (243,) and t.shape == (3,) and h.shape == (3,), (u.shape, t.shape, h.shape)
     force = np.array([fx, fy, fz])
     assert np.allclose(force, -h, rtol=1e-12, atol=1e-15), (cid, force, h)

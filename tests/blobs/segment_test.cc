@@ -92,6 +92,94 @@ TEST(Segment, WriteReadRoundTrip) {
   EXPECT_EQ(p.stage, "expand");
 }
 
+TEST(Segment, RowsOfVaryingLengthIntegersAndAnyNamesRoundTrip) {
+  TempDir dir("seg");
+  // Touched sets grow and shrink from row to row; indices are int32; names with no group and
+  // with nested groups share the leaf's table.
+  const std::vector<std::vector<int>> touched = {{3}, {1, 5, 9, 12, 40}, {}, {7, 8}};
+  const auto long_row = ramp(70000, 3.0);  // wider than one chunk
+  {
+    SegmentWriter writer(dir.path(), SegmentId{3}, {});
+    for (std::size_t k = 0; k < touched.size(); ++k)
+      writer.write("c" + std::to_string(k) + "/touched", std::span<const int>(touched[k]));
+    writer.write("x", ramp(5, 1.0));
+    writer.write("a/b/x", long_row);
+    writer.write("c0/x", ramp(2, 7.0));
+    writer.close();
+  }
+  BlobStore store(dir.path());
+  for (std::size_t k = 0; k < touched.size(); ++k) {
+    const std::string name = "c" + std::to_string(k) + "/touched";
+    const std::vector<double> back = store.read(SegmentId{3}, name);
+    EXPECT_EQ(std::vector<int>(back.begin(), back.end()), touched[k]) << name;
+    EXPECT_EQ(store.size_of(SegmentId{3}, name), touched[k].size());
+    EXPECT_EQ(store.precision_of(SegmentId{3}, name), Precision::kInt32);
+  }
+  EXPECT_EQ(store.read(SegmentId{3}, "x"), ramp(5, 1.0));
+  EXPECT_EQ(store.read(SegmentId{3}, "a/b/x"), long_row);
+  EXPECT_EQ(store.read(SegmentId{3}, "c0/x"), ramp(2, 7.0));
+  EXPECT_EQ(store.list_vectors(SegmentId{3}),
+            (std::vector<std::string>{"a/b/x", "c0/touched", "c0/x", "c1/touched", "c2/touched",
+                                      "c3/touched", "x"}));
+  EXPECT_FALSE(store.contains(SegmentId{3}, "a/x"));
+}
+
+TEST(Segment, FormatOneSegmentIsStillRead) {
+  // A segment of an older hapstate: one 1-D dataset per vector, at its name.
+  TempDir dir("seg");
+  const auto path = dir.path() / "seg-000002.h5";
+  const auto u = ramp(100, 2.0);
+  {
+    hid_t file = H5Fcreate(path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    hid_t links = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(links, 1);
+    const hsize_t n = u.size();
+    hid_t space = H5Screate_simple(1, &n, nullptr);
+    hid_t data = H5Dcreate2(file, "c5/u", H5T_IEEE_F64LE, space, links, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(H5Dwrite(data, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, u.data()), 0);
+    H5Dclose(data);
+    H5Sclose(space);
+    H5Pclose(links);
+    for (auto [name, value] : {std::pair{"hapstate_segment_format", 1}, std::pair{"hapstate_complete", 1}}) {
+      hid_t scalar = H5Screate(H5S_SCALAR);
+      hid_t attribute = H5Acreate2(file, name, H5T_STD_I64LE, scalar, H5P_DEFAULT, H5P_DEFAULT);
+      const long long v = value;
+      H5Awrite(attribute, H5T_NATIVE_LLONG, &v);
+      H5Aclose(attribute);
+      H5Sclose(scalar);
+    }
+    H5Fclose(file);
+  }
+  BlobStore store(dir.path());
+  EXPECT_EQ(store.read(SegmentId{2}, "c5/u"), u);
+  EXPECT_EQ(store.size_of(SegmentId{2}, "c5/u"), u.size());
+  EXPECT_EQ(store.list_vectors(SegmentId{2}), std::vector<std::string>{"c5/u"});
+  EXPECT_FALSE(store.contains(SegmentId{2}, "c5/h"));
+}
+
+TEST(Segment, DamagedIndexIsReported) {
+  TempDir dir("seg");
+  {
+    SegmentWriter writer(dir.path(), SegmentId{1}, {});
+    writer.write("c1/u", ramp(10, 1.0));
+    writer.write("c2/u", ramp(10, 2.0));
+    writer.close();
+  }
+  const auto path = dir.path() / "seg-000001.h5";
+  {  // row 1 claims group 7 (there are two groups)
+    hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    hid_t index = H5Dopen2(file, "hapstate_index/u", H5P_DEFAULT);
+    const std::int64_t rows[4] = {0, 10, 7, 10};
+    ASSERT_GE(H5Dwrite(index, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows), 0);
+    H5Dclose(index);
+    H5Fclose(file);
+  }
+  BlobStore store(dir.path());
+  expect_input_error([&] { store.read(SegmentId{1}, "c1/u"); },
+                     {path.string(), "damaged segment index", "row 1 of 'u' is out of range"});
+}
+
 TEST(Segment, WriterRefusesBadNamesDuplicatesAndOverwrite) {
   TempDir dir("seg");
   write_segment(dir.path(), SegmentId{1}, 10);
@@ -121,9 +209,9 @@ TEST(Segment, MissingDatasetAndMissingSegmentAreNamed) {
   BlobStore store(dir.path());
   ::testing::internal::CaptureStderr();
   expect_input_error([&] { store.read(SegmentId{4}, "c9/u"); },
-                     {"seg-000004.h5", "vector 'c9/u'", "no such dataset"});
+                     {"seg-000004.h5", "vector 'c9/u'", "no such vector"});
   expect_input_error([&] { store.read(SegmentId{4}, "c4/h"); },
-                     {"seg-000004.h5", "vector 'c4/h'", "no such dataset"});
+                     {"seg-000004.h5", "vector 'c4/h'", "no such vector"});
   expect_input_error([&] { store.read(SegmentId{5}, "c5/u"); },
                      {"seg-000005.h5", "segment file is missing"});
   EXPECT_EQ(::testing::internal::GetCapturedStderr(), "") << "HDF5 must not print its stack";
@@ -148,10 +236,10 @@ TEST(Segment, CorruptChunkIsReported) {
   write_segment(dir.path(), SegmentId{1}, 1000);
   const auto path = dir.path() / "seg-000001.h5";
   haddr_t offset = 0;
-  {  // find where the only chunk of c1/u lives
+  {  // find where the only chunk of c1/u lives: row 0 of the dataset "u"
     hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    hid_t dataset = H5Dopen2(file, "c1/u", H5P_DEFAULT);
-    const hsize_t origin[1] = {0};
+    hid_t dataset = H5Dopen2(file, "u", H5P_DEFAULT);
+    const hsize_t origin[2] = {0, 0};
     unsigned mask = 0;
     hsize_t bytes = 0;
     ASSERT_GE(H5Dget_chunk_info_by_coord(dataset, origin, &mask, &offset, &bytes), 0);

@@ -46,7 +46,7 @@ TEST(ZstdFilter, SegmentDatasetCarriesFilter32015AndIsSmaller) {
 
   hid_t file = H5Fopen(writer.path().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(file, 0);
-  hid_t dataset = H5Dopen2(file, "c0/u", H5P_DEFAULT);
+  hid_t dataset = H5Dopen2(file, "u", H5P_DEFAULT);  // the rows of every "<group>/u"
   ASSERT_GE(dataset, 0);
   hid_t dcpl = H5Dget_create_plist(dataset);
   ASSERT_EQ(H5Pget_nfilters(dcpl), 2);
