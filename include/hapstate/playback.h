@@ -19,6 +19,8 @@
 
 namespace hapstate {
 
+struct Snapshot;
+
 // Interpolation of the force over the 8 corners of the probe's grid cell.
 enum class Scheme : std::int32_t {
   kTrilinear = 0,  // the paper's: corner forces, trilinear weights
@@ -79,11 +81,21 @@ class PlaybackFile {
   // The slopes of configuration c along probe axis a (0..2): 3 per view node, dimensionless.
   // Empty if the file has none.
   std::span<const float> displacement_slopes(std::int32_t c, int axis) const;
+  // The transition table entry of configuration c in direction d (0..25, numbered as in
+  // docs/state-space.md): the target configuration, or -1 undecided, -2 outside the grid,
+  // -3 failed (docs/playback.md).
+  std::int32_t transition_entry(std::int32_t c, int d) const;
+  std::uint64_t scene_hash() const;   // XXH64 of the scene text the file was built from
+  std::uint64_t source_hash() const;  // of what hapstate-index built it from
 
-  struct Impl;
-  const Impl& impl() const { return *impl_; }
+  struct Impl;  // the mapping's typed sections (playback/file_impl.h)
 
  private:
+  friend class HapticCursor;
+  friend void deform(const PlaybackFile&, const Snapshot&, std::span<float>);
+  friend void displacements(const PlaybackFile&, const Snapshot&, std::span<float>);
+  const Impl& impl() const { return *impl_; }
+
   std::filesystem::path path_;
   Impl* impl_ = nullptr;
 };

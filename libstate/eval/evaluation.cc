@@ -1,7 +1,6 @@
 #include "eval/evaluation.h"
 
 #include "eval/region_path.h"
-#include "playback/file_impl.h"
 #include "solver/path_solver.h"
 #include "statespace/probe_model.h"
 #include "statespace/stage_context.h"
@@ -63,7 +62,7 @@ EvalResult run_eval(const EvalOptions& options) {
     throw InputError(result.playback.string() + ": no playback file: run hapstate-index --state " +
                      ctx.dir.root.string() + " first (or give --playback)");
   const PlaybackFile file(result.playback);
-  if (file.impl().meta->scene_hash != ctx.scene_record.hash.value)
+  if (file.scene_hash() != ctx.scene_record.hash.value)
     throw InputError(result.playback.string() + ": built from another scene than the state directory " +
                      ctx.dir.root.string() + ": run hapstate-index --state " + ctx.dir.root.string());
   result.has_all_nodes = file.view_is_all_nodes();
@@ -85,12 +84,14 @@ EvalResult run_eval(const EvalOptions& options) {
     std::snprintf(description, sizeof description, "path %s", options.path_file.c_str());
   }
   result.path_description = description;
-  const playback::Meta& meta = *file.impl().meta;  // grid index 0 at origin, lo..lo+dims-1
+  // Grid index 0 at the origin, lo .. lo + dims - 1 along each axis.
+  const auto origin = file.grid_origin(), spacing = file.grid_spacing();
+  const auto lo = file.grid_lo(), dims = file.grid_dims();
   for (const Eigen::Vector3d& p : path) {
     bool inside = true;
     for (int a = 0; a < 3; ++a) {
-      const double i = (p[a] - meta.origin[a]) / meta.spacing[a];
-      inside = inside && i >= meta.lo[a] - 1e-9 && i <= meta.lo[a] + meta.dims[a] - 1 + 1e-9;
+      const double i = (p[a] - origin[a]) / spacing[a];
+      inside = inside && i >= lo[a] - 1e-9 && i <= lo[a] + dims[a] - 1 + 1e-9;
     }
     result.outside_grid += inside ? 0 : 1;
   }

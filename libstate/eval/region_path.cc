@@ -1,6 +1,5 @@
 #include "eval/region_path.h"
 
-#include "playback/file_impl.h"
 #include "util/error.h"
 
 #include <cmath>
@@ -11,9 +10,8 @@ namespace {
 // Whether configuration c was expanded: some transition decided (a partial expansion leaves
 // its frontier open, a configuration past F_max is never expanded).
 bool expanded(const PlaybackFile& file, std::int32_t c) {
-  const PlaybackFile::Impl& f = file.impl();
   for (int d = 0; d < 26; ++d)
-    if (f.transitions[26 * static_cast<std::int64_t>(c) + d] != playback::kUndecided) return true;
+    if (file.transition_entry(c, d) != -1) return true;  // -1: undecided
   return false;
 }
 

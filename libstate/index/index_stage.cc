@@ -2,7 +2,6 @@
 
 #include "blobs/blob_store.h"
 #include "hapstate/playback.h"
-#include "playback/file_impl.h"
 #include "playback/writer.h"
 #include "statespace/expand_batch.h"
 #include "statespace/stage_context.h"
@@ -159,7 +158,7 @@ bool up_to_date(const std::filesystem::path& file, const ContentHash& fingerprin
   if (!std::filesystem::exists(file)) return false;
   try {
     PlaybackFile f(file);
-    return f.impl().meta->source_hash == fingerprint.value;
+    return f.source_hash() == fingerprint.value;
   } catch (const std::exception&) {
     return false;
   }

@@ -133,8 +133,7 @@ void add_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
   }
 }
 
-void blend(const PlaybackFile& file, const Snapshot& s, std::span<float> out) {
-  const PlaybackFile::Impl& f = file.impl();
+void blend(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float> out) {
   Blend blend;
   if (s.scheme == Scheme::kHermite && f.slopes)
     add_hermite(f, s, &blend);
@@ -147,13 +146,13 @@ void blend(const PlaybackFile& file, const Snapshot& s, std::span<float> out) {
 
 void displacements(const PlaybackFile& file, const Snapshot& snapshot, std::span<float> out) {
   std::fill(out.begin(), out.end(), 0.0f);
-  blend(file, snapshot, out);
+  blend(file.impl(), snapshot, out);
 }
 
 void deform(const PlaybackFile& file, const Snapshot& snapshot, std::span<float> out) {
   const auto ref = file.reference_positions();
   std::copy_n(ref.begin(), std::min(ref.size(), out.size()), out.begin());
-  blend(file, snapshot, out);
+  blend(file.impl(), snapshot, out);
 }
 
 }  // namespace hapstate

@@ -245,6 +245,12 @@ namespace hapstate {
 
 bool PlaybackFile::has_displacement_slopes() const { return impl_->slopes != nullptr; }
 
+std::int32_t PlaybackFile::transition_entry(std::int32_t c, int d) const {
+  return impl_->transitions[26 * static_cast<std::int64_t>(c) + d];
+}
+std::uint64_t PlaybackFile::scene_hash() const { return impl_->meta->scene_hash; }
+std::uint64_t PlaybackFile::source_hash() const { return impl_->meta->source_hash; }
+
 std::span<const float> PlaybackFile::displacement_slopes(std::int32_t c, int axis) const {
   if (!impl_->slopes) return {};
   const std::size_t v = static_cast<std::size_t>(impl_->meta->num_view_nodes);
