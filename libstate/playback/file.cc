@@ -239,10 +239,6 @@ std::span<const float> PlaybackFile::displacements(std::int32_t c) const {
   return {impl_->displacements + 3 * v * static_cast<std::size_t>(c), 3 * v};
 }
 
-}  // namespace hapstate
-
-namespace hapstate {
-
 bool PlaybackFile::has_displacement_slopes() const { return impl_->slopes != nullptr; }
 
 std::int32_t PlaybackFile::transition_entry(std::int32_t c, int d) const {

@@ -148,10 +148,9 @@ StiffnessResult stiffness_result(const Eigen::Matrix3d& stiffness, const Eigen::
   StiffnessResult out;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) out.stiffness[3 * r + c] = std::isfinite(stiffness(r, c)) ? stiffness(r, c) : 0.0;
-  if (du_dp.allFinite()) {
-    out.du_dp.resize(static_cast<std::size_t>(du_dp.size()));
-    Eigen::Map<Eigen::MatrixX3f>(out.du_dp.data(), du_dp.rows(), 3) = du_dp.cast<float>();
-  }
+  out.du_dp.resize(static_cast<std::size_t>(du_dp.size()));
+  Eigen::Map<Eigen::MatrixX3f>(out.du_dp.data(), du_dp.rows(), 3) =
+      du_dp.unaryExpr([](double v) { return std::isfinite(v) ? static_cast<float>(v) : 0.0f; });
   return out;
 }
 

@@ -51,13 +51,14 @@ struct StiffnessTask {
 struct StiffnessResult {
   std::array<double, 9> stiffness{};  // row-major, N per mesh unit (0 if not computable)
   // d u / d p, dimensionless: 3 columns of one value per DOF, column (probe axis) after
-  // column; stored as "<blob>/du_dp" for the Hermite deformation (empty if not computable).
+  // column; stored as "<blob>/du_dp" for the Hermite deformation (0 where not computable).
   std::vector<float> du_dp;
   int factorisations = 0;
 };
 
-// The stiffness and derivative of PathSolver::haptic_stiffness as stored: non-finite stiffness
-// entries as 0, no derivative if any value is not finite.
+// The stiffness and derivative of PathSolver::haptic_stiffness as stored: non-finite entries
+// as 0 (as the stiffness always was), so one failed configuration does not cost the whole
+// playback file its slopes.
 StiffnessResult stiffness_result(const Eigen::Matrix3d& stiffness, const Eigen::MatrixX3d& du_dp);
 // The stiffness and displacement slopes of the body at rest, the probe at rest: the zero
 // configurations' (they store no blob; one factorisation).
