@@ -3,7 +3,7 @@
 // synthetic playback file over a >= 50 000-node box mesh, device paths and the liver Problem.
 #pragma once
 
-#include "scene/problem.h"
+#include "problem/problem.h"
 
 #include <hapstate/playback.h>
 

@@ -2,7 +2,7 @@
 // solver against an independent one. See docs/calculix.md for the mapping and sign conventions.
 #pragma once
 
-#include "scene/problem.h"
+#include "problem/problem.h"
 
 #include <Eigen/Core>
 

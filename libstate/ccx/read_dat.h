@@ -1,7 +1,7 @@
 // Reader for the CalculiX .dat output of a deck written by write_ccx_deck.
 #pragma once
 
-#include "scene/problem.h"
+#include "problem/problem.h"
 
 #include <Eigen/Core>
 

@@ -21,7 +21,7 @@ bool is_configuration_group(std::string_view group) {
 std::string owning_name(const std::string& vector, const std::set<std::string>& names) {
   for (std::size_t slash = vector.find('/'); slash != std::string::npos;
        slash = vector.find('/', slash + 1)) {
-    const std::string prefix = vector.substr(0, slash);
+    std::string prefix = vector.substr(0, slash);
     if (names.contains(prefix)) return prefix;
   }
   return "";

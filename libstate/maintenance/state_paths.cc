@@ -19,7 +19,7 @@ StateDir locate_state(const std::filesystem::path& root) {
   if (!std::filesystem::is_directory(root, ec)) {
     throw InputError(root.string() + ": no such state directory");
   }
-  const StateDir dir{root};
+  StateDir dir{root};
   if (!std::filesystem::exists(dir.catalogue(), ec)) {
     throw InputError(root.string() + ": not a state directory (no " +
                      dir.catalogue().filename().string() + "; hapstate-import creates it)");

@@ -4,7 +4,7 @@
 
 #include "mesh/load.h"
 #include "mesh/mesh.h"
-#include "scene/problem.h"
+#include "problem/problem.h"
 #include "scene/scene.h"
 
 namespace hapstate {

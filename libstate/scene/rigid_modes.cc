@@ -117,7 +117,7 @@ std::vector<FreeRigidModes> free_rigid_modes(const Mesh& mesh, const std::vector
     for (int n : nodes) {
       const Eigen::Vector3d r = (mesh.nodes.col(n) - centroid) / scale;
       for (int k = 0; k < 3; ++k) {
-        if (role[static_cast<size_t>(3 * n + k)] == DofRole::kFree) continue;
+        if (role[3 * static_cast<size_t>(n) + static_cast<size_t>(k)] == DofRole::kFree) continue;
         Eigen::Matrix<double, 1, 6> row = Eigen::Matrix<double, 1, 6>::Zero();
         row[k] = 1;  // translation e_k
         for (int j = 0; j < 3; ++j) {

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "material/material.h"
-#include "solver/options.h"
+#include "problem/solver_options.h"
 
 #include <Eigen/Core>
 

@@ -6,7 +6,7 @@
 // class holds the set and makes the geometric and force decisions.
 #pragma once
 
-#include "scene/problem.h"
+#include "problem/problem.h"
 
 #include <Eigen/Core>
 

@@ -16,7 +16,7 @@
 #pragma once
 
 #include "fem/assembler.h"
-#include "scene/problem.h"
+#include "problem/problem.h"
 #include "solver/contact_set.h"
 #include "solver/sliding_contact.h"
 #include "solver/sparse_cholesky.h"

@@ -24,8 +24,9 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
   v.t = blobs.read(c.blob->segment, c.blob->name + "/t");
   v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
   if (layout.touched) {
+    const int num_nodes = num_dofs / 3;
     for (double n : blobs.read(c.blob->segment, c.blob->name + "/touched")) {
-      if (n < 0 || n >= num_dofs / 3 || n != static_cast<int>(n) ||
+      if (n < 0 || n >= num_nodes || n != static_cast<int>(n) ||
           (!v.touched.empty() && n <= v.touched.back())) {
         throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
                          ": '" + c.blob->name + "/touched' of configuration " +
@@ -126,6 +127,7 @@ void TransitionSolver::for_each_parallel(std::size_t count, Body&& body) {
     work(0);
   } else {
     std::vector<std::thread> pool;
+    pool.reserve(static_cast<std::size_t>(workers));
     for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
     for (auto& t : pool) t.join();
   }

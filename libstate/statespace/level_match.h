@@ -6,7 +6,7 @@
 #pragma once
 
 #include "catalogue/records.h"
-#include "scene/problem.h"
+#include "problem/problem.h"
 #include "scene/scene.h"
 
 #include <vector>

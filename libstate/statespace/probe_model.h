@@ -2,7 +2,7 @@
 // contact). The expansion only talks to the probe through it.
 #pragma once
 
-#include "scene/problem.h"
+#include "problem/problem.h"
 #include "scene/scene.h"
 #include "solver/path_solver.h"
 #include "statespace/level_match.h"

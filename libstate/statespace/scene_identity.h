@@ -5,7 +5,7 @@
 #pragma once
 
 #include "util/hash.h"
-#include "scene/problem.h"
+#include "problem/problem.h"
 #include "scene/scene.h"
 
 #include <string>

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "catalogue/catalogue.h"
-#include "scene/problem.h"
+#include "problem/problem.h"
 #include "scene/scene.h"
 #include "statespace/grid_spec.h"
 #include "statespace/state_dir.h"

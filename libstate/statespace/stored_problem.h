@@ -7,7 +7,7 @@
 
 #include "blobs/segment.h"
 #include "util/hash.h"
-#include "scene/problem.h"
+#include "problem/problem.h"
 #include "scene/scene.h"
 #include "statespace/state_dir.h"
 

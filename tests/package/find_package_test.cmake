@@ -1,6 +1,6 @@
 # cmake -P script: install the hapstate build tree into a scratch prefix, then configure,
 # build and run tests/package/consumer against it (CMAKE_PREFIX_PATH = that prefix only).
-foreach(var HAPSTATE_BUILD_DIR CONSUMER_SOURCE_DIR WORK_DIR CXX_COMPILER)
+foreach(var HAPSTATE_BUILD_DIR CONSUMER_SOURCE_DIR WORK_DIR CXX_COMPILER SCENE)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "find_package_test.cmake: -D${var}=... is required")
   endif()
@@ -20,11 +20,17 @@ function(step name)
 endfunction()
 
 step("cmake --install" ${CMAKE_COMMAND} --install ${HAPSTATE_BUILD_DIR} --prefix ${prefix})
-# The public headers and the package files must be where the config says.
-foreach(f include/hapstate/solver/path_solver.h include/hapstate/mesh/box_mesh.h
-          include/hapstate/scene/problem.h)
+# The public headers are installed, and only they: include/hapstate/*.h, nothing below it.
+foreach(f include/hapstate/solver.h include/hapstate/error.h include/hapstate/playback.h
+          include/hapstate/playback_c.h)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "not installed: ${prefix}/${f}")
+  endif()
+endforeach()
+file(GLOB_RECURSE installed_headers RELATIVE ${prefix}/include ${prefix}/include/*)
+foreach(h IN LISTS installed_headers)
+  if(NOT h MATCHES "^hapstate/[a-z_]+\\.h$")
+    message(FATAL_ERROR "an internal header is installed: include/${h}")
   endif()
 endforeach()
 file(GLOB_RECURSE config ${prefix}/*/hapstateConfig.cmake)
@@ -36,8 +42,9 @@ step("configure consumer" ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE_DIR} -B ${build}
      -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
      -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
 step("build consumer" ${CMAKE_COMMAND} --build ${build} -j2)
-step("run consumer" ${build}/consumer)
+step("run consumer" ${build}/consumer ${SCENE} ${WORK_DIR})
 message(STATUS "${step_output}")
-if(NOT step_output MATCHES "consumer: [0-9]+ nodes, [0-9]+ iterations, force felt = ")
-  message(FATAL_ERROR "consumer printed no force: ${step_output}")
+if(NOT step_output MATCHES "consumer: [0-9]+ nodes, [0-9]+ iterations, force felt = "
+   OR NOT step_output MATCHES "consumer: bad scene refused: ")
+  message(FATAL_ERROR "consumer printed no force or no refusal: ${step_output}")
 endif()

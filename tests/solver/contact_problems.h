@@ -4,7 +4,7 @@
 #pragma once
 
 #include "mesh/box_mesh.h"
-#include "scene/problem.h"
+#include "problem/problem.h"
 #include "scene/select.h"
 
 #include <algorithm>

@@ -1,37 +1,42 @@
-// Downstream use of an installed hapstate: a cantilever box, neo-Hooke, one probe move.
-// Prints the felt force; exits 0 only if the solve converged to the expected equilibrium.
-#include <mesh/box_mesh.h>  // installed under include/hapstate, the include dir of hapstate::state
-#include <solver/path_solver.h>
+// Downstream use of an installed hapstate: the precise solver on a scene file through the
+// public header only (argv[1]: the bundled beam's scene, a cantilever grabbed at its free end),
+// then a bad scene file. Exits 0 only if the lift converged with the beam pulling the hand
+// back down and the bad file was refused as hapstate::InputError naming it.
+#include <hapstate/solver.h>
 
-#include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <string>
 
-int main() {
-  using namespace hapstate;
-  Problem p;
-  p.mesh = make_box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(4, 1, 1), 4, 1, 1);
-  p.unit = 0.01;
-  p.material = constants_from_young_poisson(Law::kNeoHooke, 1e5, 0.3);
-  p.constraints.role.assign(3 * p.mesh.num_nodes(), DofRole::kFree);
-  for (int n : p.mesh.groups.at("xmin"))
-    for (int c = 0; c < 3; ++c) p.constraints.role[3 * n + c] = DofRole::kFixed;
-  int tip = -1;
-  for (int n = 0; n < p.mesh.num_nodes(); ++n)
-    if ((p.mesh.nodes.col(n) - Eigen::Vector3d(4, 1, 1)).norm() < 1e-12) tip = n;
-  if (tip < 0) { std::fprintf(stderr, "consumer: no tip node\n"); return 1; }
-  p.constraints.probe_nodes = {tip};
-  for (int c = 0; c < 3; ++c) p.constraints.role[3 * tip + c] = DofRole::kProbe;
-  p.probe_rest = p.mesh.nodes.col(tip);
-
-  PathSolver solver(p);
-  const MoveResult r = solver.move_to(Eigen::Vector3d(0, 0, 0.5));
-  if (!r.ok) {
-    std::fprintf(stderr, "consumer: move failed: %s: %s\n", failure_name(r.failure), r.reason.c_str());
+int main(int argc, char** argv) {
+  if (argc != 3) {
+    std::fprintf(stderr, "usage: consumer SCENE.toml SCRATCH_DIR\n");
+    return 2;
+  }
+  hapstate::SceneSolver solver(argv[1]);
+  const hapstate::MoveOutcome m =
+      solver.move_to(solver.probe_rest() + Eigen::Vector3d(0, 0, 0.2));
+  if (!m.ok) {
+    std::fprintf(stderr, "consumer: move failed: %s: %s\n", m.failure.c_str(), m.reason.c_str());
     return 1;
   }
   const Eigen::Vector3d f = solver.force_felt();
   std::printf("consumer: %d nodes, %d iterations, force felt = %.9g %.9g %.9g N\n",
-              p.mesh.num_nodes(), r.iterations, f.x(), f.y(), f.z());
-  // Lifting the tip: the beam pulls the hand back down.
-  return f.allFinite() && f.z() < 0 ? 0 : 1;
+              solver.num_nodes(), m.iterations, f.x(), f.y(), f.z());
+  if (!f.allFinite() || f.z() >= 0) return 1;  // lifting the tip: the beam pulls it back down
+
+  const std::string bad = std::string(argv[2]) + "/bad.toml";
+  std::ofstream(bad) << "[mesh]\nfile = 7\n";
+  try {
+    hapstate::SceneSolver refused(bad);
+    std::fprintf(stderr, "consumer: %s was accepted\n", bad.c_str());
+    return 1;
+  } catch (const hapstate::InputError& e) {
+    if (std::string(e.what()).find("bad.toml") == std::string::npos) {
+      std::fprintf(stderr, "consumer: the error does not name the file: %s\n", e.what());
+      return 1;
+    }
+    std::printf("consumer: bad scene refused: %s\n", e.what());
+  }
+  return 0;
 }

@@ -5,7 +5,7 @@
 #include "fem/constraints.h"
 #include "material/material.h"
 #include "mesh/mesh.h"
-#include "solver/options.h"
+#include "problem/solver_options.h"
 
 #include <Eigen/Core>
 
