@@ -28,10 +28,19 @@ bool environment_failure(int rc) {
   }
 }
 
+// The OS error behind an I/O or open failure ("disk I/O error (Input/output error)"); SQLite
+// records one for SQLITE_IOERR and SQLITE_CANTOPEN only (SQLITE_FULL says it all).
+std::string os_error(sqlite3* db, int rc) {
+  const int primary = rc & 0xFF;
+  if (db == nullptr || (primary != SQLITE_IOERR && primary != SQLITE_CANTOPEN)) return "";
+  const int e = sqlite3_system_errno(db);
+  return e > 0 ? std::string(" (") + std::strerror(e) + ")" : std::string();
+}
+
 [[noreturn]] void throw_error(const std::string& label, std::string_view sql, int rc,
-                              const char* message) {
+                              const char* message, sqlite3* db) {
   std::string text = label + ": SQLite error in `" + shorten(sql) + "`: " +
-                     (message != nullptr ? message : sqlite3_errstr(rc));
+                     (message != nullptr ? message : sqlite3_errstr(rc)) + os_error(db, rc);
   const int primary = rc & 0xFF;
   if (primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB) {
     text += " (the catalogue file is corrupt or not an SQLite database)";
@@ -45,7 +54,8 @@ bool environment_failure(int rc) {
 Database::Database(const std::string& file, int flags, std::string label) : label_(std::move(label)) {
   const int rc = sqlite3_open_v2(file.c_str(), &db_, flags | SQLITE_OPEN_EXRESCODE, nullptr);
   if (rc != SQLITE_OK) {
-    const std::string message = db_ != nullptr ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
+    const std::string message =
+        (db_ != nullptr ? sqlite3_errmsg(db_) : sqlite3_errstr(rc)) + os_error(db_, rc);
     sqlite3_close_v2(db_);
     db_ = nullptr;
     const std::string text = label_ + ": cannot open the catalogue: " + message;
@@ -64,7 +74,7 @@ void Database::exec(std::string_view sql) {
   if (rc != SQLITE_OK) {
     std::string copy = message != nullptr ? message : sqlite3_errstr(rc);
     sqlite3_free(message);
-    throw_error(label_, sql, rc, copy.c_str());
+    throw_error(label_, sql, rc, copy.c_str(), db_);
   }
 }
 
@@ -85,7 +95,7 @@ std::string Database::query_text(const char* sql) {
 }
 
 void Database::fail(std::string_view sql, int rc) const {
-  throw_error(label_, sql, rc, sqlite3_errmsg(db_));
+  throw_error(label_, sql, rc, sqlite3_errmsg(db_), db_);
 }
 
 Statement::Statement(Database& db, const char* sql) : db_(db), sql_(sql) {

@@ -1,0 +1,274 @@
+// The disk fills during hapstate-expand (issue 15): a real, size-limited tmpfs in a private
+// mount namespace of this test process. Either the blob segments' file system fills (the HDF5
+// write fails) or the catalogue's (the SQLite commit fails). Each time: exit 4 (I/O or
+// environment failure, docs/exit-codes.md), stderr names the file and the OS or library error;
+// nothing stored is corrupted (SQLite integrity, foreign keys, every stored vector readable, the
+// rows an exact prefix of an uninterrupted run's: complete batches only); with space again the
+// next run resumes and ends with the same catalogue as an uninterrupted run.
+#include "beam_state.h"
+
+#include "blobs/blob_store.h"
+#include "catalogue/catalogue.h"
+#include "maintenance/inspect.h"
+
+#include <sched.h>
+#include <sys/mount.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <string>
+
+namespace hapstate::test_util {
+namespace {
+
+// Once per process: a mount namespace of our own with private propagation, so the tmpfs mounts
+// below are seen by this process and the stages it starts only, and vanish with the process
+// even if it crashes. Empty on success, else why not (not root, no CAP_SYS_ADMIN, seccomp).
+const std::string& private_mount_namespace() {
+  static const std::string why = []() -> std::string {
+    if (::unshare(CLONE_NEWNS) != 0) return std::string("unshare(CLONE_NEWNS): ") + std::strerror(errno);
+    if (::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0)
+      return std::string("mount --make-rprivate /: ") + std::strerror(errno);
+    return "";
+  }();
+  return why;
+}
+
+constexpr std::uint64_t kPage = 4096;
+constexpr std::uint64_t kMiB = 1024 * 1024;
+
+std::uint64_t round_up(std::uint64_t bytes) { return (bytes + kPage - 1) / kPage * kPage; }
+
+// A tmpfs of a given size mounted at a directory (created) until destroyed.
+class Tmpfs {
+ public:
+  Tmpfs(fs::path where, std::uint64_t bytes) : where_(std::move(where)) {
+    fs::create_directories(where_);
+    const std::string options = "size=" + std::to_string(round_up(bytes)) + ",mode=0755";
+    if (::mount("tmpfs", where_.c_str(), "tmpfs", MS_NOSUID | MS_NODEV, options.c_str()) != 0) {
+      why_ = "mount -t tmpfs -o " + options + " " + where_.string() + ": " + std::strerror(errno);
+      return;
+    }
+    mounted_ = true;
+  }
+  ~Tmpfs() {
+    if (mounted_) ::umount2(where_.c_str(), MNT_DETACH);
+  }
+  Tmpfs(const Tmpfs&) = delete;
+  Tmpfs& operator=(const Tmpfs&) = delete;
+
+  bool mounted() const { return mounted_; }
+  const std::string& why() const { return why_; }
+  // A new size (tmpfs refuses one below what is in use).
+  void resize(std::uint64_t bytes) {
+    const std::string options = "size=" + std::to_string(round_up(bytes));
+    ASSERT_EQ(::mount("tmpfs", where_.c_str(), "tmpfs", MS_REMOUNT | MS_NOSUID | MS_NODEV, options.c_str()), 0)
+        << "remount " << where_ << " " << options << ": " << std::strerror(errno);
+  }
+  std::uint64_t used() const {
+    struct statvfs s {};
+    EXPECT_EQ(::statvfs(where_.c_str(), &s), 0);
+    return (s.f_blocks - s.f_bfree) * s.f_frsize;
+  }
+  std::uint64_t available() const {
+    struct statvfs s {};
+    EXPECT_EQ(::statvfs(where_.c_str(), &s), 0);
+    return s.f_bavail * s.f_frsize;
+  }
+
+ private:
+  fs::path where_;
+  bool mounted_ = false;
+  std::string why_;
+};
+
+// Bytes the files under `dir` occupy (allocated blocks).
+std::uint64_t allocated_bytes(const fs::path& dir) {
+  std::uint64_t total = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    struct stat st {};
+    if (e.is_regular_file() && ::stat(e.path().c_str(), &st) == 0) total += std::uint64_t(st.st_blocks) * 512;
+  }
+  return total;
+}
+
+class DiskFull : public StageTest {
+ protected:
+  void SetUp() override {
+    StageTest::SetUp();
+    if (const std::string& why = private_mount_namespace(); !why.empty())
+      GTEST_SKIP() << "no size-limited file system can be mounted here (" << why
+                   << "): the full-disk test needs root (CAP_SYS_ADMIN) for a private tmpfs";
+    // The uninterrupted run every case is compared with (on the ordinary temporary disk).
+    reference_ = dir_ / "reference";
+    build_beam(reference_, kBeamScene, 1, dir_);
+    ASSERT_FALSE(HasFatalFailure());
+    reference_snapshot_ = snapshot(reference_);
+  }
+
+  // After a failed run: SQLite finds nothing wrong, every stored configuration's vectors read
+  // back, and the rows are exactly those of the uninterrupted run's first batches (every
+  // configuration and transition stored equals the reference's of the same id / key).
+  // Returns how many configurations and transitions are stored.
+  std::pair<std::size_t, std::size_t> expect_intact_prefix(const fs::path& state) {
+    const Snapshot s = snapshot(state);
+    {
+      Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+      EXPECT_EQ(cat.integrity_check(), "ok");
+      EXPECT_EQ(cat.num_foreign_key_violations(), 0);
+    }
+    BlobStore blobs(state / "blobs");
+    std::map<std::int64_t, const Configuration*> reference_configs;
+    for (const Configuration& c : reference_snapshot_.configurations) reference_configs[c.id.value()] = &c;
+    for (const Configuration& c : s.configurations) {
+      const auto it = reference_configs.find(c.id.value());
+      if (it == reference_configs.end()) {
+        ADD_FAILURE() << "configuration " << c.id.value() << " is not in the uninterrupted run";
+        continue;
+      }
+      const Configuration& r = *it->second;
+      EXPECT_EQ(c.checkpoint, r.checkpoint) << "configuration " << c.id.value();
+      EXPECT_EQ(c.level, r.level) << "configuration " << c.id.value();
+      EXPECT_EQ(c.blob, r.blob) << "configuration " << c.id.value();
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(c.force[k], r.force[k], 1e-12 * (1 + std::abs(r.force[k])));
+      if (!c.blob) continue;
+      for (const char* v : {"/u", "/t", "/h"}) {
+        try {
+          const auto x = blobs.read(c.blob->segment, c.blob->name + v);
+          EXPECT_FALSE(x.empty()) << c.blob->name << v;
+        } catch (const std::exception& e) {
+          ADD_FAILURE() << "configuration " << c.id.value() << ": " << e.what();
+        }
+      }
+    }
+    std::map<std::pair<std::int64_t, int>, const Transition*> reference_transitions;
+    for (const Transition& t : reference_snapshot_.transitions)
+      reference_transitions[{t.source.value(), t.direction.index()}] = &t;
+    for (const Transition& t : s.transitions) {
+      const auto it = reference_transitions.find({t.source.value(), t.direction.index()});
+      if (it == reference_transitions.end()) {
+        ADD_FAILURE() << "transition " << t.source.value() << "/" << t.direction.index()
+                      << " is not in the uninterrupted run";
+        continue;
+      }
+      EXPECT_EQ(t.outcome, it->second->outcome);
+      EXPECT_EQ(t.target, it->second->target);
+    }
+    // hapstate-inspect's summary reads the whole directory.
+    try {
+      const InspectOutput summary = inspect_summary(StateDir{state});
+      EXPECT_NE(summary.text.find("expand"), std::string::npos) << summary.text;
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "hapstate-inspect summary: " << e.what();
+    }
+    return {s.configurations.size(), s.transitions.size()};
+  }
+
+  fs::path reference_;
+  Snapshot reference_snapshot_;
+};
+
+// The blobs/ directory is a tmpfs holding half of what the whole run's segments need: writing a
+// segment (HDF5) fails with ENOSPC part-way through the expansion.
+TEST_F(DiskFull, SegmentWriteOnAFullDiskIsExit4AndResumes) {
+  const fs::path state = dir_ / "state";
+  ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
+  ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
+  const std::size_t configs_before = snapshot(state).configurations.size();
+
+  const std::uint64_t needed = allocated_bytes(reference_ / "blobs");
+  ASSERT_GE(needed, 8 * kPage) << "the beam's segments are too small to fill a disk part-way";
+  Tmpfs blobs(state / "blobs", needed / 2);
+  ASSERT_TRUE(blobs.mounted()) << blobs.why();
+
+  const StageResult full = expand_stage(state, 1, dir_);
+  EXPECT_EQ(full.exit_code, 4) << full.err;
+  EXPECT_NE(full.err.find("hapstate-expand: error: "), std::string::npos) << full.err;
+  EXPECT_NE(full.err.find((state / "blobs" / "seg-").string()), std::string::npos)
+      << "names the segment file: " << full.err;
+  EXPECT_NE(full.err.find("No space left on device"), std::string::npos) << full.err;
+  std::printf("[ info ] blobs tmpfs of %llu KiB (the whole run needs %llu KiB); stderr: %s",
+              static_cast<unsigned long long>(round_up(needed / 2) / 1024),
+              static_cast<unsigned long long>(needed / 1024), full.err.c_str());
+
+  // Nothing corrupted, complete batches only; the failed segment was removed by its writer.
+  const auto [configs, transitions] = expect_intact_prefix(state);
+  EXPECT_GT(configs, configs_before) << "the disk filled before the first batch was stored";
+  EXPECT_LT(configs, reference_snapshot_.configurations.size());
+  {
+    Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+    EXPECT_TRUE(BlobStore(state / "blobs").unreferenced_segments(cat.referenced_segments()).empty());
+    const StageRun run = cat.read_stage_runs("expand").back();
+    EXPECT_EQ(run.outcome, StageOutcome::kFailed);
+    EXPECT_NE(run.message.find("No space left on device"), std::string::npos) << run.message;
+  }
+  std::printf("[ info ] stored when the disk was full: %zu of %zu configurations, %zu of %zu "
+              "transitions\n", configs, reference_snapshot_.configurations.size(), transitions,
+              reference_snapshot_.transitions.size());
+
+  // Space again: the same command resumes and completes.
+  blobs.resize(4 * needed + 4 * kMiB);
+  const StageResult resumed = expand_stage(state, 1, dir_);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  expect_same_catalogue(reference_, state);
+}
+
+// The state directory (catalogue.sqlite and its WAL) is a tmpfs with little room left after the
+// grid; blobs/ is a roomy tmpfs of its own: the SQLite commit of a batch fails with "database or
+// disk is full" part-way through, after its segment was written.
+TEST_F(DiskFull, CatalogueCommitOnAFullDiskIsExit4AndResumes) {
+  const fs::path state = dir_ / "state";
+  Tmpfs disk(state, 64 * kMiB);
+  ASSERT_TRUE(disk.mounted()) << disk.why();
+  ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
+  ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
+  const std::size_t configs_before = snapshot(state).configurations.size();
+  Tmpfs blobs(state / "blobs", 64 * kMiB);
+  ASSERT_TRUE(blobs.mounted()) << blobs.why();
+
+  // Room for the WAL index (32 KiB), the stage-run record and a few batches, not for the whole
+  // run: its catalogue grows by `growth` and its WAL by at least as much.
+  const std::uint64_t growth = fs::file_size(reference_ / "catalogue.sqlite") -
+                               fs::file_size(state / "catalogue.sqlite");
+  ASSERT_GE(growth, 32 * kPage) << "the beam's catalogue grows too little to fill a disk part-way";
+  const std::uint64_t room = 8 * kPage + growth / 4;
+  disk.resize(disk.used() + room);
+  ASSERT_FALSE(HasFatalFailure());
+
+  const StageResult full = expand_stage(state, 1, dir_);
+  EXPECT_EQ(full.exit_code, 4) << full.err;
+  EXPECT_NE(full.err.find("hapstate-expand: error: " + (state / "catalogue.sqlite").string()),
+            std::string::npos) << "names the catalogue: " << full.err;
+  EXPECT_NE(full.err.find("database or disk is full"), std::string::npos) << full.err;
+  std::printf("[ info ] %llu KiB left for the catalogue (it grows by %llu KiB in the run); "
+              "stderr: %s", static_cast<unsigned long long>(room / 1024),
+              static_cast<unsigned long long>(growth / 1024), full.err.c_str());
+
+  // Nothing corrupted, complete batches only; the failed batch's segment, written before its
+  // transaction, is referenced by nothing.
+  const auto [configs, transitions] = expect_intact_prefix(state);
+  EXPECT_GT(configs, configs_before) << "the disk filled before the first batch was stored";
+  EXPECT_LT(configs, reference_snapshot_.configurations.size());
+  {
+    Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+    EXPECT_EQ(BlobStore(state / "blobs").unreferenced_segments(cat.referenced_segments()).size(), 1u);
+  }
+  std::printf("[ info ] stored when the disk was full: %zu of %zu configurations, %zu of %zu "
+              "transitions\n", configs, reference_snapshot_.configurations.size(), transitions,
+              reference_snapshot_.transitions.size());
+
+  // Space again: the same command removes the orphan segment, resumes and completes.
+  disk.resize(64 * kMiB);
+  ASSERT_FALSE(HasFatalFailure());
+  const StageResult resumed = expand_stage(state, 1, dir_);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.err.find("removed 1 unreferenced segment"), std::string::npos) << resumed.err;
+  expect_same_catalogue(reference_, state);
+}
+
+}  // namespace
+}  // namespace hapstate::test_util
