@@ -96,10 +96,12 @@ std::string hdf5_suffix(const Hdf5Failure& f) {
 
 }  // namespace
 
+std::string failure_text(const Hdf5Failure& f) {
+  return (f.os_errno != 0 ? std::string(": ") + std::strerror(f.os_errno) : std::string()) + hdf5_suffix(f);
+}
+
 void throw_hdf5_write_failure(const std::string& where) {
-  const Hdf5Failure f = take_hdf5_failure();
-  if (f.os_errno != 0) throw EnvironmentError(where + ": " + std::strerror(f.os_errno) + hdf5_suffix(f));
-  throw EnvironmentError(where + hdf5_suffix(f));
+  throw EnvironmentError(where + failure_text(take_hdf5_failure()));
 }
 
 void throw_hdf5_read_failure(const std::string& where, const std::string& action,

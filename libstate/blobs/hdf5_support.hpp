@@ -67,6 +67,8 @@ struct Hdf5Failure {
   int os_errno = 0;
 };
 Hdf5Failure take_hdf5_failure();
+// ": <strerror(os_errno)> (HDF5: <reason>)", each part only if known.
+std::string failure_text(const Hdf5Failure& failure);
 
 // Whether an OS error says the environment failed rather than the file's content: no space
 // (ENOSPC, EDQUOT, EFBIG), an I/O error (EIO), a permission (EACCES, EPERM), a read-only file

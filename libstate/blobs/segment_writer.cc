@@ -162,7 +162,7 @@ void SegmentWriter::Impl::write_index() {
     put(std::string(blobs_detail::kIndexGroup) + "/" + t.dataset, H5T_STD_I64LE, H5T_NATIVE_INT64, 2, dims,
         t.index.data());
     if (!t.handle.reset())
-      blobs_detail::throw_hdf5_write_failure(path.string() + ": cannot close " + t.dataset);
+      blobs_detail::throw_hdf5_write_failure(path.string() + ": cannot close the dataset '" + t.dataset + "'");
   }
 }
 
@@ -189,7 +189,11 @@ SegmentWriter::SegmentWriter(const std::filesystem::path& blobs_dir, SegmentId i
   }
   impl_->file = Hid(H5Fcreate(impl_->path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT));
   if (!impl_->file.valid()) {
-    blobs_detail::throw_hdf5_write_failure(impl_->path.string() + ": cannot create HDF5 segment");
+    // It may exist, empty or partly written (a full disk): created here (exclusively), so ours.
+    const blobs_detail::Hdf5Failure failure = blobs_detail::take_hdf5_failure();
+    std::filesystem::remove(impl_->path, ec);
+    throw EnvironmentError(impl_->path.string() + ": cannot create HDF5 segment" +
+                           blobs_detail::failure_text(failure));
   }
   const std::string version =
       provenance.writer_version.empty() ? version_string() : provenance.writer_version;
@@ -203,9 +207,8 @@ SegmentWriter::SegmentWriter(const std::filesystem::path& blobs_dir, SegmentId i
     impl_->file.reset();
     take_hdf5_error();
     std::filesystem::remove(impl_->path, ec);
-    const std::string hdf5 = failure.reason.empty() ? "" : " (HDF5: " + failure.reason + ")";
     throw EnvironmentError(impl_->path.string() + ": cannot write provenance" +
-                           (failure.os_errno != 0 ? ": " + std::string(std::strerror(failure.os_errno)) : "") + hdf5);
+                           blobs_detail::failure_text(failure));
   }
 }
 

@@ -172,8 +172,8 @@ class DiskFull : public StageTest {
   Snapshot reference_snapshot_;
 };
 
-// The blobs/ directory is a tmpfs holding half of what the whole run's segments need: writing a
-// segment (HDF5) fails with ENOSPC part-way through the expansion.
+// The blobs/ directory is a tmpfs holding about half of what the whole run's segments need:
+// writing a segment (HDF5) fails with ENOSPC part-way through the expansion.
 TEST_F(DiskFull, SegmentWriteOnAFullDiskIsExit4AndResumes) {
   const fs::path state = dir_ / "state";
   ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
@@ -182,7 +182,9 @@ TEST_F(DiskFull, SegmentWriteOnAFullDiskIsExit4AndResumes) {
 
   const std::uint64_t needed = allocated_bytes(reference_ / "blobs");
   ASSERT_GE(needed, 8 * kPage) << "the beam's segments are too small to fill a disk part-way";
-  Tmpfs blobs(state / "blobs", needed / 2);
+  // Half the run, off a page boundary of the segments (the disk fills inside one).
+  const std::uint64_t limit = needed / 2 + 3 * kPage;
+  Tmpfs blobs(state / "blobs", limit);
   ASSERT_TRUE(blobs.mounted()) << blobs.why();
 
   const StageResult full = expand_stage(state, 1, dir_);
@@ -192,7 +194,7 @@ TEST_F(DiskFull, SegmentWriteOnAFullDiskIsExit4AndResumes) {
       << "names the segment file: " << full.err;
   EXPECT_NE(full.err.find("No space left on device"), std::string::npos) << full.err;
   std::printf("[ info ] blobs tmpfs of %llu KiB (the whole run needs %llu KiB); stderr: %s",
-              static_cast<unsigned long long>(round_up(needed / 2) / 1024),
+              static_cast<unsigned long long>(round_up(limit) / 1024),
               static_cast<unsigned long long>(needed / 1024), full.err.c_str());
 
   // Nothing corrupted, complete batches only; the failed segment was removed by its writer.
@@ -230,12 +232,10 @@ TEST_F(DiskFull, CatalogueCommitOnAFullDiskIsExit4AndResumes) {
   Tmpfs blobs(state / "blobs", 64 * kMiB);
   ASSERT_TRUE(blobs.mounted()) << blobs.why();
 
-  // Room for the WAL index (32 KiB), the stage-run record and a few batches, not for the whole
-  // run: its catalogue grows by `growth` and its WAL by at least as much.
-  const std::uint64_t growth = fs::file_size(reference_ / "catalogue.sqlite") -
-                               fs::file_size(state / "catalogue.sqlite");
-  ASSERT_GE(growth, 32 * kPage) << "the beam's catalogue grows too little to fill a disk part-way";
-  const std::uint64_t room = 8 * kPage + growth / 4;
+  // Room for the WAL index (32 KiB) and 256 KiB of write-ahead log: a few batches (each
+  // commit appends the pages it changed, 4 KiB each; the whole run's WAL stays below SQLite's
+  // 1000-page checkpoint and grows to megabytes), not the whole run.
+  const std::uint64_t room = 32 * 1024 + 256 * 1024;
   disk.resize(disk.used() + room);
   ASSERT_FALSE(HasFatalFailure());
 
@@ -244,29 +244,34 @@ TEST_F(DiskFull, CatalogueCommitOnAFullDiskIsExit4AndResumes) {
   EXPECT_NE(full.err.find("hapstate-expand: error: " + (state / "catalogue.sqlite").string()),
             std::string::npos) << "names the catalogue: " << full.err;
   EXPECT_NE(full.err.find("database or disk is full"), std::string::npos) << full.err;
-  std::printf("[ info ] %llu KiB left for the catalogue (it grows by %llu KiB in the run); "
-              "stderr: %s", static_cast<unsigned long long>(room / 1024),
-              static_cast<unsigned long long>(growth / 1024), full.err.c_str());
+  std::printf("[ info ] %llu KiB left for the catalogue; stderr: %s",
+              static_cast<unsigned long long>(room / 1024), full.err.c_str());
 
-  // Nothing corrupted, complete batches only; the failed batch's segment, written before its
-  // transaction, is referenced by nothing.
+  // Nothing corrupted, complete batches only. The failed batch's segment, if it made new
+  // configurations (most later batches only reach stored ones and write none), was written
+  // and closed before its transaction: referenced by nothing.
   const auto [configs, transitions] = expect_intact_prefix(state);
   EXPECT_GT(configs, configs_before) << "the disk filled before the first batch was stored";
-  EXPECT_LT(configs, reference_snapshot_.configurations.size());
+  EXPECT_LT(transitions, reference_snapshot_.transitions.size());
+  std::size_t orphans = 0;
   {
     Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
-    EXPECT_EQ(BlobStore(state / "blobs").unreferenced_segments(cat.referenced_segments()).size(), 1u);
+    orphans = BlobStore(state / "blobs").unreferenced_segments(cat.referenced_segments()).size();
+    EXPECT_LE(orphans, 1u);
   }
   std::printf("[ info ] stored when the disk was full: %zu of %zu configurations, %zu of %zu "
-              "transitions\n", configs, reference_snapshot_.configurations.size(), transitions,
-              reference_snapshot_.transitions.size());
+              "transitions; %zu unreferenced segment(s)\n", configs,
+              reference_snapshot_.configurations.size(), transitions,
+              reference_snapshot_.transitions.size(), orphans);
 
-  // Space again: the same command removes the orphan segment, resumes and completes.
+  // Space again: the same command removes an orphan segment, resumes and completes.
   disk.resize(64 * kMiB);
   ASSERT_FALSE(HasFatalFailure());
   const StageResult resumed = expand_stage(state, 1, dir_);
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
-  EXPECT_NE(resumed.err.find("removed 1 unreferenced segment"), std::string::npos) << resumed.err;
+  if (orphans == 1) {
+    EXPECT_NE(resumed.err.find("removed 1 unreferenced segment"), std::string::npos) << resumed.err;
+  }
   expect_same_catalogue(reference_, state);
 }
 
