@@ -162,7 +162,8 @@ void SegmentWriter::Impl::write_index() {
     put(std::string(blobs_detail::kIndexGroup) + "/" + t.dataset, H5T_STD_I64LE, H5T_NATIVE_INT64, 2, dims,
         t.index.data());
     if (!t.handle.reset())
-      blobs_detail::throw_hdf5_write_failure(path.string() + ": cannot close the dataset '" + t.dataset + "'");
+      blobs_detail::throw_hdf5_write_failure(path.string() + ": cannot close the dataset '" + t.dataset +
+                                             "'");
   }
 }
 
