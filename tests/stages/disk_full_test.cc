@@ -1,5 +1,6 @@
 // The disk fills during hapstate-expand (issue 15): a real, size-limited tmpfs in a private
-// mount namespace of this test process. Either the blob segments' file system fills (the HDF5
+// mount namespace of this test process (root, as in CI), else writes made to fail with ENOSPC
+// by a test-only LD_PRELOAD shim (enospc_shim.c; HAPSTATE_DISK_FULL=shim forces it). Either the blob segments' file system fills (the HDF5
 // write fails) or the catalogue's (the SQLite commit fails). Each time: exit 4 (I/O or
 // environment failure, docs/exit-codes.md), stderr names the file and the OS or library error;
 // nothing stored is corrupted (SQLite integrity, foreign keys, every stored vector readable, the
@@ -19,8 +20,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace hapstate::test_util {
@@ -97,13 +100,30 @@ std::uint64_t allocated_bytes(const fs::path& dir) {
   return total;
 }
 
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;  // the ASan runtime must come first: no LD_PRELOAD shim
+#else
+constexpr bool kSanitized = false;
+#endif
+
 class DiskFull : public StageTest {
  protected:
   void SetUp() override {
     StageTest::SetUp();
-    if (const std::string& why = private_mount_namespace(); !why.empty())
+    // A real file system if we may mount one; else (or with HAPSTATE_DISK_FULL=shim) the
+    // test-only LD_PRELOAD shim (tests/stages/enospc_shim.c) fails the stage's writes with
+    // ENOSPC once a byte budget is spent.
+    const char* mode = std::getenv("HAPSTATE_DISK_FULL");
+    const std::string why = mode != nullptr && std::string(mode) == "shim"
+                                ? std::string("HAPSTATE_DISK_FULL=shim")
+                                : private_mount_namespace();
+    tmpfs_ = why.empty();
+    if (!tmpfs_ && kSanitized)
       GTEST_SKIP() << "no size-limited file system can be mounted here (" << why
-                   << "): the full-disk test needs root (CAP_SYS_ADMIN) for a private tmpfs";
+                   << ") and the LD_PRELOAD shim cannot run under AddressSanitizer: the "
+                      "full-disk test needs root (CAP_SYS_ADMIN) for a private tmpfs";
+    if (!tmpfs_)
+      std::printf("[ info ] no tmpfs (%s): injected ENOSPC through the LD_PRELOAD shim\n", why.c_str());
     // The uninterrupted run every case is compared with (on the ordinary temporary disk).
     reference_ = dir_ / "reference";
     build_beam(reference_, kBeamScene, 1, dir_);
@@ -169,6 +189,22 @@ class DiskFull : public StageTest {
     return {s.configurations.size(), s.transitions.size()};
   }
 
+  // hapstate-expand on `state` with a disk that is full once `bytes` more are written to the
+  // files directly in `dir`: with tmpfs, the caller has mounted it with that much room; with
+  // the shim, the budget is given to it here.
+  StageResult expand_on_full_disk(const fs::path& state, const fs::path& dir, std::uint64_t bytes) {
+    if (tmpfs_) return expand_stage(state, 1, dir_);
+    ::setenv("LD_PRELOAD", HAPSTATE_ENOSPC_SHIM, 1);
+    ::setenv("HAPSTATE_ENOSPC_DIR", fs::weakly_canonical(dir).c_str(), 1);
+    ::setenv("HAPSTATE_ENOSPC_BYTES", std::to_string(bytes).c_str(), 1);
+    StageResult r = expand_stage(state, 1, dir_);
+    ::unsetenv("LD_PRELOAD");
+    ::unsetenv("HAPSTATE_ENOSPC_DIR");
+    ::unsetenv("HAPSTATE_ENOSPC_BYTES");
+    return r;
+  }
+
+  bool tmpfs_ = false;  // a real size-limited tmpfs, else the shim
   fs::path reference_;
   Snapshot reference_snapshot_;
 };
@@ -185,18 +221,21 @@ TEST_F(DiskFull, SegmentWriteOnAFullDiskIsExit4AndResumes) {
   ASSERT_GE(needed, 8 * kPage) << "the beam's segments are too small to fill a disk part-way";
   // Half the run, off a page boundary of the segments (the disk fills inside one).
   const std::uint64_t limit = needed / 2 + 3 * kPage;
-  Tmpfs blobs(state / "blobs", limit);
-  ASSERT_TRUE(blobs.mounted()) << blobs.why();
+  std::optional<Tmpfs> blobs;
+  if (tmpfs_) {
+    blobs.emplace(state / "blobs", limit);
+    ASSERT_TRUE(blobs->mounted()) << blobs->why();
+  }
 
-  const StageResult full = expand_stage(state, 1, dir_);
+  const StageResult full = expand_on_full_disk(state, state / "blobs", limit);
   EXPECT_EQ(full.exit_code, 4) << full.err;
   EXPECT_NE(full.err.find("hapstate-expand: error: "), std::string::npos) << full.err;
   EXPECT_NE(full.err.find((state / "blobs" / "seg-").string()), std::string::npos)
       << "names the segment file: " << full.err;
   EXPECT_NE(full.err.find("No space left on device"), std::string::npos) << full.err;
   EXPECT_EQ(std::count(full.err.begin(), full.err.end(), '\n'), 1) << "one message, nothing else: " << full.err;
-  std::printf("[ info ] blobs tmpfs of %llu KiB (the whole run needs %llu KiB); stderr: %s",
-              static_cast<unsigned long long>(round_up(limit) / 1024),
+  std::printf("[ info ] blobs %s of %llu KiB (the whole run needs %llu KiB); stderr: %s",
+              tmpfs_ ? "tmpfs" : "write budget", static_cast<unsigned long long>(round_up(limit) / 1024),
               static_cast<unsigned long long>(needed / 1024), full.err.c_str());
 
   // Nothing corrupted, complete batches only; the failed segment was removed by its writer.
@@ -215,7 +254,8 @@ TEST_F(DiskFull, SegmentWriteOnAFullDiskIsExit4AndResumes) {
               reference_snapshot_.transitions.size());
 
   // Space again: the same command resumes and completes.
-  blobs.resize(4 * needed + 4 * kMiB);
+  if (blobs) blobs->resize(4 * needed + 4 * kMiB);
+  ASSERT_FALSE(HasFatalFailure());
   const StageResult resumed = expand_stage(state, 1, dir_);
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   expect_same_catalogue(reference_, state);
@@ -232,18 +272,23 @@ class CatalogueFull : public DiskFull {
   // unreferenced segments the failure left (0 or 1).
   std::size_t fill_and_resume(const std::string& name, std::uint64_t room) {
     const fs::path state = dir_ / name;
-    Tmpfs disk(state, 64 * kMiB);
-    EXPECT_TRUE(disk.mounted()) << disk.why();
-    if (!disk.mounted()) return 0;
+    std::optional<Tmpfs> disk, blobs;
+    if (tmpfs_) {
+      disk.emplace(state, 64 * kMiB);
+      EXPECT_TRUE(disk->mounted()) << disk->why();
+      if (!disk->mounted()) return 0;
+    }
     EXPECT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
     EXPECT_EQ(grid_stage(state, dir_).exit_code, 0);
     const std::size_t configs_before = snapshot(state).configurations.size();
-    Tmpfs blobs(state / "blobs", 64 * kMiB);
-    EXPECT_TRUE(blobs.mounted()) << blobs.why();
-    disk.resize(disk.used() + room);
+    if (tmpfs_) {
+      blobs.emplace(state / "blobs", 64 * kMiB);
+      EXPECT_TRUE(blobs->mounted()) << blobs->why();
+      disk->resize(disk->used() + room);
+    }
     if (HasFailure()) return 0;
 
-    const StageResult full = expand_stage(state, 1, dir_);
+    const StageResult full = expand_on_full_disk(state, state, room);
     EXPECT_EQ(full.exit_code, 4) << full.err;
     EXPECT_NE(full.err.find("hapstate-expand: error: " + (state / "catalogue.sqlite").string()),
               std::string::npos) << "names the catalogue: " << full.err;
@@ -269,7 +314,7 @@ class CatalogueFull : public DiskFull {
                 reference_snapshot_.transitions.size(), orphans);
 
     // Space again: the same command removes the orphan segment, resumes and completes.
-    disk.resize(64 * kMiB);
+    if (disk) disk->resize(64 * kMiB);
     const StageResult resumed = expand_stage(state, 1, dir_);
     EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
     if (orphans == 1) {
