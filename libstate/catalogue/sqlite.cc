@@ -28,13 +28,32 @@ bool environment_failure(int rc) {
   }
 }
 
-// The OS error behind an I/O or open failure ("disk I/O error (Input/output error)"); SQLite
-// records one for SQLITE_IOERR and SQLITE_CANTOPEN only (SQLITE_FULL says it all).
+// What failed behind an I/O or open failure, in parentheses after SQLite's message: for
+// SQLITE_IOERR the operation its extended code names ("disk I/O error (write failed,
+// SQLITE_IOERR_WRITE)"; SQLite's record of the OS errno is not reliable then: it reads errno
+// when the error reaches the API, after the rollback's own calls), for SQLITE_CANTOPEN the OS
+// error of the failed open.
 std::string os_error(sqlite3* db, int rc) {
   const int primary = rc & 0xFF;
-  if (db == nullptr || (primary != SQLITE_IOERR && primary != SQLITE_CANTOPEN)) return "";
-  const int e = sqlite3_system_errno(db);
-  return e > 0 ? std::string(" (") + std::strerror(e) + ")" : std::string();
+  if (primary == SQLITE_CANTOPEN && db != nullptr) {
+    const int e = sqlite3_system_errno(db);
+    return e > 0 ? std::string(" (") + std::strerror(e) + ")" : std::string();
+  }
+  if (primary != SQLITE_IOERR) return "";
+  switch (rc) {
+    case SQLITE_IOERR_WRITE: return " (write failed, SQLITE_IOERR_WRITE)";
+    case SQLITE_IOERR_READ: return " (read failed, SQLITE_IOERR_READ)";
+    case SQLITE_IOERR_SHORT_READ: return " (short read, SQLITE_IOERR_SHORT_READ)";
+    case SQLITE_IOERR_FSYNC: return " (fsync failed, SQLITE_IOERR_FSYNC)";
+    case SQLITE_IOERR_DIR_FSYNC: return " (directory fsync failed, SQLITE_IOERR_DIR_FSYNC)";
+    case SQLITE_IOERR_TRUNCATE: return " (truncate failed, SQLITE_IOERR_TRUNCATE)";
+    case SQLITE_IOERR_FSTAT: return " (fstat failed, SQLITE_IOERR_FSTAT)";
+    case SQLITE_IOERR_DELETE: return " (delete failed, SQLITE_IOERR_DELETE)";
+    case SQLITE_IOERR_SHMOPEN: case SQLITE_IOERR_SHMSIZE: case SQLITE_IOERR_SHMMAP:
+      return " (the WAL index -shm file failed, extended code " + std::to_string(rc) + ")";
+    default:
+      return " (extended code " + std::to_string(rc) + ")";
+  }
 }
 
 [[noreturn]] void throw_error(const std::string& label, std::string_view sql, int rc,

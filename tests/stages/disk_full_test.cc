@@ -193,14 +193,18 @@ class DiskFull : public StageTest {
   // files directly in `dir`: with tmpfs, the caller has mounted it with that much room; with
   // the shim, the budget is given to it here.
   StageResult expand_on_full_disk(const fs::path& state, const fs::path& dir, std::uint64_t bytes) {
-    if (tmpfs_) return expand_stage(state, 1, dir_);
+    return tmpfs_ ? expand_stage(state, 1, dir_) : expand_with_shim(state, dir, bytes, ENOSPC);
+  }
+  // hapstate-expand on `state` under the shim: writes to the files directly in `dir` fail with
+  // `error` once `bytes` were written there.
+  StageResult expand_with_shim(const fs::path& state, const fs::path& dir, std::uint64_t bytes, int error) {
     ::setenv("LD_PRELOAD", HAPSTATE_ENOSPC_SHIM, 1);
     ::setenv("HAPSTATE_ENOSPC_DIR", fs::weakly_canonical(dir).c_str(), 1);
     ::setenv("HAPSTATE_ENOSPC_BYTES", std::to_string(bytes).c_str(), 1);
+    ::setenv("HAPSTATE_ENOSPC_ERRNO", std::to_string(error).c_str(), 1);
     StageResult r = expand_stage(state, 1, dir_);
-    ::unsetenv("LD_PRELOAD");
-    ::unsetenv("HAPSTATE_ENOSPC_DIR");
-    ::unsetenv("HAPSTATE_ENOSPC_BYTES");
+    for (const char* name : {"LD_PRELOAD", "HAPSTATE_ENOSPC_DIR", "HAPSTATE_ENOSPC_BYTES", "HAPSTATE_ENOSPC_ERRNO"})
+      ::unsetenv(name);
     return r;
   }
 
@@ -336,6 +340,38 @@ TEST_F(CatalogueFull, CatalogueCommitOnAFullDiskIsExit4AndResumes) {
     if (HasFailure() || orphans == 1) break;
   }
   EXPECT_EQ(orphans, 1u) << "no attempt failed in a batch that wrote a segment";
+}
+
+// An I/O error (EIO, injected by the shim: no real file system fails on demand) while writing a
+// segment or the catalogue is exit 4 too, naming the file and the OS error (HDF5) or the failed
+// operation (SQLite); the next run completes with the same catalogue.
+TEST_F(DiskFull, IoErrorsAreExit4NamingTheOsError) {
+  if (kSanitized) GTEST_SKIP() << "the LD_PRELOAD shim cannot run under AddressSanitizer";
+  const std::uint64_t needed = allocated_bytes(reference_ / "blobs");
+  for (const bool segment : {true, false}) {
+    const fs::path state = dir_ / (segment ? "segment" : "catalogue");
+    ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
+    ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
+    const StageResult failed = segment ? expand_with_shim(state, state / "blobs", needed / 2, EIO)
+                                       : expand_with_shim(state, state, 256 * 1024, EIO);
+    EXPECT_EQ(failed.exit_code, 4) << failed.err;
+    EXPECT_EQ(std::count(failed.err.begin(), failed.err.end(), '\n'), 1) << failed.err;
+    if (segment) {
+      EXPECT_NE(failed.err.find((state / "blobs" / "seg-").string()), std::string::npos) << failed.err;
+      EXPECT_NE(failed.err.find(": Input/output error (HDF5: file write failed)"), std::string::npos)
+          << failed.err;
+    } else {
+      EXPECT_NE(failed.err.find((state / "catalogue.sqlite").string() + ": SQLite error in "),
+                std::string::npos) << failed.err;
+      EXPECT_NE(failed.err.find("disk I/O error (write failed, SQLITE_IOERR_WRITE)"), std::string::npos)
+          << failed.err;
+    }
+    std::printf("[ info ] EIO: %s", failed.err.c_str());
+    expect_intact_prefix(state);
+    const StageResult resumed = expand_stage(state, 1, dir_);
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    expect_same_catalogue(reference_, state);
+  }
 }
 
 }  // namespace

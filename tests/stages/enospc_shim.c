@@ -1,8 +1,8 @@
 /* Test-only LD_PRELOAD shim (tests/stages/disk_full_test.cc, used where no size-limited file
  * system can be mounted): a disk that holds HAPSTATE_ENOSPC_BYTES bytes written to the files
  * directly in the directory HAPSTATE_ENOSPC_DIR (an absolute path, no trailing '/'). A write
- * that would go beyond fails with ENOSPC, and so does every later one there: the disk stays
- * full. Other files are untouched. Intercepts what HDF5's sec2 driver and SQLite's unix VFS
+ * that would go beyond fails with ENOSPC (or the errno number HAPSTATE_ENOSPC_ERRNO, e.g. 5 for
+ * EIO), and so does every later one there: the disk stays full. Other files are untouched. Intercepts what HDF5's sec2 driver and SQLite's unix VFS
  * write with: write, pwrite, pwrite64, writev, pwritev. Never built into a shipped program. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
@@ -47,7 +47,8 @@ static int shim_charge(int fd, size_t count) {
   else shim_full = 1;
   pthread_mutex_unlock(&shim_mutex);
   if (ok) return 0;
-  errno = ENOSPC;
+  const char* error = getenv("HAPSTATE_ENOSPC_ERRNO");
+  errno = error != NULL && atoi(error) > 0 ? atoi(error) : ENOSPC;
   return -1;
 }
 
