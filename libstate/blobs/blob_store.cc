@@ -92,7 +92,7 @@ std::shared_ptr<const Directory> read_directory(hid_t file, const std::filesyste
     for (hsize_t k : *dims) n *= k;
     values->resize(static_cast<std::size_t>(n));
     if (n > 0 && H5Dread(d.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values->data()) < 0)
-      blobs_detail::throw_hdf5_read_failure(path.string(), "cannot read the segment index '" + name + "'",
+      blobs_detail::throw_hdf5_read_failure(path.string(), "cannot read the index '" + name + "'",
                                             "damaged segment index: '" + name + "' unreadable");
   };
   std::vector<hsize_t> dims;
@@ -261,7 +261,8 @@ std::vector<T> BlobStore::Impl::read(SegmentId id, std::string_view name, hid_t 
   std::vector<T> values(static_cast<std::size_t>(count));
   if (count > 0 && H5Dread(dataset.get(), memory_type, place ? memory.get() : H5S_ALL,
                            place ? space.get() : H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
-    blobs_detail::throw_hdf5_read_failure(where, "cannot read the data", "cannot read the data (corrupt chunk?)");
+    blobs_detail::throw_hdf5_read_failure(where, "cannot read the data",
+                                          "cannot read the data (corrupt chunk?)");
   }
   return values;
 }

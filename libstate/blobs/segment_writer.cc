@@ -190,9 +190,10 @@ SegmentWriter::SegmentWriter(const std::filesystem::path& blobs_dir, SegmentId i
   }
   impl_->file = Hid(H5Fcreate(impl_->path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT));
   if (!impl_->file.valid()) {
-    // It may exist, empty or partly written (a full disk): created here (exclusively), so ours.
+    // It may exist, empty or partly written (a full disk): created here (exclusively), so
+    // ours, unless the exclusive create found another writer's file.
     const blobs_detail::Hdf5Failure failure = blobs_detail::take_hdf5_failure();
-    std::filesystem::remove(impl_->path, ec);
+    if (failure.os_errno != EEXIST) std::filesystem::remove(impl_->path, ec);
     throw EnvironmentError(impl_->path.string() + ": cannot create HDF5 segment" +
                            blobs_detail::failure_text(failure));
   }
