@@ -92,7 +92,8 @@ std::shared_ptr<const Directory> read_directory(hid_t file, const std::filesyste
     for (hsize_t k : *dims) n *= k;
     values->resize(static_cast<std::size_t>(n));
     if (n > 0 && H5Dread(d.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values->data()) < 0)
-      throw bad("'" + name + "' unreadable");
+      blobs_detail::throw_hdf5_read_failure(path.string(), "cannot read the index '" + name + "'",
+                                            "damaged segment index: '" + name + "' unreadable");
   };
   std::vector<hsize_t> dims;
   std::string text;
@@ -155,7 +156,14 @@ std::shared_ptr<OpenSegment> BlobStore::Impl::open(SegmentId id) const {
   const auto bytes = std::filesystem::file_size(path, ec);
   if (ec) throw InputError(path.string() + ": segment file is missing (" + ec.message() + ")");
   QuietErrors quiet;
-  if (H5Fis_hdf5(path.c_str()) <= 0) {
+  // An OS error (permission, I/O error) is the environment's; anything else the file's.
+  const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
+  if (is_hdf5 < 0) {
+    blobs_detail::throw_hdf5_read_failure(path.string(), "cannot read the segment",
+                                          "not an HDF5 file (" + std::to_string(bytes) +
+                                              " bytes; corrupt or truncated segment)");
+  }
+  if (is_hdf5 == 0) {
     take_hdf5_error();
     throw InputError(path.string() + ": not an HDF5 file (" + std::to_string(bytes) +
                      " bytes; corrupt or truncated segment)");
@@ -164,8 +172,9 @@ std::shared_ptr<OpenSegment> BlobStore::Impl::open(SegmentId id) const {
   segment->file = Hid(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
   const Hid* file = &segment->file;
   if (!file->valid()) {
-    throw InputError(with_reason(path.string() + ": truncated or corrupt segment, cannot open it (" +
-                                 std::to_string(bytes) + " bytes)"));
+    blobs_detail::throw_hdf5_read_failure(path.string(), "cannot open the segment",
+                                          "truncated or corrupt segment, cannot open it (" +
+                                              std::to_string(bytes) + " bytes)");
   }
   const auto format = blobs_detail::read_int_attribute(file->get(), "hapstate_segment_format");
   if (!format) {
@@ -252,7 +261,8 @@ std::vector<T> BlobStore::Impl::read(SegmentId id, std::string_view name, hid_t 
   std::vector<T> values(static_cast<std::size_t>(count));
   if (count > 0 && H5Dread(dataset.get(), memory_type, place ? memory.get() : H5S_ALL,
                            place ? space.get() : H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
-    throw InputError(with_reason(where + ": cannot read the data (corrupt chunk?)"));
+    blobs_detail::throw_hdf5_read_failure(where, "cannot read the data",
+                                          "cannot read the data (corrupt chunk?)");
   }
   return values;
 }

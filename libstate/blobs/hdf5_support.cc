@@ -1,5 +1,11 @@
 #include "blobs/hdf5_support.hpp"
 
+#include "util/error.h"
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+
 namespace hapstate::blobs_detail {
 
 bool Hid::reset() {
@@ -27,6 +33,83 @@ std::string take_hdf5_error() {
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, keep_innermost, &text);
   H5Eclear2(H5E_DEFAULT);
   return text;
+}
+
+namespace {
+
+struct Walk {
+  std::string innermost;
+  std::string with_errno;  // the entry that named an errno
+  int os_errno = 0;
+};
+
+// HDF5's file drivers format OS failures as "..., errno = <n>, error message = '<text>', ...".
+herr_t find_errno(unsigned /*n*/, const H5E_error2_t* err, void* data) {
+  auto* walk = static_cast<Walk*>(data);
+  if (err->desc == nullptr || err->desc[0] == '\0') return 0;
+  walk->innermost = err->desc;
+  if (const char* at = std::strstr(err->desc, "errno = "); at != nullptr) {
+    char* end = nullptr;
+    const long value = std::strtol(at + 8, &end, 10);
+    if (end != at + 8 && value > 0 && value < 4096) {
+      walk->os_errno = static_cast<int>(value);
+      walk->with_errno = err->desc;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+Hdf5Failure take_hdf5_failure() {
+  Walk walk;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, find_errno, &walk);
+  H5Eclear2(H5E_DEFAULT);
+  Hdf5Failure f;
+  f.os_errno = walk.os_errno;
+  if (walk.os_errno != 0) {
+    // "file write failed: time = ..., filename = ..., errno = 28, ...": the words before the
+    // first ':' (the rest repeats the file name, the time and buffer addresses).
+    f.reason = walk.with_errno.substr(0, walk.with_errno.find(':'));
+  } else {
+    f.reason = walk.innermost;
+  }
+  return f;
+}
+
+bool is_environment_errno(int os_errno) {
+  switch (os_errno) {
+    case ENOSPC: case EDQUOT: case EFBIG: case EIO: case EACCES: case EPERM: case EROFS:
+    case EMFILE: case ENFILE: case ENOMEM: case EBUSY: case ENXIO: case ENODEV: case ESTALE:
+    case ETIMEDOUT: case EAGAIN:  // EAGAIN: HDF5's file lock held by another process
+      return true;
+    default:
+      return false;
+  }
+}
+
+namespace {
+
+std::string hdf5_suffix(const Hdf5Failure& f) {
+  return f.reason.empty() ? std::string() : " (HDF5: " + f.reason + ")";
+}
+
+}  // namespace
+
+std::string failure_text(const Hdf5Failure& f) {
+  return (f.os_errno != 0 ? std::string(": ") + std::strerror(f.os_errno) : std::string()) + hdf5_suffix(f);
+}
+
+void throw_hdf5_write_failure(const std::string& where) {
+  throw EnvironmentError(where + failure_text(take_hdf5_failure()));
+}
+
+void throw_hdf5_read_failure(const std::string& where, const std::string& action,
+                             const std::string& corrupt) {
+  const Hdf5Failure f = take_hdf5_failure();
+  if (is_environment_errno(f.os_errno))
+    throw EnvironmentError(where + ": " + action + ": " + std::strerror(f.os_errno) + hdf5_suffix(f));
+  throw InputError(where + ": " + corrupt + hdf5_suffix(f));
 }
 
 bool write_string_attribute(hid_t object, const char* name, const std::string& value) {

@@ -58,6 +58,36 @@ class QuietErrors {
 // Empty if the stack is empty.
 std::string take_hdf5_error();
 
+// What HDF5's error stack on this thread says about the last failure (and clears it): the
+// innermost message and the OS errno a file driver recorded, e.g. the sec2 driver's
+// "file write failed: time = ..., errno = 28, error message = 'No space left on device', ..."
+// gives os_errno 28 and reason "file write failed". os_errno is 0 if no entry names one.
+struct Hdf5Failure {
+  std::string reason;
+  int os_errno = 0;
+};
+Hdf5Failure take_hdf5_failure();
+// ": <strerror(os_errno)> (HDF5: <reason>)", each part only if known.
+std::string failure_text(const Hdf5Failure& failure);
+
+// Whether an OS error says the environment failed rather than the file's content: no space
+// (ENOSPC, EDQUOT, EFBIG), an I/O error (EIO), a permission (EACCES, EPERM), a read-only file
+// system (EROFS), too many open files, no memory, a busy or vanished device.
+bool is_environment_errno(int os_errno);
+
+// Throws for a writer's HDF5 call that failed at `where` (the file, and the place in it),
+// consuming HDF5's error stack: EnvironmentError "<where>: <strerror(errno)> (HDF5: <reason>)",
+// or "<where> (HDF5: <reason>)" if HDF5 recorded no OS error (a writer creates its file, so
+// its content cannot be the user's fault).
+[[noreturn]] void throw_hdf5_write_failure(const std::string& where);
+
+// Throws for a reader's HDF5 call that failed at `where`, consuming HDF5's error stack: if
+// HDF5 recorded an environment errno, EnvironmentError "<where>: <action>: <strerror(errno)>
+// (HDF5: <reason>)" (e.g. "cannot open the segment: Permission denied"); otherwise the file's
+// content is the likely cause: InputError "<where>: <corrupt> (HDF5: <reason>)".
+[[noreturn]] void throw_hdf5_read_failure(const std::string& where, const std::string& action,
+                                          const std::string& corrupt);
+
 // Scalar attributes on an object (a file's root group: pass the file id). Writers return
 // false on an HDF5 error; readers return nullopt if the attribute is missing or not of the
 // expected class (string / integer).

@@ -39,12 +39,6 @@ void sync_path(const std::filesystem::path& path, bool directory) {
   if (rc != 0) throw EnvironmentError(path.string() + ": fsync failed: " + std::strerror(err));
 }
 
-std::string with_reason(std::string message) {
-  const std::string reason = take_hdf5_error();
-  if (!reason.empty()) message += " (HDF5: " + reason + ")";
-  return message;
-}
-
 }  // namespace
 
 struct SegmentWriter::Impl {
@@ -97,11 +91,11 @@ SegmentWriter::Impl::Table& SegmentWriter::Impl::table(const std::string& leaf, 
                   H5Pset_shuffle(create.get()) >= 0 &&
                   H5Pset_filter(create.get(), static_cast<H5Z_filter_t>(kZstdFilterId), H5Z_FLAG_MANDATORY, 1,
                                 &level) >= 0;
-  if (!ok) throw InputError(with_reason(where + ": cannot set up the dataset"));
+  if (!ok) blobs_detail::throw_hdf5_write_failure(where + ": cannot set up the dataset");
   t.handle = Hid(H5Dcreate2(file.get(), t.dataset.c_str(), file_type, space.get(), H5P_DEFAULT, create.get(),
                             H5P_DEFAULT));
   if (!t.handle.valid() || !blobs_detail::write_string_attribute(t.handle.get(), "hapstate_leaf", leaf))
-    throw EnvironmentError(with_reason(where + ": cannot create the dataset"));
+    blobs_detail::throw_hdf5_write_failure(where + ": cannot create the dataset");
   return tables.emplace(key, std::move(t)).first->second;
 }
 
@@ -118,7 +112,8 @@ void SegmentWriter::Impl::write_row(std::string_view name, const void* data, std
   Table& t = table(leaf, file_type, count, where);
   const hsize_t width = std::max<hsize_t>(t.width, count);
   const hsize_t dims[2] = {t.rows + 1, width};
-  if (H5Dset_extent(t.handle.get(), dims) < 0) throw EnvironmentError(with_reason(where + ": cannot extend the dataset"));
+  if (H5Dset_extent(t.handle.get(), dims) < 0)
+    blobs_detail::throw_hdf5_write_failure(where + ": cannot extend the dataset");
   if (count > 0) {
     Hid space(H5Dget_space(t.handle.get()));
     const hsize_t start[2] = {t.rows, 0}, size[2] = {1, count};
@@ -127,7 +122,7 @@ void SegmentWriter::Impl::write_row(std::string_view name, const void* data, std
     if (!space.valid() || !memory.valid() ||
         H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr) < 0 ||
         H5Dwrite(t.handle.get(), memory_type, memory.get(), space.get(), H5P_DEFAULT, data) < 0) {
-      throw EnvironmentError(with_reason(where + ": cannot write the row"));
+      blobs_detail::throw_hdf5_write_failure(where + ": cannot write the row");
     }
   }
   auto g = group_index.find(group);
@@ -147,7 +142,7 @@ void SegmentWriter::Impl::write_index() {
   const std::string where = path.string() + ": index";
   Hid links(H5Pcreate(H5P_LINK_CREATE));
   if (!links.valid() || H5Pset_create_intermediate_group(links.get(), 1) < 0)
-    throw EnvironmentError(with_reason(where + ": cannot set up"));
+    blobs_detail::throw_hdf5_write_failure(where + ": cannot set up");
   auto put = [&](const std::string& dataset, hid_t file_type, hid_t memory_type, int rank, const hsize_t* dims,
                  const void* data) {
     Hid space(H5Screate_simple(rank, dims, nullptr));
@@ -156,7 +151,7 @@ void SegmentWriter::Impl::write_index() {
     for (int r = 0; r < rank; ++r) empty = empty || dims[r] == 0;
     if (!d.valid() || (!empty && H5Dwrite(d.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) ||
         !d.reset())
-      throw EnvironmentError(with_reason(where + ": cannot write " + dataset));
+      blobs_detail::throw_hdf5_write_failure(where + ": cannot write " + dataset);
   };
   std::string text;
   for (const std::string& g : groups) text += g + '\n';
@@ -166,7 +161,9 @@ void SegmentWriter::Impl::write_index() {
     const hsize_t dims[2] = {t.rows, 2};
     put(std::string(blobs_detail::kIndexGroup) + "/" + t.dataset, H5T_STD_I64LE, H5T_NATIVE_INT64, 2, dims,
         t.index.data());
-    if (!t.handle.reset()) throw EnvironmentError(with_reason(path.string() + ": cannot close " + t.dataset));
+    if (!t.handle.reset())
+      blobs_detail::throw_hdf5_write_failure(path.string() + ": cannot close the dataset '" + t.dataset +
+                                             "'");
   }
 }
 
@@ -193,7 +190,12 @@ SegmentWriter::SegmentWriter(const std::filesystem::path& blobs_dir, SegmentId i
   }
   impl_->file = Hid(H5Fcreate(impl_->path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT));
   if (!impl_->file.valid()) {
-    throw EnvironmentError(with_reason(impl_->path.string() + ": cannot create HDF5 segment"));
+    // It may exist, empty or partly written (a full disk): created here (exclusively), so
+    // ours, unless the exclusive create found another writer's file.
+    const blobs_detail::Hdf5Failure failure = blobs_detail::take_hdf5_failure();
+    if (failure.os_errno != EEXIST) std::filesystem::remove(impl_->path, ec);
+    throw EnvironmentError(impl_->path.string() + ": cannot create HDF5 segment" +
+                           blobs_detail::failure_text(failure));
   }
   const std::string version =
       provenance.writer_version.empty() ? version_string() : provenance.writer_version;
@@ -203,10 +205,12 @@ SegmentWriter::SegmentWriter(const std::filesystem::path& blobs_dir, SegmentId i
       !blobs_detail::write_string_attribute(f, "hapstate_writer_version", version) ||
       !blobs_detail::write_string_attribute(f, "hapstate_scene_hash", provenance.scene_hash) ||
       !blobs_detail::write_string_attribute(f, "hapstate_stage", provenance.stage)) {
-    const std::string message = with_reason(impl_->path.string() + ": cannot write provenance");
+    const blobs_detail::Hdf5Failure failure = blobs_detail::take_hdf5_failure();
     impl_->file.reset();
+    take_hdf5_error();
     std::filesystem::remove(impl_->path, ec);
-    throw EnvironmentError(message);
+    throw EnvironmentError(impl_->path.string() + ": cannot write provenance" +
+                           blobs_detail::failure_text(failure));
   }
 }
 
@@ -247,9 +251,10 @@ void SegmentWriter::close() {
                                          static_cast<long long>(impl_->names.size())) ||
       !blobs_detail::write_int_attribute(f, "hapstate_complete", 1) ||
       H5Fflush(f, H5F_SCOPE_LOCAL) < 0) {
-    throw EnvironmentError(with_reason(where + ": cannot flush the segment"));
+    blobs_detail::throw_hdf5_write_failure(where + ": cannot flush the segment");
   }
-  if (!impl_->file.reset()) throw EnvironmentError(with_reason(where + ": cannot close the segment"));
+  if (!impl_->file.reset())
+    blobs_detail::throw_hdf5_write_failure(where + ": cannot close the segment");
   impl_->closed = true;  // from here on the file is complete; a failed fsync leaves it as garbage
   sync_path(impl_->path, false);
   sync_path(impl_->blobs_dir, true);

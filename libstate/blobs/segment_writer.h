@@ -35,16 +35,19 @@ class SegmentWriter {
   SegmentWriter& operator=(SegmentWriter&&) noexcept;
 
   // Stores `values` under `name` (see is_valid_vector_name; intermediate groups are created).
-  // kFloat32 converts on write (for visual data). Throws InputError if the name is invalid,
-  // already written, or HDF5 fails; throws std::logic_error after close().
+  // kFloat32 converts on write (for visual data). Throws InputError if the name is invalid or
+  // already written, EnvironmentError if HDF5 fails (with the OS error when HDF5 recorded
+  // one); throws std::logic_error after close().
   void write(std::string_view name, std::span<const double> values,
              Precision precision = Precision::kFloat64);
   void write(std::string_view name, std::span<const float> values);
   void write(std::string_view name, std::span<const int> values);  // int32 (indices)
 
   // Marks the segment complete, flushes and closes it, then fsyncs the file and blobs_dir.
-  // After it returns the segment survives a power cut. Throws InputError on any I/O error
-  // (the file is then left for the garbage collector). Idempotent.
+  // After it returns the segment survives a power cut. Throws EnvironmentError on any I/O
+  // error, naming the file and, when HDF5 recorded it, the OS error (strerror: "No space left
+  // on device"); the file is then deleted by the destructor, or, if only the fsync failed,
+  // left for the garbage collector. Idempotent.
   void close();
 
   SegmentId id() const;

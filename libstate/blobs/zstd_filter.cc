@@ -107,6 +107,12 @@ const void* zstd_filter_class() { return &kZstdClass; }
 void register_zstd_filter() {
   static std::once_flag once;
   std::call_once(once, [] {
+    // No library shutdown at exit (before HDF5 initialises; a no-op if something else used
+    // HDF5 first). A segment whose write failed (a full disk) cannot be closed: HDF5 1.10
+    // keeps it open, and its shutdown at exit then retries the failing flush and prints
+    // "HDF5: infinite loop closing library" after our message. Nothing needs that shutdown:
+    // a writer that was not closed is deleted anyway (SegmentWriter), readers only read.
+    H5dont_atexit();
     if (H5Zregister(&kZstdClass) < 0) {
       throw InputError("HDF5: cannot register the zstd filter (id 32015) with the HDF5 library");
     }

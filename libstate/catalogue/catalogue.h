@@ -28,8 +28,10 @@ enum class OpenMode {
 // One open connection to a catalogue file (or ":memory:").
 // Threads: a Catalogue is used by one thread at a time; every thread that needs the catalogue
 // opens its own (SQLite WAL allows many readers beside one writer; a writer waits up to
-// kBusyTimeoutMs for another's transaction). Errors: every failure throws InputError naming
-// the file, the SQL statement and SQLite's message; nothing is written when opening fails.
+// kBusyTimeoutMs for another's transaction). Errors: every failure names the file, the SQL
+// statement and SQLite's message; an environment failure (disk full, I/O error, permission,
+// locked) throws EnvironmentError, anything else InputError; nothing is written when opening
+// fails.
 class Catalogue {
  public:
   // "HAPS": PRAGMA application_id of every hapstate catalogue.

@@ -28,10 +28,38 @@ bool environment_failure(int rc) {
   }
 }
 
+// What failed behind an I/O or open failure, in parentheses after SQLite's message: for
+// SQLITE_IOERR the operation its extended code names ("disk I/O error (write failed,
+// SQLITE_IOERR_WRITE)"; SQLite's record of the OS errno is not reliable then: it reads errno
+// when the error reaches the API, after the rollback's own calls), for SQLITE_CANTOPEN the OS
+// error of the failed open.
+std::string os_error(sqlite3* db, int rc) {
+  const int primary = rc & 0xFF;
+  if (primary == SQLITE_CANTOPEN && db != nullptr) {
+    const int e = sqlite3_system_errno(db);
+    return e > 0 ? std::string(" (") + std::strerror(e) + ")" : std::string();
+  }
+  if (primary != SQLITE_IOERR) return "";
+  switch (rc) {
+    case SQLITE_IOERR_WRITE: return " (write failed, SQLITE_IOERR_WRITE)";
+    case SQLITE_IOERR_READ: return " (read failed, SQLITE_IOERR_READ)";
+    case SQLITE_IOERR_SHORT_READ: return " (short read, SQLITE_IOERR_SHORT_READ)";
+    case SQLITE_IOERR_FSYNC: return " (fsync failed, SQLITE_IOERR_FSYNC)";
+    case SQLITE_IOERR_DIR_FSYNC: return " (directory fsync failed, SQLITE_IOERR_DIR_FSYNC)";
+    case SQLITE_IOERR_TRUNCATE: return " (truncate failed, SQLITE_IOERR_TRUNCATE)";
+    case SQLITE_IOERR_FSTAT: return " (fstat failed, SQLITE_IOERR_FSTAT)";
+    case SQLITE_IOERR_DELETE: return " (delete failed, SQLITE_IOERR_DELETE)";
+    case SQLITE_IOERR_SHMOPEN: case SQLITE_IOERR_SHMSIZE: case SQLITE_IOERR_SHMMAP:
+      return " (the WAL index -shm file failed, extended code " + std::to_string(rc) + ")";
+    default:
+      return " (extended code " + std::to_string(rc) + ")";
+  }
+}
+
 [[noreturn]] void throw_error(const std::string& label, std::string_view sql, int rc,
-                              const char* message) {
+                              const char* message, sqlite3* db) {
   std::string text = label + ": SQLite error in `" + shorten(sql) + "`: " +
-                     (message != nullptr ? message : sqlite3_errstr(rc));
+                     (message != nullptr ? message : sqlite3_errstr(rc)) + os_error(db, rc);
   const int primary = rc & 0xFF;
   if (primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB) {
     text += " (the catalogue file is corrupt or not an SQLite database)";
@@ -45,7 +73,8 @@ bool environment_failure(int rc) {
 Database::Database(const std::string& file, int flags, std::string label) : label_(std::move(label)) {
   const int rc = sqlite3_open_v2(file.c_str(), &db_, flags | SQLITE_OPEN_EXRESCODE, nullptr);
   if (rc != SQLITE_OK) {
-    const std::string message = db_ != nullptr ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
+    const std::string message =
+        (db_ != nullptr ? sqlite3_errmsg(db_) : sqlite3_errstr(rc)) + os_error(db_, rc);
     sqlite3_close_v2(db_);
     db_ = nullptr;
     const std::string text = label_ + ": cannot open the catalogue: " + message;
@@ -64,7 +93,7 @@ void Database::exec(std::string_view sql) {
   if (rc != SQLITE_OK) {
     std::string copy = message != nullptr ? message : sqlite3_errstr(rc);
     sqlite3_free(message);
-    throw_error(label_, sql, rc, copy.c_str());
+    throw_error(label_, sql, rc, copy.c_str(), db_);
   }
 }
 
@@ -85,7 +114,7 @@ std::string Database::query_text(const char* sql) {
 }
 
 void Database::fail(std::string_view sql, int rc) const {
-  throw_error(label_, sql, rc, sqlite3_errmsg(db_));
+  throw_error(label_, sql, rc, sqlite3_errmsg(db_), db_);
 }
 
 Statement::Statement(Database& db, const char* sql) : db_(db), sql_(sql) {

@@ -18,7 +18,12 @@ StateDirLock::StateDirLock(const StateDir& dir) {
   const std::filesystem::path file = dir.root / kFileName;
   fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) {
-    throw InputError(file.string() + ": cannot create the state lock: " + std::strerror(errno));
+    // A missing state directory is the user's; a full disk, a permission, a read-only file
+    // system the environment's.
+    const int error = errno;
+    const std::string message = file.string() + ": cannot create the state lock: " + std::strerror(error);
+    if (error == ENOENT || error == ENOTDIR) throw InputError(message);
+    throw EnvironmentError(message);
   }
   // A few quick retries: hapstate-inspect probes the lock with a shared lock for an instant.
   bool locked = false;
@@ -35,8 +40,8 @@ StateDirLock::StateDirLock(const StateDir& dir) {
       throw InputError(dir.root.string() + ": another hapstate stage is working in this state "
                        "directory; wait until it has finished");
     }
-    throw InputError(dir.root.string() + ": cannot lock the state directory: " +
-                     std::strerror(error));
+    throw EnvironmentError(dir.root.string() + ": cannot lock the state directory: " +
+                           std::strerror(error));
   }
 }
 
