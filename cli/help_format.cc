@@ -53,7 +53,7 @@ void use_hapstate_help(CLI::App& app, bool help_all) {
 namespace {
 
 // A validator accepting numbers for which ok(x) holds; its error says "must be <what>".
-CLI::Validator number_check(std::string what, bool (*ok)(double, double, double), double lo,
+CLI::Validator number_check(const std::string& what, bool (*ok)(double, double, double), double lo,
                             double hi) {
   return CLI::Validator(
       [what, ok, lo, hi](std::string& text) -> std::string {

@@ -9,6 +9,8 @@
 // Positions are in mesh units (the scene's), forces in N, stiffness in N per mesh unit.
 #pragma once
 
+#include "hapstate/error.h"
+
 #include <array>
 #include <atomic>
 #include <cstddef>
@@ -39,7 +41,9 @@ class PlaybackFile {
  public:
   // Maps `file`. Checks in O(1): magic, version, header checksum, file size, section table
   // (its checksum, every section inside the file, 64-byte aligned, of the size the header
-  // implies). Throws std::runtime_error naming the file and what is wrong.
+  // implies). Throws hapstate::InputError (hapstate/error.h) naming the file and what is wrong
+  // when the file is missing or not a usable playback file, hapstate::EnvironmentError when it
+  // cannot be read or mapped (permissions, I/O, memory); both are std::runtime_error.
   explicit PlaybackFile(const std::filesystem::path& file);
   ~PlaybackFile();
   PlaybackFile(const PlaybackFile&) = delete;

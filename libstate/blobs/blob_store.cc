@@ -130,7 +130,7 @@ std::shared_ptr<const Directory> read_directory(hid_t file, const std::filesyste
           static_cast<hsize_t>(length) > extent[1])
         throw bad("row " + std::to_string(r) + " of '" + table + "' is out of range");
       const std::string& g = groups[static_cast<std::size_t>(group)];
-      const std::string name = g.empty() ? leaf : g + "/" + leaf;
+      const std::string name = g.empty() ? leaf : std::string(g).append("/").append(leaf);
       if (!directory->emplace(name, Place{table, r, static_cast<hsize_t>(length)}).second)
         throw bad("vector '" + name + "' listed twice");
     }
@@ -390,7 +390,7 @@ std::vector<std::filesystem::path> BlobStore::unreferenced_segments(
 
 std::vector<std::filesystem::path> BlobStore::remove_unreferenced_segments(
     const std::set<SegmentId>& referenced) {
-  const auto garbage = unreferenced_segments(referenced);
+  auto garbage = unreferenced_segments(referenced);
   if (garbage.empty()) return garbage;
   {
     std::lock_guard lock(impl_->mutex);

@@ -97,7 +97,7 @@ std::string hdf5_suffix(const Hdf5Failure& f) {
 }  // namespace
 
 std::string failure_text(const Hdf5Failure& f) {
-  return (f.os_errno != 0 ? std::string(": ") + std::strerror(f.os_errno) : std::string()) + hdf5_suffix(f);
+  return (f.os_errno != 0 ? std::string(": ") + os_error_text(f.os_errno) : std::string()) + hdf5_suffix(f);
 }
 
 void throw_hdf5_write_failure(const std::string& where) {
@@ -108,7 +108,7 @@ void throw_hdf5_read_failure(const std::string& where, const std::string& action
                              const std::string& corrupt) {
   const Hdf5Failure f = take_hdf5_failure();
   if (is_environment_errno(f.os_errno))
-    throw EnvironmentError(where + ": " + action + ": " + std::strerror(f.os_errno) + hdf5_suffix(f));
+    throw EnvironmentError(where + ": " + action + ": " + os_error_text(f.os_errno) + hdf5_suffix(f));
   throw InputError(where + ": " + corrupt + hdf5_suffix(f));
 }
 

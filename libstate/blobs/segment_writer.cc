@@ -31,12 +31,12 @@ namespace {
 void sync_path(const std::filesystem::path& path, bool directory) {
   const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
   if (fd < 0) {
-    throw EnvironmentError(path.string() + ": cannot open for fsync: " + std::strerror(errno));
+    throw EnvironmentError(path.string() + ": cannot open for fsync: " + os_error_text(errno));
   }
   const int rc = ::fsync(fd);
   const int err = errno;
   ::close(fd);
-  if (rc != 0) throw EnvironmentError(path.string() + ": fsync failed: " + std::strerror(err));
+  if (rc != 0) throw EnvironmentError(path.string() + ": fsync failed: " + os_error_text(err));
 }
 
 }  // namespace

@@ -37,7 +37,7 @@ std::string os_error(sqlite3* db, int rc) {
   const int primary = rc & 0xFF;
   if (primary == SQLITE_CANTOPEN && db != nullptr) {
     const int e = sqlite3_system_errno(db);
-    return e > 0 ? std::string(" (") + std::strerror(e) + ")" : std::string();
+    return e > 0 ? std::string(" (") + os_error_text(e) + ")" : std::string();
   }
   if (primary != SQLITE_IOERR) return "";
   switch (rc) {

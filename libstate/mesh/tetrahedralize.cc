@@ -30,6 +30,7 @@ namespace {
 
 // The Gmsh C API, loaded once (HAPSTATE_GMSH_LIBRARY: the library the build found).
 struct GmshApi {
+// NOLINTNEXTLINE(bugprone-macro-parentheses): f names a member; it cannot be parenthesised.
 #define HAPSTATE_GMSH_POINTER(f) decltype(&::f) f = nullptr;
   HAPSTATE_GMSH_FUNCTIONS(HAPSTATE_GMSH_POINTER)
 #undef HAPSTATE_GMSH_POINTER

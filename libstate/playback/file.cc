@@ -52,7 +52,10 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   if (fd < 0) {
     const int e = errno;
     delete impl_;
-    throw InputError(path_.string() + ": cannot open: " + std::strerror(e));
+    const std::string text = path_.string() + ": cannot open: " + os_error_text(e);
+    // No such file is the user's input; permissions, I/O errors and limits are not.
+    if (e == ENOENT || e == ENOTDIR || e == EISDIR || e == ELOOP) throw InputError(text);
+    throw EnvironmentError(text);
   }
   struct stat st {};
   if (::fstat(fd, &st) != 0 || st.st_size < static_cast<off_t>(sizeof(playback::FileHeader))) {
@@ -62,7 +65,11 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   impl_->size = static_cast<std::size_t>(st.st_size);
   void* m = ::mmap(nullptr, impl_->size, PROT_READ, MAP_SHARED, fd, 0);
   ::close(fd);
-  if (m == MAP_FAILED) fail(std::string("cannot map: ") + std::strerror(errno));
+  if (m == MAP_FAILED) {
+    const int e = errno;
+    delete impl_;
+    throw EnvironmentError(path_.string() + ": cannot map: " + os_error_text(e));
+  }
   Impl& f = *impl_;
   f.base = static_cast<const std::byte*>(m);
   f.header = reinterpret_cast<const playback::FileHeader*>(f.base);

@@ -47,8 +47,9 @@ class OutFile {
     }
     fd_ = -1;
   }
+  // Writing fails only for the environment's reasons (disk full, permissions, I/O error).
   [[noreturn]] void fail(const char* what) const {
-    throw InputError(path_.string() + ": " + what + ": " + std::strerror(errno));
+    throw EnvironmentError(path_.string() + ": " + what + ": " + os_error_text(errno));
   }
 
  private:

@@ -139,7 +139,7 @@ ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& 
   sphere.friction = friction;
   for (int n : surface_nodes(mesh)) {
     bool fixed = false;
-    for (int k = 0; k < 3; ++k) fixed = fixed || role[static_cast<size_t>(3 * n + k)] != DofRole::kFree;
+    for (int k = 0; k < 3; ++k) fixed = fixed || role[3 * static_cast<size_t>(n) + static_cast<size_t>(k)] != DofRole::kFree;
     if (!fixed) sphere.candidates.push_back(n);
   }
   return sphere;
@@ -157,7 +157,7 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
   problem.max_force = scene.probe.max_force;
   problem.solver = scene.solver;
 
-  const auto dofs = static_cast<size_t>(3 * mesh.num_nodes());
+  const auto dofs = 3 * static_cast<size_t>(mesh.num_nodes());
   std::vector<DofRole> role(dofs, DofRole::kFree);
   std::vector<int> fixed_by(dofs, -1);  // first [[fixed]] table fixing each DOF
   for (size_t i = 0; i < scene.fixed.size(); ++i) {
@@ -165,7 +165,7 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
     for (int node : select_fixed(selector, "fixed[" + std::to_string(i) + "]", mesh, diagnostics)) {
       for (int k = 0; k < 3; ++k) {
         if (!selector.dofs[static_cast<size_t>(k)]) continue;
-        const auto dof = static_cast<size_t>(3 * node + k);
+        const auto dof = 3 * static_cast<size_t>(node) + static_cast<size_t>(k);
         role[dof] = DofRole::kFixed;
         if (fixed_by[dof] < 0) fixed_by[dof] = static_cast<int>(i);
       }
@@ -184,7 +184,7 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
       centroid += mesh.nodes.col(node);
       for (int k = 0; k < 3; ++k) {
         if (!probe.dofs[static_cast<size_t>(k)]) continue;
-        const auto dof = static_cast<size_t>(3 * node + k);
+        const auto dof = 3 * static_cast<size_t>(node) + static_cast<size_t>(k);
         if (role[dof] != DofRole::kFixed) {
           role[dof] = DofRole::kProbe;
         } else if (++conflicts <= kMaxConflictsListed) {

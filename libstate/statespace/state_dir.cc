@@ -21,7 +21,7 @@ StateDirLock::StateDirLock(const StateDir& dir) {
     // A missing state directory is the user's; a full disk, a permission, a read-only file
     // system the environment's.
     const int error = errno;
-    const std::string message = file.string() + ": cannot create the state lock: " + std::strerror(error);
+    const std::string message = file.string() + ": cannot create the state lock: " + os_error_text(error);
     if (error == ENOENT || error == ENOTDIR) throw InputError(message);
     throw EnvironmentError(message);
   }
@@ -41,7 +41,7 @@ StateDirLock::StateDirLock(const StateDir& dir) {
                        "directory; wait until it has finished");
     }
     throw EnvironmentError(dir.root.string() + ": cannot lock the state directory: " +
-                           std::strerror(error));
+                           os_error_text(error));
   }
 }
 
