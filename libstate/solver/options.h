@@ -32,7 +32,8 @@ struct SolverOptions {
   // key; tests that difference equilibrium energies tighten it).
   double gap_tolerance = 1e-6;
   // Frictionless contact: the augmented Lagrangian's penalty, as a multiple of the median
-  // diagonal stiffness of the free surface DOFs at rest (not a scene key; see path_solver.cc).
+  // diagonal stiffness of the free surface DOFs at rest, for a nearly incompressible material
+  // (nu > 0.45) of its shear share (not a scene key; see path_solver.cc).
   double contact_penalty = 300;
 };
 
