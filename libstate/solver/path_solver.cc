@@ -37,6 +37,18 @@ constexpr double kIntermediateRelTol = 1e-2;
 // two best, keeps the factorisations low on the larger meshes, where one costs most.
 constexpr double kInexactTolerance = 1e-2;
 constexpr int kMaxInnerIterations = 40;
+// Newton goes on past SolverOptions::max_iterations while it still converges steadily: the
+// residual at least halved over the last kProgressWindow iterations, up to kMaxIterationFactor x
+// max_iterations in all. Nearly incompressible bodies (nu >= 0.499) under large strain converge
+// only linearly for a while (an ill-conditioned tangent, CG to 1e-2 with a kept preconditioner,
+// PSD-projected tangents where it is indefinite) and need 35-90 iterations; cutting the
+// sub-step back does not help when it is the move's last (it must reach the full tolerance
+// whatever its size). Measured with hapstate-stress (docs/benchmarks.md): 9 cases that failed
+// with max_iterations in one move but converged in moves of a quarter grid spacing now converge
+// as asked. A solve that stalls or diverges still fails at max_iterations.
+constexpr int kProgressWindow = 10;
+constexpr double kProgressFactor = 0.5;
+constexpr int kMaxIterationFactor = 4;
 // Armijo sufficient-decrease constant and line-search halvings.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxLineSearch = 12;
@@ -463,10 +475,13 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       return false;
     }
     if (rnorm <= options_.absolute_tolerance + rel_tol * reaction_norm(f_)) return true;
-    if (it >= options_.max_iterations) {
+    const bool progressing = it >= kProgressWindow &&
+                             it < kMaxIterationFactor * options_.max_iterations &&
+                             rnorm < kProgressFactor * result->residual_history[it - kProgressWindow];
+    if (it >= options_.max_iterations && !progressing) {
       result->failure = SolveFailure::kMaxIterations;
-      result->reason = "Newton reached " + std::to_string(options_.max_iterations) +
-                       " iterations with residual " + sci(rnorm) + " N";
+      result->reason = "Newton reached " + std::to_string(it) + " iterations with residual " +
+                       sci(rnorm) + " N";
       return false;
     }
     if (!tangent_current) {
