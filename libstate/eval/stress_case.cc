@@ -82,9 +82,10 @@ std::vector<StressCase> stress_matrix(bool full) {
   }
   // Quick (CI, about 25 s): every law, load and probe at nu 0.3 with the whole path in one move
   // on the sliver mesh (the hardest step and mesh), and grid-spacing steps on the regular mesh
-  // for the patch; the grabbed node and patch at nu 0.4999 in one move on the slivers; two
-  // contact cases at nu 0.4999 that fail with a reason (docs/benchmarks.md), so that the failure
-  // path is exercised too.
+  // for the patch; the grabbed node and patch at nu 0.4999 in one move on the slivers; two cases
+  // that fail with a reason in the full matrix (docs/benchmarks.md: StVK pressed past its limit
+  // point, neo-Hooke at nu 0.4999 on a saddle of the locked mesh), so that the failure path is
+  // exercised too.
   for (Law law : laws)
     for (StressLoad load : loads) {
       for (StressProbe probe : probes)
@@ -93,10 +94,10 @@ std::vector<StressCase> stress_matrix(bool full) {
       for (StressProbe probe : {StressProbe::kNode, StressProbe::kPatch})
         cases.push_back({law, 0.4999, load, StressStep::kWhole, StressMesh::kSliver, probe});
     }
-  cases.push_back({Law::kLinear, 0.4999, StressLoad::kStretch, StressStep::kWhole, StressMesh::kSliver,
+  cases.push_back({Law::kStvk, 0.45, StressLoad::kCompress, StressStep::kWhole, StressMesh::kRegular,
                    StressProbe::kContact});
-  cases.push_back({Law::kNeoHooke, 0.4999, StressLoad::kShear, StressStep::kWhole, StressMesh::kSliver,
-                   StressProbe::kContact});
+  cases.push_back({Law::kNeoHooke, 0.4999, StressLoad::kCompress, StressStep::kWhole,
+                   StressMesh::kRegular, StressProbe::kNode});
   return cases;
 }
 

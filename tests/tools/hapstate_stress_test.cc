@@ -151,14 +151,17 @@ TEST(HapstateStress, QuickSubsetConvergesOrRecordsAReason) {
   ASSERT_FALSE(compress.empty());
   EXPECT_EQ(compress[col["status"]], "converged");
   EXPECT_LE(std::stod(compress[col["min_stretch"]]), 0.7);
-  // The two nu = 0.4999 contact cases fail with a reason (docs/benchmarks.md); their rows say so.
-  for (const char* id : {"linear/nu0.4999/stretch/whole/sliver/contact", "neohooke/nu0.4999/shear/whole/sliver/contact"}) {
+  // The failure path: the quick subset holds cases that fail in the full matrix (StVK pressed past
+  // its limit point, neo-Hooke at nu 0.4999 on a saddle of the locked mesh); at least one fails,
+  // and every failed row names the solver's failure and its reason (checked above). If a solver
+  // improvement makes them converge, pick other failing cases for the subset.
+  int failed = 0;
+  for (const char* id : {"stvk/nu0.45/compress/whole/regular/contact", "neohooke/nu0.4999/compress/whole/regular/node"}) {
     const auto& r = get(id);
     ASSERT_FALSE(r.empty());
-    if (r[col["status"]] == "failed") {
-      EXPECT_FALSE(r[col["reason"]].empty());
-    }
+    failed += r[col["status"]] == "failed" ? 1 : 0;
   }
+  EXPECT_GE(failed, 1);
   const auto& sliver = get("mooney/nu0.3/stretch/whole/sliver/patch");
   ASSERT_FALSE(sliver.empty());
   EXPECT_LT(std::stod(sliver[col["mesh_min_quality"]]), 0.1);
