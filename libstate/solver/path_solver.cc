@@ -95,7 +95,8 @@ double incompressible_share(const MaterialConstants& m) {
     case Law::kMooney: mu = 2 * (m.c10 + m.c01); bulk = 2 / m.d1; break;
   }
   const double wave = bulk + 4.0 / 3.0 * mu;
-  if (!(mu > 0) || !(wave > kMaxWaveToShear * mu)) return 1.0;
+  // (A relative margin keeps nu = 0.45 itself, whose M / mu = 11 up to rounding, at exactly 1.)
+  if (!(mu > 0) || !(wave > kMaxWaveToShear * mu * (1 + 1e-9))) return 1.0;
   return kMaxWaveToShear * mu / wave;
 }
 
