@@ -7,7 +7,7 @@ build=$1
 fail() { echo "FAIL: $*"; exit 1; }
 
 for exe in tools/hapstate tools/hapstate-solve tools/hapstate-eval tools/hapstate-play \
-           tools/hapstate-inspect stages/hapstate-import stages/hapstate-grid \
+           tools/hapstate-inspect tools/hapstate-stress stages/hapstate-import stages/hapstate-grid \
            stages/hapstate-expand stages/hapstate-compact stages/hapstate-index; do
   help=$("$build/$exe" --help) || fail "$exe --help exited non-zero"
   if grep -qE -- '[a-z]->[0-9]' <<<"$help"; then fail "$exe --help shows an enum map"; fi
