@@ -18,7 +18,7 @@
 
 #include "eval/stress_mesh.h"
 #include "material/material.h"
-#include "scene/problem.h"
+#include "problem/problem.h"
 
 #include <Eigen/Core>
 
