@@ -97,10 +97,12 @@ struct Cloud {
     return (*points)(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(i));
   }
   template <class Box>
-  bool kdtree_get_bbox(Box&) const { return false; }
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
 };
-using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>,
-                                                 Cloud, 3>;
+using Tree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
 
 void BM_NanoflannKdTree(benchmark::State& state) {
   const Setup& s = setup(static_cast<int>(state.range(0)));

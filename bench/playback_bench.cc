@@ -72,7 +72,8 @@ void BM_ForceQuery(benchmark::State& state, Scheme scheme) {
 
 // One frame: the snapshot of a cursor inside a cell (8 corners) and deform() with the scheme
 // (Hermite: the 8 corners' displacements and slopes, 32 arrays).
-void frame(benchmark::State& state, const PlaybackFile& file, const std::string& name, Scheme scheme) {
+void frame(benchmark::State& state, const PlaybackFile& file, const std::string& name,
+           Scheme scheme) {
   HapticCursor cursor(file, scheme);
   std::array<double, 3> p = file.rest_position();
   for (int a = 0; a < 3; ++a) p[a] += (0.3 + 0.2 * a) * file.grid_spacing()[a];

@@ -42,7 +42,8 @@ std::filesystem::path build_liver_playback() {
 struct TempDir {
   std::filesystem::path path;
   TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "hapstate_bench_XXXXXX").string();
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "hapstate_bench_XXXXXX").string();
     if (!mkdtemp(pattern.data())) fatal("cannot create a temporary directory");
     path = pattern;
   }
@@ -52,8 +53,8 @@ struct TempDir {
   }
 };
 
-constexpr int kCells = 36;       // per axis: 37^3 = 50 653 nodes
-constexpr int kGrid = 5;         // check-points per axis
+constexpr int kCells = 36;  // per axis: 37^3 = 50 653 nodes
+constexpr int kGrid = 5;    // check-points per axis
 constexpr double kSpacing = 0.25;
 constexpr double kStiffness = 2.0;  // N per mesh unit
 
@@ -77,7 +78,9 @@ void write_synthetic(const std::filesystem::path& file) {
   m.num_mesh_nodes = nodes;
   m.view_all_nodes = 1;
   const int points = kGrid * kGrid * kGrid;
-  auto ijk = [](int g) { return std::array<int, 3>{g / (kGrid * kGrid), (g / kGrid) % kGrid, g % kGrid}; };
+  auto ijk = [](int g) {
+    return std::array<int, 3>{g / (kGrid * kGrid), (g / kGrid) % kGrid, g % kGrid};
+  };
   m.rest_configuration = ((kGrid / 2) * kGrid + kGrid / 2) * kGrid + kGrid / 2;
   for (int g = 0; g < points; ++g) {  // configuration g at check-point g
     const auto p = ijk(g);
@@ -90,8 +93,10 @@ void write_synthetic(const std::filesystem::path& file) {
     for (int d = 0; d < 27; ++d) {
       if (d == 13) continue;  // the centre: directions are numbered 0..25 around it
       const std::array<int, 3> q{p[0] + d / 9 - 1, p[1] + (d / 3) % 3 - 1, p[2] + d % 3 - 1};
-      const bool inside = q[0] >= 0 && q[1] >= 0 && q[2] >= 0 && q[0] < kGrid && q[1] < kGrid && q[2] < kGrid;
-      c.transitions.push_back(inside ? (q[0] * kGrid + q[1]) * kGrid + q[2] : playback::kOutsideGrid);
+      const bool inside =
+          q[0] >= 0 && q[1] >= 0 && q[2] >= 0 && q[0] < kGrid && q[1] < kGrid && q[2] < kGrid;
+      c.transitions.push_back(inside ? (q[0] * kGrid + q[1]) * kGrid + q[2]
+                                     : playback::kOutsideGrid);
     }
   }
   // Three smooth fields: a Gaussian bump around the probe along x, y and z.
@@ -169,7 +174,8 @@ std::vector<std::array<double, 3>> device_path(const PlaybackFile& file, int ste
   std::vector<std::array<double, 3>> path;
   path.reserve(2 * walk.size());
   for (const Eigen::Vector3d& p : walk) path.push_back({p.x(), p.y(), p.z()});
-  for (auto it = walk.rbegin(); it != walk.rend(); ++it) path.push_back({it->x(), it->y(), it->z()});
+  for (auto it = walk.rbegin(); it != walk.rend(); ++it)
+    path.push_back({it->x(), it->y(), it->z()});
   return path;
 }
 

@@ -14,8 +14,8 @@
 namespace hapstate {
 namespace {
 
-const char* const kMeshes[] = {"liver.msh", "liverCoarse.vtu", "liverSemiFine.vtu",
-                               "liverFine.vtu", "bunny.msh"};
+const char* const kMeshes[] = {"liver.msh", "liverCoarse.vtu", "liverSemiFine.vtu", "liverFine.vtu",
+                               "bunny.msh"};
 
 // One mesh with a neo-Hooke material, a deformed state and its constrained tangent.
 struct Setup {

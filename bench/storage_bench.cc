@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
     long long configurations = 0, raw = 0, compressed = 0, on_disk = 0;
     std::map<std::string, long long> raw_by_leaf;
     for (SegmentId id : blobs.list_segments()) {
-      on_disk += static_cast<long long>(std::filesystem::file_size(blobs_dir / segment_file_name(id)));
+      on_disk +=
+          static_cast<long long>(std::filesystem::file_size(blobs_dir / segment_file_name(id)));
       std::map<std::string, std::vector<char>> groups;  // a configuration's vectors, concatenated
       for (const std::string& name : blobs.list_vectors(id)) {
         const std::string group = name.substr(0, name.rfind('/'));
@@ -45,19 +46,21 @@ int main(int argc, char** argv) {
           const std::vector<int> ints(values.begin(), values.end());
           append(ints.data(), 4 * ints.size());
         }
-        raw_by_leaf[name.substr(name.rfind('/') + 1)] += static_cast<long long>(
-            values.size() * (precision == Precision::kFloat64 ? 8 : 4));
+        raw_by_leaf[name.substr(name.rfind('/') + 1)] +=
+            static_cast<long long>(values.size() * (precision == Precision::kFloat64 ? 8 : 4));
       }
       for (const auto& [group, bytes] : groups) {
         std::vector<char> out(ZSTD_compressBound(bytes.size()));
-        const std::size_t n = ZSTD_compress(out.data(), out.size(), bytes.data(), bytes.size(), kDefaultZstdLevel);
+        const std::size_t n =
+            ZSTD_compress(out.data(), out.size(), bytes.data(), bytes.size(), kDefaultZstdLevel);
         if (ZSTD_isError(n)) throw std::runtime_error(ZSTD_getErrorName(n));
         ++configurations;
         raw += static_cast<long long>(bytes.size());
         compressed += static_cast<long long>(n);
       }
     }
-    if (configurations == 0) throw std::runtime_error(blobs_dir.string() + ": no stored configurations");
+    if (configurations == 0)
+      throw std::runtime_error(blobs_dir.string() + ": no stored configurations");
     const double c = static_cast<double>(configurations);
     std::printf("%s: %lld configurations in blobs\n", argv[1], configurations);
     std::printf("  on disk            %10.0f bytes per configuration\n", on_disk / c);

@@ -2,8 +2,8 @@
 
 #include <cstdio>
 #include <memory>
-#include <vector>
 #include <sstream>
+#include <vector>
 
 namespace hapstate {
 namespace {
@@ -22,8 +22,10 @@ class HelpFormatter : public CLI::Formatter {
       const std::string type = opt->get_type_name();
       out += type.substr(0, type.find(':'));
     }
-    if (opt->get_expected_max() == CLI::detail::expected_max_vector_size) out += " ...";
-    else if (opt->get_expected_min() > 1) out += " x " + std::to_string(opt->get_expected());
+    if (opt->get_expected_max() == CLI::detail::expected_max_vector_size)
+      out += " ...";
+    else if (opt->get_expected_min() > 1)
+      out += " x " + std::to_string(opt->get_expected());
     if (opt->get_required()) out += " REQUIRED";
     return out;
   }
@@ -45,8 +47,9 @@ void use_hapstate_help(CLI::App& app, bool help_all) {
   app.option_defaults()->always_capture_default();
   if (help_all) {
     app.set_help_flag();
-    app.set_help_all_flag("-h,--help", "Print this help message (with every subcommand's options) "
-                                       "and exit");
+    app.set_help_all_flag("-h,--help",
+                          "Print this help message (with every subcommand's options) "
+                          "and exit");
   }
 }
 
@@ -79,24 +82,29 @@ int exit_after_parse_error(CLI::App& app, const CLI::ParseError& error, const ch
     std::string names;
     for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
       names += (names.empty() ? "" : ", ") + sub->get_name();
-    std::fprintf(stderr, "%s: error: unknown subcommand '%s' (one of: %s)\nRun with --help for "
-                 "more information.\n", program, rest.front().c_str(), names.c_str());
+    std::fprintf(stderr,
+                 "%s: error: unknown subcommand '%s' (one of: %s)\nRun with --help for "
+                 "more information.\n",
+                 program, rest.front().c_str(), names.c_str());
     return 2;
   }
   return app.exit(error) == 0 ? 0 : 2;
 }
 
 CLI::Validator positive() {
-  return number_check("> 0", [](double x, double, double) { return x > 0; }, 0, 0);
+  return number_check(
+      "> 0", [](double x, double, double) { return x > 0; }, 0, 0);
 }
 
 CLI::Validator non_negative() {
-  return number_check(">= 0", [](double x, double, double) { return x >= 0; }, 0, 0);
+  return number_check(
+      ">= 0", [](double x, double, double) { return x >= 0; }, 0, 0);
 }
 
 CLI::Validator in_range(double lo, double hi) {
-  return number_check("in [" + number_text(lo) + ", " + number_text(hi) + "]",
-                      [](double x, double l, double h) { return x >= l && x <= h; }, lo, hi);
+  return number_check(
+      "in [" + number_text(lo) + ", " + number_text(hi) + "]",
+      [](double x, double l, double h) { return x >= l && x <= h; }, lo, hi);
 }
 
 std::string choices(std::initializer_list<const char*> names) {

@@ -6,13 +6,13 @@
 
 #include "util/error.h"
 
+#include <unistd.h>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <string_view>
-#include <unistd.h>
 
 namespace hapstate::fuzz {
 
@@ -23,7 +23,8 @@ inline std::string_view as_text(const std::uint8_t* data, std::size_t size) {
 // A per-process scratch file for readers that take a path (on tmpfs when there is one).
 inline std::filesystem::path scratch(const std::string& name) {
   static const std::filesystem::path dir = [] {
-    std::filesystem::path d = std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
+    std::filesystem::path d =
+        std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
     d /= "hapstate_fuzz_" + std::to_string(::getpid());
     std::filesystem::create_directories(d);
     return d;
@@ -31,10 +32,11 @@ inline std::filesystem::path scratch(const std::string& name) {
   return dir / name;
 }
 
-inline std::filesystem::path write_scratch(const std::string& name, const std::uint8_t* data, std::size_t size) {
+inline std::filesystem::path write_scratch(const std::string& name, const std::uint8_t* data,
+                                           std::size_t size) {
   const std::filesystem::path file = scratch(name);
-  std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data),
-                                                               static_cast<std::streamsize>(size));
+  std::ofstream(file, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return file;
 }
 

@@ -22,8 +22,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // TetGen: the input split at the first NUL into the .node and the .ele file.
     const std::size_t cut = text.find('\0');
     const std::string_view node = text.substr(0, cut);
-    const std::string_view ele = cut == std::string_view::npos ? std::string_view() : text.substr(cut + 1);
-    fuzz::write_scratch("fuzz.node", reinterpret_cast<const std::uint8_t*>(node.data()), node.size());
+    const std::string_view ele =
+        cut == std::string_view::npos ? std::string_view() : text.substr(cut + 1);
+    fuzz::write_scratch("fuzz.node", reinterpret_cast<const std::uint8_t*>(node.data()),
+                        node.size());
     fuzz::write_scratch("fuzz.ele", reinterpret_cast<const std::uint8_t*>(ele.data()), ele.size());
     raw = read_tetgen(fuzz::scratch("fuzz.node"));
 #else

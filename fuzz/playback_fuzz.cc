@@ -25,7 +25,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const auto h = playback.grid_spacing();
       for (int n = 0; n < 64; ++n) {
         const double t = 0.37 * n;
-        const std::array<double, 3> p{o[0] + h[0] * 3 * std::sin(t), o[1] + h[1] * 3 * std::cos(1.3 * t),
+        const std::array<double, 3> p{o[0] + h[0] * 3 * std::sin(t),
+                                      o[1] + h[1] * 3 * std::cos(1.3 * t),
                                       o[2] + h[2] * 3 * std::sin(0.7 * t)};
         const Force f = cursor.force(p);
         for (double v : f.value)

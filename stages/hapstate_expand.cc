@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
       "--threads) or on interruptions.\n"
       "Exit codes: 0 complete, partial (a --max-* limit was reached) or nothing to do; 1 "
       "internal error; 130 stopped by Ctrl-C or SIGTERM (resumable; under mpirun every rank "
-      "ends at once, also resumable); 2 bad options or state directory (not imported, grid out of date, "
+      "ends at once, also resumable); 2 bad options or state directory (not imported, grid out of "
+      "date, "
       "missing or damaged segment, newer catalogue): nothing changed. Failed solves do not "
       "change the exit code: they are recorded as transitions with outcome 'failed'."};
   use_hapstate_help(app);
@@ -86,8 +87,10 @@ int main(int argc, char** argv) {
     if (mpi.distributed()) o.engine = mpi_engine_factory(mpi, o.threads, o.algorithm);
     const ExpandReport r = run_expand(o);
     if (r.garbage_segments)
-      std::fprintf(stderr, "hapstate-expand: removed %zu unreferenced segment(s) left by an "
-                   "interrupted run\n", r.garbage_segments);
+      std::fprintf(stderr,
+                   "hapstate-expand: removed %zu unreferenced segment(s) left by an "
+                   "interrupted run\n",
+                   r.garbage_segments);
     if (r.interrupted_runs)
       std::fprintf(stderr, "hapstate-expand: resuming after %d interrupted run(s)\n",
                    r.interrupted_runs);
@@ -95,28 +98,30 @@ int main(int argc, char** argv) {
     if (timings && r.wall_s > 0) {
       const SolverTimings& t = r.solver;
       const double cpu = t.assembly + t.factorize + t.solve;
-      std::printf("hapstate-expand: timings: wall %.2f s = solves %.2f s (%.0f%%) + storing %.2f s "
-                  "(%.0f%%) + other %.2f s; in the solvers (summed over %d threads%s): assembly "
-                  "%.0f%%, factorisation %.0f%%, solve %.0f%% of %.2f s; %.1f transitions/s, "
-                  "%.1f ms per solved transition; per solved transition %.2f factorisations (%.2f "
-                  "the transition's own, as the catalogue records them, the rest the source "
-                  "states', shared by their directions) and %.1f conjugate-gradient iterations\n",
-                  r.wall_s, r.solve_wall_s, 100 * r.solve_wall_s / r.wall_s, r.store_wall_s,
-                  100 * r.store_wall_s / r.wall_s, r.wall_s - r.solve_wall_s - r.store_wall_s,
-                  mpi.distributed() ? (mpi.size() - 1) * o.threads : o.threads,
-                  mpi.distributed() ? ": the worker ranks' threads" : "",
-                  cpu > 0 ? 100 * t.assembly / cpu : 0,
-                  cpu > 0 ? 100 * t.factorize / cpu : 0, cpu > 0 ? 100 * t.solve / cpu : 0, cpu,
-                  r.decided / r.wall_s, r.solved ? 1e3 * r.wall_s / r.solved : 0.0,
-                  r.solved ? double(t.factorizations) / r.solved : 0.0,
-                  r.solved ? double(r.factorisations) / r.solved : 0.0,
-                  r.solved ? double(t.inner_iterations) / r.solved : 0.0);
+      std::printf(
+          "hapstate-expand: timings: wall %.2f s = solves %.2f s (%.0f%%) + storing %.2f s "
+          "(%.0f%%) + other %.2f s; in the solvers (summed over %d threads%s): assembly "
+          "%.0f%%, factorisation %.0f%%, solve %.0f%% of %.2f s; %.1f transitions/s, "
+          "%.1f ms per solved transition; per solved transition %.2f factorisations (%.2f "
+          "the transition's own, as the catalogue records them, the rest the source "
+          "states', shared by their directions) and %.1f conjugate-gradient iterations\n",
+          r.wall_s, r.solve_wall_s, 100 * r.solve_wall_s / r.wall_s, r.store_wall_s,
+          100 * r.store_wall_s / r.wall_s, r.wall_s - r.solve_wall_s - r.store_wall_s,
+          mpi.distributed() ? (mpi.size() - 1) * o.threads : o.threads,
+          mpi.distributed() ? ": the worker ranks' threads" : "",
+          cpu > 0 ? 100 * t.assembly / cpu : 0, cpu > 0 ? 100 * t.factorize / cpu : 0,
+          cpu > 0 ? 100 * t.solve / cpu : 0, cpu, r.decided / r.wall_s,
+          r.solved ? 1e3 * r.wall_s / r.solved : 0.0,
+          r.solved ? double(t.factorizations) / r.solved : 0.0,
+          r.solved ? double(r.factorisations) / r.solved : 0.0,
+          r.solved ? double(t.inner_iterations) / r.solved : 0.0);
       if (t.contact_queries > 0) {
-        std::printf("hapstate-expand: timings: contact: %lld of the solved transitions were moves "
-                    "between free check-points (no solve); collision detection %.4f ms per "
-                    "probe position (%lld), %.3f%% of the solvers' time\n",
-                    r.trivial, 1e3 * t.contact_detection / static_cast<double>(t.contact_queries),
-                    t.contact_queries, cpu > 0 ? 100 * t.contact_detection / cpu : 0.0);
+        std::printf(
+            "hapstate-expand: timings: contact: %lld of the solved transitions were moves "
+            "between free check-points (no solve); collision detection %.4f ms per "
+            "probe position (%lld), %.3f%% of the solvers' time\n",
+            r.trivial, 1e3 * t.contact_detection / static_cast<double>(t.contact_queries),
+            t.contact_queries, cpu > 0 ? 100 * t.contact_detection / cpu : 0.0);
       }
     }
     if (!r.engine_summary.empty() && (timings || !quiet))

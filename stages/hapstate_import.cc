@@ -36,7 +36,8 @@ int main(int argc, char** argv) {
     o.scene = scene;
     o.state = state;
     const ImportReport r = run_import(o);
-    for (const auto& w : r.warnings) std::fprintf(stderr, "hapstate-import: warning: %s\n", w.c_str());
+    for (const auto& w : r.warnings)
+      std::fprintf(stderr, "hapstate-import: warning: %s\n", w.c_str());
     std::printf("hapstate-import: %s\n", r.message.c_str());
     return kExitOk;
   });

@@ -21,7 +21,9 @@ int main(int argc, char** argv) {
       "Exit codes: 0 written or unchanged; 1 internal error; 2 bad options or state directory "
       "(not expanded, inconsistent): an existing playback file is left intact."};
   use_hapstate_help(app);
-  auto* state_opt = app.add_option("--state", state, "state directory (after hapstate-expand; required unless --verify; default: none)");
+  auto* state_opt = app.add_option(
+      "--state", state,
+      "state directory (after hapstate-expand; required unless --verify; default: none)");
   app.add_option("--verify", verify,
                  "only check an existing playback file: header, section table, every checksum and "
                  "cross-reference; print its contents (default: write one)")
@@ -31,8 +33,8 @@ int main(int argc, char** argv) {
                  "whose displacements to store: all (default; hapstate-eval's deformation error "
                  "needs them) or surface (a smaller file for a renderer)")
       ->option_text(choices({"all", "surface"}))
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, ViewNodes>{{"surface", ViewNodes::kSurface}, {"all", ViewNodes::kAll}}));
+      ->transform(CLI::CheckedTransformer(std::map<std::string, ViewNodes>{
+          {"surface", ViewNodes::kSurface}, {"all", ViewNodes::kAll}}));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -48,11 +50,12 @@ int main(int argc, char** argv) {
       file.verify();
       const auto d = file.grid_dims();
       const auto h = file.grid_spacing();
-      std::printf("%s: ok: %d configurations on a %d x %d x %d grid (spacing %g, %g, %g), %d view nodes "
-                  "(%s), %zu triangles, change bound %g N per unit\n",
-                  verify.c_str(), file.num_configurations(), d[0], d[1], d[2], h[0], h[1], h[2],
-                  file.num_view_nodes(), file.view_is_all_nodes() ? "all nodes" : "surface",
-                  file.triangles().size() / 3, file.force_change_bound());
+      std::printf(
+          "%s: ok: %d configurations on a %d x %d x %d grid (spacing %g, %g, %g), %d view nodes "
+          "(%s), %zu triangles, change bound %g N per unit\n",
+          verify.c_str(), file.num_configurations(), d[0], d[1], d[2], h[0], h[1], h[2],
+          file.num_view_nodes(), file.view_is_all_nodes() ? "all nodes" : "surface",
+          file.triangles().size() / 3, file.force_change_bound());
       return kExitOk;
     });
   }

@@ -1,6 +1,6 @@
 // hapstate: the one-command driver. `hapstate run SCENE` runs the precomputation stages in order
-// (import -> grid -> expand -> compact -> index) on the scene's state directory; every stage skips the
-// work whose inputs have not changed, so re-running does only what is out of date.
+// (import -> grid -> expand -> compact -> index) on the scene's state directory; every stage skips
+// the work whose inputs have not changed, so re-running does only what is out of date.
 #include "index/index_stage.h"
 #include "maintenance/compact.h"
 #include "statespace/expand_stage.h"
@@ -46,7 +46,8 @@ int run_pipeline(const RunOptions& o) {
   std::printf("hapstate run: scene %s, state directory %s\n", scene.c_str(), state.c_str());
 
   const ImportReport imported = run_import(ImportOptions{scene, state, o.fresh});
-  for (const auto& w : imported.warnings) std::fprintf(stderr, "hapstate run: import: warning: %s\n", w.c_str());
+  for (const auto& w : imported.warnings)
+    std::fprintf(stderr, "hapstate run: import: warning: %s\n", w.c_str());
   std::printf("  import:  %s\n", imported.message.c_str());
 
   if (stop_requested()) return stopped();
@@ -90,10 +91,11 @@ int main(int argc, char** argv) {
   limit_math_threads();
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // stage lines and the progress line in order
   RunOptions o;
-  CLI::App app{"hapstate: the precomputation in one command. See docs/state-space.md.\n"
-               "Exit codes: 0 ok (or stopped at --max-seconds); 1 internal error; 130 stopped by Ctrl-C "
-               "or SIGTERM (resumable); 2 bad scene, "
-               "mesh or state directory (the stage that found it changed nothing)."};
+  CLI::App app{
+      "hapstate: the precomputation in one command. See docs/state-space.md.\n"
+      "Exit codes: 0 ok (or stopped at --max-seconds); 1 internal error; 130 stopped by Ctrl-C "
+      "or SIGTERM (resumable); 2 bad scene, "
+      "mesh or state directory (the stage that found it changed nothing)."};
   use_hapstate_help(app, true);
   app.require_subcommand(1);
   CLI::App* run = app.add_subcommand(
@@ -112,8 +114,8 @@ int main(int argc, char** argv) {
                   "deformation error needs them) or of the surface nodes only (a smaller file "
                   "for a renderer)")
       ->option_text(choices({"all", "surface"}))
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, ViewNodes>{{"surface", ViewNodes::kSurface}, {"all", ViewNodes::kAll}}));
+      ->transform(CLI::CheckedTransformer(std::map<std::string, ViewNodes>{
+          {"surface", ViewNodes::kSurface}, {"all", ViewNodes::kAll}}));
   run->add_flag("-q,--quiet", o.quiet, "no progress line");
   try {
     app.parse(argc, argv);

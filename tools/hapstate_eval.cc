@@ -26,14 +26,16 @@ int main(int argc, char** argv) {
       "3 a precise solve failed (the other steps are still reported)."};
   use_hapstate_help(app);
   app.add_option("--state", state, "state directory (after hapstate-index)")->required();
-  app.add_option("--playback", playback, "playback file (default <state>/playback.bin; "
-                                         "index with --nodes all for the all-node error)");
+  app.add_option("--playback", playback,
+                 "playback file (default <state>/playback.bin; "
+                 "index with --nodes all for the all-node error)");
   app.add_option("--steps", o.steps, "steps of the random path")->check(CLI::Range(1, 1000000));
   app.add_option("--seed", o.seed, "seed of the random path");
   app.add_option("--step-length", o.step_length,
                  "length of a step, mesh units (default half the smallest grid spacing)")
       ->check(positive());
-  app.add_option("--path", path_file, "probe path CSV (x,y,z) instead of the random path (default: the random path)")
+  app.add_option("--path", path_file,
+                 "probe path CSV (x,y,z) instead of the random path (default: the random path)")
       ->check(CLI::ExistingFile);
   app.add_option("--csv", csv, "per-step CSV (default <state>/eval.csv)");
   app.add_option("--plot", png, "PNG plot (default <state>/eval.png)");
@@ -48,19 +50,24 @@ int main(int argc, char** argv) {
   o.path_file = path_file;
   return guarded_main("hapstate-eval", [&] {
     const EvalResult r = run_eval(o);
-    const std::filesystem::path csv_file = csv.empty() ? o.state / "eval.csv" : std::filesystem::path(csv);
+    const std::filesystem::path csv_file =
+        csv.empty() ? o.state / "eval.csv" : std::filesystem::path(csv);
     write_eval_csv(r, csv_file);
     std::printf("%s", eval_table(r).c_str());
     if (r.max_exact_force == 0)
-      std::printf("note: the path never loaded the body (max |f*| = 0 N), so the errors measure nothing: "
-                  "expand further (a contact probe's region ends where the expansion stopped) or give --path\n");
+      std::printf(
+          "note: the path never loaded the body (max |f*| = 0 N), so the errors measure nothing: "
+          "expand further (a contact probe's region ends where the expansion stopped) or give "
+          "--path\n");
     std::printf("per-step errors: %s\n", csv_file.c_str());
     if (!no_plot) {
-      const std::filesystem::path png_file = png.empty() ? o.state / "eval.png" : std::filesystem::path(png);
+      const std::filesystem::path png_file =
+          png.empty() ? o.state / "eval.png" : std::filesystem::path(png);
       char title[160];
-      std::snprintf(title, sizeof title, "%zu-step %s, grid spacing %.3g, max |f*| %.3g N", r.steps.size(),
-                    path_file.empty() ? "random path" : std::filesystem::path(path_file).filename().c_str(),
-                    r.spacing.minCoeff(), r.max_exact_force);
+      std::snprintf(
+          title, sizeof title, "%zu-step %s, grid spacing %.3g, max |f*| %.3g N", r.steps.size(),
+          path_file.empty() ? "random path" : std::filesystem::path(path_file).filename().c_str(),
+          r.spacing.minCoeff(), r.max_exact_force);
       plot_eval(csv_file, png_file, title);
       std::printf("plot: %s\n", png_file.c_str());
     }

@@ -74,12 +74,15 @@ int main(int argc, char** argv) {
   app.add_option("--state", o.state, "state directory")->required();
   app.add_flag("--json", o.json, "machine-readable output: one JSON document on stdout");
 
-  app.add_subcommand("summary",
-                     "counts per stage and last runs, check-points by class, configurations, "
-                     "levels per check-point, transitions by outcome, failures by reason, disk use");
-  auto* checkpoint = app.add_subcommand("checkpoint", "one check-point and its configurations (levels)");
+  app.add_subcommand(
+      "summary",
+      "counts per stage and last runs, check-points by class, configurations, "
+      "levels per check-point, transitions by outcome, failures by reason, disk use");
+  auto* checkpoint =
+      app.add_subcommand("checkpoint", "one check-point and its configurations (levels)");
   auto* ijk = checkpoint->add_option("ijk", o.ijk, "grid index I J K")->expected(3);
-  checkpoint->add_option("--id", o.checkpoint_id, "check-point id instead of I J K (default: give I J K)")
+  checkpoint
+      ->add_option("--id", o.checkpoint_id, "check-point id instead of I J K (default: give I J K)")
       ->check(non_negative())
       ->excludes(ijk);
   auto* config = app.add_subcommand("config", "one configuration in detail");
@@ -92,8 +95,9 @@ int main(int argc, char** argv) {
   exporter->add_option("--mesh", o.mesh,
                        "mesh file (default: the scene's mesh, relative to the state directory "
                        "or its parent; checked against the stored mesh hash)");
-  auto* sql = app.add_subcommand("sql", "one read-only SQL statement on the catalogue "
-                                        "(writes, ATTACH, PRAGMA assignments are refused)");
+  auto* sql = app.add_subcommand("sql",
+                                 "one read-only SQL statement on the catalogue "
+                                 "(writes, ATTACH, PRAGMA assignments are refused)");
   sql->add_option("statement", o.sql, "e.g. \"SELECT count(*) FROM configuration\"")->required();
   try {
     app.parse(argc, argv);

@@ -79,7 +79,8 @@ void write_tick_csv(const std::string& file, const std::vector<double>& ticks) {
 
 void print_distribution(const char* name, Distribution d, bool with_p999) {
   if (with_p999)
-    std::printf("%s: median %.3f p99 %.3f p99.9 %.3f max %.3f\n", name, d.median, d.p99, d.p999, d.max);
+    std::printf("%s: median %.3f p99 %.3f p99.9 %.3f max %.3f\n", name, d.median, d.p99, d.p999,
+                d.max);
   else
     std::printf("%s: median %.3f p99 %.3f max %.3f\n", name, d.median, d.p99, d.max);
 }
@@ -118,7 +119,8 @@ int run(const Options& o) {
     std::printf("missed deadlines: %lld haptic ticks, %lld frames\n",
                 static_cast<long long>(r.missed_ticks), static_cast<long long>(r.missed_frames));
   std::printf("max |force| N: %.6g\n", r.max_force);
-  std::printf("outside grid ticks: %lld; cells walked: %llu\n", static_cast<long long>(r.outside_grid),
+  std::printf("outside grid ticks: %lld; cells walked: %llu\n",
+              static_cast<long long>(r.outside_grid),
               static_cast<unsigned long long>(r.cells_walked));
   return kExitOk;
 }
@@ -139,7 +141,8 @@ int main(int argc, char** argv) {
       "file, malformed path)."};
   use_hapstate_help(app);
   app.add_option("--playback", o.playback, "playback file (hapstate-index)")->required();
-  auto* path = app.add_option("--path", o.path_csv, "probe path: CSV with header x,y,z, mesh units (one of --path "
+  auto* path = app.add_option("--path", o.path_csv,
+                              "probe path: CSV with header x,y,z, mesh units (one of --path "
                               "and --random; default: none)");
   auto* random = app.add_option("--random", o.random_points,
                                 "probe path: random walk of N steps from rest inside the grid box "
@@ -158,16 +161,16 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"trilinear", "hermite"}));
   app.add_flag("--realtime", o.realtime,
                "pace ticks and frames with absolute deadlines (default: as fast as possible)");
-  auto* frames = app.add_option("--frames", o.frames, "write frames as VTU surfaces (+ frames.pvd) here "
-                                                             "(default: none)");
+  auto* frames = app.add_option("--frames", o.frames,
+                                "write frames as VTU surfaces (+ frames.pvd) here "
+                                "(default: none)");
   app.add_option("--frame-every", o.frame_every, "write every K-th frame")
       ->check(CLI::Range(1, 1'000'000))
       ->needs(frames);
   app.add_option("--csv", o.csv, "write t,x,y,z,fx,fy,fz per tick (default: not written)");
   try {
     app.parse(argc, argv);
-    if (o.path_csv.empty() && o.random_points == 0)
-      throw CLI::RequiredError("--path or --random");
+    if (o.path_csv.empty() && o.random_points == 0) throw CLI::RequiredError("--path or --random");
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kExitOk : kExitBadInput;
   }

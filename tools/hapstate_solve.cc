@@ -65,8 +65,8 @@ ProbePath make_path(const Options& o, const Scene& scene, const Problem& problem
     return straight_path(problem.probe_rest, problem.probe_rest + d, o.steps);
   }
   if (!o.straight.empty()) {
-    return straight_path(problem.probe_rest, Eigen::Vector3d(o.straight[0], o.straight[1], o.straight[2]),
-                         o.steps);
+    return straight_path(problem.probe_rest,
+                         Eigen::Vector3d(o.straight[0], o.straight[1], o.straight[2]), o.steps);
   }
   // Random walk inside the workspace (grid box, or 4 spacings around the probe).
   const double h = smallest_grid_spacing(scene.grid);
@@ -84,17 +84,20 @@ int run(const Options& o) {
   const Scene scene = load_scene(o.scene);
   MeshReport report;
   const Problem problem = build_problem(scene, &report);
-  for (const auto& w : report.warnings) std::fprintf(stderr, "hapstate-solve: mesh: %s\n", w.c_str());
+  for (const auto& w : report.warnings)
+    std::fprintf(stderr, "hapstate-solve: mesh: %s\n", w.c_str());
   const ProbePath path = make_path(o, scene, problem);
 
   const bool contact = problem.contact.has_value();
   if (!o.ccx_dir.empty() && contact) {
-    throw InputError(o.scene + ": --export-ccx: a contact probe cannot be exported (the "
+    throw InputError(o.scene +
+                     ": --export-ccx: a contact probe cannot be exported (the "
                      "CalculiX deck prescribes grabbed nodes; contact is not modelled there)");
   }
   if (!o.ccx_dir.empty()) {
     write_ccx_deck(problem, path, o.ccx_dir);
-    if (!o.quiet) std::fprintf(stderr, "hapstate-solve: wrote CalculiX deck to %s\n", o.ccx_dir.c_str());
+    if (!o.quiet)
+      std::fprintf(stderr, "hapstate-solve: wrote CalculiX deck to %s\n", o.ccx_dir.c_str());
     if (o.output.empty()) return kExitOk;
   }
 
@@ -127,7 +130,8 @@ int run(const Options& o) {
     if (!r.ok) {
       ++failures;
       std::fprintf(stderr, "hapstate-solve: step %d (%g, %g, %g) failed: %s: %s\n", step,
-                   path[k].x(), path[k].y(), path[k].z(), failure_name(r.failure), r.reason.c_str());
+                   path[k].x(), path[k].y(), path[k].z(), failure_name(r.failure),
+                   r.reason.c_str());
     }
     // On failure the solver stays at the last converged state; the row reports that state's force.
     const Eigen::Vector3d f = solver.force_felt();
@@ -162,8 +166,9 @@ int run(const Options& o) {
                  1e3 * t.factorize / std::max(1LL, t.factorizations), t.factorizations,
                  t.psd_fallbacks, 1e3 * t.solve, t.inner_iterations);
     const SparseCholesky& c = solver.linear_solver();
-    std::fprintf(stderr, "hapstate-solve: %d DOFs, factor %s (%s ordering), nnz(L) %.3g, %.3g flop\n",
-                 solver.num_dofs(), c.method(), c.ordering(), c.factor_nonzeros(), c.factor_flops());
+    std::fprintf(
+        stderr, "hapstate-solve: %d DOFs, factor %s (%s ordering), nnz(L) %.3g, %.3g flop\n",
+        solver.num_dofs(), c.method(), c.ordering(), c.factor_nonzeros(), c.factor_flops());
     if (const ContactTimings* ct = solver.contact_timings()) {
       const double total_ms = [&] {
         double ms = 0;
@@ -189,23 +194,29 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
   using namespace hapstate;
   Options o;
-  CLI::App app{"hapstate-solve: precise non-linear FEM solve of a probe path (the reference the "
-               "playback is measured against).\nExit codes: 0 ok, 1 internal error, 2 bad input, "
-               "3 some path point failed to converge (reported, run completed)."};
+  CLI::App app{
+      "hapstate-solve: precise non-linear FEM solve of a probe path (the reference the "
+      "playback is measured against).\nExit codes: 0 ok, 1 internal error, 2 bad input, "
+      "3 some path point failed to converge (reported, run completed)."};
   use_hapstate_help(app);
   app.add_option("scene", o.scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
-  auto* path_opt = app.add_option("--path", o.path_csv,
-                                  "probe path CSV with header x,y,z: absolute probe positions "
-                                  "(scene units), solved in order starting from rest (the path: one of --path, "
-                                  "--straight, --by, --random; default: none)")
-                       ->check(CLI::ExistingFile);
-  auto* straight_opt = app.add_option("--straight", o.straight,
-                                      "straight path from the rest position to X Y Z (default: none)")
-                           ->expected(3);
-  auto* by_opt = app.add_option("--by", o.by,
-                                "straight path from the rest position by DX DY DZ (scene units; default: none)")
-                     ->expected(3);
-  app.add_option("--steps", o.steps, "points on a --straight or --by path")->check(CLI::Range(1, 100000000));
+  auto* path_opt =
+      app.add_option("--path", o.path_csv,
+                     "probe path CSV with header x,y,z: absolute probe positions "
+                     "(scene units), solved in order starting from rest (the path: one of --path, "
+                     "--straight, --by, --random; default: none)")
+          ->check(CLI::ExistingFile);
+  auto* straight_opt =
+      app.add_option("--straight", o.straight,
+                     "straight path from the rest position to X Y Z (default: none)")
+          ->expected(3);
+  auto* by_opt =
+      app.add_option(
+             "--by", o.by,
+             "straight path from the rest position by DX DY DZ (scene units; default: none)")
+          ->expected(3);
+  app.add_option("--steps", o.steps, "points on a --straight or --by path")
+      ->check(CLI::Range(1, 100000000));
   auto* random_opt = app.add_option("--random", o.random_steps,
                                     "seeded random walk of N points from the rest position, "
                                     "inside the grid workspace (default: none)")
@@ -225,7 +236,8 @@ int main(int argc, char** argv) {
   app.add_option("--displacements", o.displacements,
                  "also write every node's displacement per step: CSV step,node,ux,uy,uz "
                  "(default: not written)");
-  app.add_option("--vtu", o.vtu_dir, "also write the deformed mesh per step as VTU + path.pvd (default: not "
+  app.add_option("--vtu", o.vtu_dir,
+                 "also write the deformed mesh per step as VTU + path.pvd (default: not "
                  "written)");
   app.add_option("--export-ccx", o.ccx_dir,
                  "write the same problem as a CalculiX deck (DIR/problem.inp, see "
@@ -238,16 +250,18 @@ int main(int argc, char** argv) {
       ->option_text(choices({"fast", "reference"}))
       ->transform(CLI::CheckedTransformer(std::map<std::string, SolverAlgorithm>{
           {"fast", SolverAlgorithm::kFast}, {"reference", SolverAlgorithm::kReference}}));
-  app.add_option("--threads", o.threads,
-                 "threads inside the solve: element assembly (OpenMP) and the BLAS of the "
-                 "factorisation (OpenBLAS; the environment's OMP_NUM_THREADS and "
-                 "OPENBLAS_NUM_THREADS are overridden; results do not depend on it beyond round-off "
-                 "in the factorisation) (default: all cores from " +
-                     std::to_string(kThreadsFromDofs) + " DOFs on, else 1)")
+  app.add_option(
+         "--threads", o.threads,
+         "threads inside the solve: element assembly (OpenMP) and the BLAS of the "
+         "factorisation (OpenBLAS; the environment's OMP_NUM_THREADS and "
+         "OPENBLAS_NUM_THREADS are overridden; results do not depend on it beyond round-off "
+         "in the factorisation) (default: all cores from " +
+             std::to_string(kThreadsFromDofs) + " DOFs on, else 1)")
       ->check(positive());
-  app.add_flag("--timings", o.timings,
-               "print time per assembly / factorisation / solve and the symbolic analysis (and, for a "
-               "contact probe, collision detection)");
+  app.add_flag(
+      "--timings", o.timings,
+      "print time per assembly / factorisation / solve and the symbolic analysis (and, for a "
+      "contact probe, collision detection)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -255,8 +269,10 @@ int main(int argc, char** argv) {
   }
   return guarded_main("hapstate-solve", [&] {
     if (o.path_csv.empty() && o.straight.empty() && o.by.empty() && o.random_steps == 0)
-      throw InputError("give a probe path: --path FILE, --straight X Y Z, --by DX DY DZ or --random N");
-    if (o.output.empty() && o.ccx_dir.empty()) throw InputError("give -o OUT.csv (or --export-ccx DIR)");
+      throw InputError(
+          "give a probe path: --path FILE, --straight X Y Z, --by DX DY DZ or --random N");
+    if (o.output.empty() && o.ccx_dir.empty())
+      throw InputError("give -o OUT.csv (or --export-ccx DIR)");
     return run(o);
   });
 }

@@ -39,10 +39,11 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "output folder (created)");
   auto* q = app.add_flag("--quick", quick, "the CI subset (the default)");
   app.add_flag("--full", full, "the full matrix (720 cases)")->excludes(q);
-  app.add_option("--filter", filter,
-                 "keep the cases whose id (law/nuV/load/step/mesh/probe, e.g. "
-                 "stvk/nu0.3/compress/whole/sliver/patch) contains every comma-separated term (default: "
-                 "every case)");
+  app.add_option(
+      "--filter", filter,
+      "keep the cases whose id (law/nuV/load/step/mesh/probe, e.g. "
+      "stvk/nu0.3/compress/whole/sliver/patch) contains every comma-separated term (default: "
+      "every case)");
   app.add_option("--threads", threads, "cases solved in parallel")->check(CLI::Range(1, 256));
   app.add_option("--wall-cap", wall_cap, "seconds per case before it is stopped (between moves)")
       ->check(positive());

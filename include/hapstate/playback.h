@@ -31,9 +31,9 @@ enum class Scheme : std::int32_t {
 
 // Where a corner's data came from (docs/playback.md, "missing corners").
 enum class CornerSource : std::int8_t {
-  kStored = 0,     // a stored configuration
-  kExtended = 1,   // none stored or reachable: extended from the neighbouring corner's force
-                   // and stiffness (first-order Taylor), carried while the cursor stays near
+  kStored = 0,    // a stored configuration
+  kExtended = 1,  // none stored or reachable: extended from the neighbouring corner's force
+                  // and stiffness (first-order Taylor), carried while the cursor stays near
 };
 
 // A read-only, memory-mapped playback file written by hapstate-index.
@@ -55,29 +55,29 @@ class PlaybackFile {
 
   const std::filesystem::path& path() const { return path_; }
   std::int32_t num_configurations() const;
-  std::int32_t num_view_nodes() const;       // nodes whose displacements are stored
+  std::int32_t num_view_nodes() const;  // nodes whose displacements are stored
   std::int32_t num_mesh_nodes() const;
-  bool view_is_all_nodes() const;            // view nodes = every mesh node, in mesh order
-  bool is_contact() const;                   // the scene's probe is a contact sphere
+  bool view_is_all_nodes() const;  // view nodes = every mesh node, in mesh order
+  bool is_contact() const;         // the scene's probe is a contact sphere
   // Whether configuration c is a zero configuration: the body at rest (no force, no
   // displacement); the rest configuration, and with a contact probe every free check-point's.
   bool is_zero_configuration(std::int32_t c) const;
-  std::span<const std::int32_t> view_nodes() const;       // mesh node index per view node
-  std::span<const float> reference_positions() const;     // 3 per view node, mesh units
-  std::span<const std::int32_t> triangles() const;        // 3 view-node indices each
-  std::array<double, 3> rest_position() const;            // probe at rest, mesh units
+  std::span<const std::int32_t> view_nodes() const;    // mesh node index per view node
+  std::span<const float> reference_positions() const;  // 3 per view node, mesh units
+  std::span<const std::int32_t> triangles() const;     // 3 view-node indices each
+  std::array<double, 3> rest_position() const;         // probe at rest, mesh units
   std::array<double, 3> grid_origin() const;
   std::array<double, 3> grid_spacing() const;
-  std::array<std::int32_t, 3> grid_lo() const;            // index of the first check-point
-  std::array<std::int32_t, 3> grid_dims() const;          // check-points per axis
-  double max_force() const;                               // the device limit F_max, N
+  std::array<std::int32_t, 3> grid_lo() const;    // index of the first check-point
+  std::array<std::int32_t, 3> grid_dims() const;  // check-points per axis
+  double max_force() const;                       // the device limit F_max, N
   // Documented bound on the change of the force between two probe positions:
   // |f(p) - f(q)| <= force_change_bound() * |p - q| for any cursor (docs/playback.md).
   double force_change_bound() const;
 
   // Force and stiffness of configuration c (0 <= c < num_configurations()).
   std::array<double, 3> force(std::int32_t c) const;
-  std::array<double, 9> stiffness(std::int32_t c) const;  // row-major d(force)/d(probe)
+  std::array<double, 9> stiffness(std::int32_t c) const;       // row-major d(force)/d(probe)
   std::span<const float> displacements(std::int32_t c) const;  // 3 per view node, mesh units
   // Whether the file holds every configuration's displacement slopes d u / d p (hapstate-index
   // of a state expanded by this version; without them Hermite deformation is trilinear).
@@ -108,12 +108,12 @@ class PlaybackFile {
 // place in the cell and the scheme (deform() interpolates the displacements as the cursor
 // interpolates the force: trilinear, or cubic Hermite from the corners' displacement slopes).
 struct Snapshot {
-  std::uint64_t sequence = 0;          // force() calls so far (0: none yet)
-  std::array<double, 3> probe{};       // mesh units
-  std::array<double, 3> force{};       // N, as returned by force()
+  std::uint64_t sequence = 0;                          // force() calls so far (0: none yet)
+  std::array<double, 3> probe{};                       // mesh units
+  std::array<double, 3> force{};                       // N, as returned by force()
   std::array<std::int32_t, 8> corner_configuration{};  // displacement source, -1: zero
-  std::array<double, 8> weight{};      // trilinear weights of the corners
-  std::array<double, 3> cell_position{};  // the probe in its cell, 0..1 per axis
+  std::array<double, 8> weight{};                      // trilinear weights of the corners
+  std::array<double, 3> cell_position{};               // the probe in its cell, 0..1 per axis
   // Grid offset of each corner from its displacement source's check-point (non-zero for an
   // extended corner: its displacements are extended from the source's by its slopes).
   std::array<std::array<std::int32_t, 3>, 8> corner_shift{};
@@ -127,7 +127,7 @@ struct Force {
   // derivative of the Hermite interpolant; the trilinear blend of the corners' stiffness with
   // kTrilinear and outside the grid. At a check-point, the stored configuration's stiffness.
   std::array<double, 9> stiffness{};
-  bool inside_grid = true;        // false: the probe was outside the grid (extended force)
+  bool inside_grid = true;  // false: the probe was outside the grid (extended force)
 };
 
 // The haptic cursor of one haptic thread (docs/playback.md). Keeps the configurations of the
@@ -162,8 +162,8 @@ class HapticCursor {
   void snapshot(Snapshot* out) const;  // the newest published state
 
   struct Corner {
-    std::int32_t configuration = -1;   // stored configuration, -1 if extended
-    std::int32_t displacement = -1;    // configuration whose displacements are shown, -1: zero
+    std::int32_t configuration = -1;      // stored configuration, -1 if extended
+    std::int32_t displacement = -1;       // configuration whose displacements are shown, -1: zero
     std::array<std::int32_t, 3> shift{};  // grid offset from that configuration's check-point
     CornerSource source = CornerSource::kExtended;
     std::array<double, 3> force{};
@@ -182,8 +182,7 @@ class HapticCursor {
   void resolve_corner(int corner, const std::array<Corner, 8>& old,
                       const std::array<std::int32_t, 3>& old_base);
   void walk_to(const std::array<double, 3>& q);
-  void publish(const std::array<double, 3>& probe, const Force& f,
-               const std::array<double, 3>& s);
+  void publish(const std::array<double, 3>& probe, const Force& f, const std::array<double, 3>& s);
 
   const PlaybackFile& file_;
   Scheme scheme_;
@@ -194,7 +193,7 @@ class HapticCursor {
   std::uint64_t calls_ = 0;
   std::uint64_t cells_walked_ = 0;
 
-  Snapshot slots_[3];                   // triple buffer: back (writer), middle, front (reader)
+  Snapshot slots_[3];  // triple buffer: back (writer), middle, front (reader)
   std::uint32_t back_ = 0;
   mutable std::uint32_t front_ = 2;
   mutable std::atomic<std::uint32_t> middle_{1};  // slot index | kFresh

@@ -23,12 +23,12 @@ namespace hapstate {
 // One probe move of the precise solver.
 struct MoveOutcome {
   bool ok = true;
-  std::string failure;   // "" if ok, else the failure's name (e.g. "line_search")
-  std::string reason;    // "" if ok, else what happened, in words
-  int iterations = 0;    // Newton iterations
-  int substeps = 0;      // accepted sub-steps
-  int cutbacks = 0;      // sub-step halvings
-  double residual = 0;   // final free-DOF residual [N]
+  std::string failure;  // "" if ok, else the failure's name (e.g. "line_search")
+  std::string reason;   // "" if ok, else what happened, in words
+  int iterations = 0;   // Newton iterations
+  int substeps = 0;     // accepted sub-steps
+  int cutbacks = 0;     // sub-step halvings
+  double residual = 0;  // final free-DOF residual [N]
   double wall_ms = 0;
 };
 
@@ -41,18 +41,18 @@ class SceneSolver {
   SceneSolver& operator=(SceneSolver&&) noexcept;
 
   int num_nodes() const;
-  double unit() const;                       // metres per mesh unit
-  Eigen::Vector3d probe_rest() const;        // probe position at rest, mesh units
-  bool contact() const;                      // true for a contact (sphere) probe
+  double unit() const;                 // metres per mesh unit
+  Eigen::Vector3d probe_rest() const;  // probe position at rest, mesh units
+  bool contact() const;                // true for a contact (sphere) probe
 
   // Moves the probe to `probe_position` (absolute, mesh units) from the current state.
   MoveOutcome move_to(const Eigen::Vector3d& probe_position);
   // Back to the rest state.
   void reset();
 
-  Eigen::Vector3d force_felt() const;        // N, the force the user feels
-  Eigen::Matrix3d haptic_stiffness();        // d force_felt / d probe position, N per mesh unit
-  Eigen::Matrix3Xd displacements() const;    // per node, mesh units
+  Eigen::Vector3d force_felt() const;      // N, the force the user feels
+  Eigen::Matrix3d haptic_stiffness();      // d force_felt / d probe position, N per mesh unit
+  Eigen::Matrix3Xd displacements() const;  // per node, mesh units
 
  private:
   struct Impl;

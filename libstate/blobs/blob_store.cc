@@ -80,8 +80,8 @@ std::shared_ptr<const Directory> read_directory(hid_t file, const std::filesyste
   auto bad = [&](const std::string& what) -> InputError {
     return InputError(with_reason(path.string() + ": damaged segment index: " + what));
   };
-  auto read_all = [&](const std::string& name, hid_t memory_type, int rank, std::vector<hsize_t>* dims,
-                      auto* values) {
+  auto read_all = [&](const std::string& name, hid_t memory_type, int rank,
+                      std::vector<hsize_t>* dims, auto* values) {
     Hid d(H5Dopen2(file, name.c_str(), H5P_DEFAULT));
     Hid space(d.valid() ? H5Dget_space(d.get()) : H5I_INVALID_HID);
     dims->assign(static_cast<std::size_t>(rank), 0);
@@ -114,7 +114,8 @@ std::shared_ptr<const Directory> read_directory(hid_t file, const std::filesyste
   for (const std::string& table : tables) {
     if (table == "groups") continue;
     std::vector<std::int64_t> rows;
-    read_all(std::string(blobs_detail::kIndexGroup) + "/" + table, H5T_NATIVE_INT64, 2, &dims, &rows);
+    read_all(std::string(blobs_detail::kIndexGroup) + "/" + table, H5T_NATIVE_INT64, 2, &dims,
+             &rows);
     if (dims[1] != 2) throw bad("the index of '" + table + "' is not [rows x 2]");
     Hid data(H5Dopen2(file, table.c_str(), H5P_DEFAULT));
     Hid space(data.valid() ? H5Dget_space(data.get()) : H5I_INVALID_HID);
@@ -123,7 +124,8 @@ std::shared_ptr<const Directory> read_directory(hid_t file, const std::filesyste
         H5Sget_simple_extent_dims(space.get(), extent, nullptr) < 0 || extent[0] != dims[0])
       throw bad("table '" + table + "' is missing or has not the rows its index lists");
     // Its leaf name (a table of a second storage type of a leaf has a suffix).
-    const std::string leaf = blobs_detail::read_string_attribute(data.get(), "hapstate_leaf").value_or(table);
+    const std::string leaf =
+        blobs_detail::read_string_attribute(data.get(), "hapstate_leaf").value_or(table);
     for (hsize_t r = 0; r < dims[0]; ++r) {
       const std::int64_t group = rows[2 * r], length = rows[2 * r + 1];
       if (group < 0 || group >= static_cast<std::int64_t>(groups.size()) || length < 0 ||
@@ -159,9 +161,9 @@ std::shared_ptr<OpenSegment> BlobStore::Impl::open(SegmentId id) const {
   // An OS error (permission, I/O error) is the environment's; anything else the file's.
   const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
   if (is_hdf5 < 0) {
-    blobs_detail::throw_hdf5_read_failure(path.string(), "cannot read the segment",
-                                          "not an HDF5 file (" + std::to_string(bytes) +
-                                              " bytes; corrupt or truncated segment)");
+    blobs_detail::throw_hdf5_read_failure(
+        path.string(), "cannot read the segment",
+        "not an HDF5 file (" + std::to_string(bytes) + " bytes; corrupt or truncated segment)");
   }
   if (is_hdf5 == 0) {
     take_hdf5_error();
@@ -172,13 +174,14 @@ std::shared_ptr<OpenSegment> BlobStore::Impl::open(SegmentId id) const {
   segment->file = Hid(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
   const Hid* file = &segment->file;
   if (!file->valid()) {
-    blobs_detail::throw_hdf5_read_failure(path.string(), "cannot open the segment",
-                                          "truncated or corrupt segment, cannot open it (" +
-                                              std::to_string(bytes) + " bytes)");
+    blobs_detail::throw_hdf5_read_failure(
+        path.string(), "cannot open the segment",
+        "truncated or corrupt segment, cannot open it (" + std::to_string(bytes) + " bytes)");
   }
   const auto format = blobs_detail::read_int_attribute(file->get(), "hapstate_segment_format");
   if (!format) {
-    throw InputError(path.string() + ": not a hapstate segment (no hapstate_segment_format attribute)");
+    throw InputError(path.string() +
+                     ": not a hapstate segment (no hapstate_segment_format attribute)");
   }
   if (*format > kSegmentFormatVersion) {
     throw InputError(path.string() + ": segment format " + std::to_string(*format) +
@@ -226,7 +229,8 @@ Hid BlobStore::Impl::open_dataset(SegmentId id, std::string_view name,
   }
   Hid dataset(H5Dopen2(segment->file.get(), dataset_name.c_str(), H5P_DEFAULT));
   if (!dataset.valid()) {
-    throw InputError(with_reason(vector_place(path, name) + ": cannot open the dataset (corrupt?)"));
+    throw InputError(
+        with_reason(vector_place(path, name) + ": cannot open the dataset (corrupt?)"));
   }
   *segment_out = std::move(segment);
   return dataset;
@@ -253,7 +257,8 @@ std::vector<T> BlobStore::Impl::read(SegmentId id, std::string_view name, hid_t 
     count = place->length;
     const hsize_t start[2] = {place->row, 0}, size[2] = {1, count};
     memory = Hid(H5Screate_simple(1, &count, nullptr));
-    if (count > 0 && H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr) < 0)
+    if (count > 0 &&
+        H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr) < 0)
       throw InputError(with_reason(where + ": row outside the dataset"));
   } else {
     H5Sget_simple_extent_dims(space.get(), &count, nullptr);
@@ -313,7 +318,8 @@ std::size_t BlobStore::size_of(SegmentId id, std::string_view name) const {
 namespace {
 
 herr_t collect_dataset(hid_t, const char* name, const H5O_info_t* info, void* out) {
-  if (info->type == H5O_TYPE_DATASET) static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+  if (info->type == H5O_TYPE_DATASET)
+    static_cast<std::vector<std::string>*>(out)->emplace_back(name);
   return 0;
 }
 
@@ -327,8 +333,10 @@ std::vector<std::string> BlobStore::list_vectors(SegmentId id) const {
     return names;  // sorted: the directory is a map
   }
   QuietErrors quiet;
-  if (H5Ovisit2(segment->file.get(), H5_INDEX_NAME, H5_ITER_INC, collect_dataset, &names, H5O_INFO_BASIC) < 0) {
-    throw InputError(with_reason(impl_->path_of(id).string() + ": cannot list the vectors (corrupt?)"));
+  if (H5Ovisit2(segment->file.get(), H5_INDEX_NAME, H5_ITER_INC, collect_dataset, &names,
+                H5O_INFO_BASIC) < 0) {
+    throw InputError(
+        with_reason(impl_->path_of(id).string() + ": cannot list the vectors (corrupt?)"));
   }
   std::sort(names.begin(), names.end());
   return names;
@@ -343,7 +351,8 @@ Precision BlobStore::precision_of(SegmentId id, std::string_view name) const {
   const H5T_class_t type_class = type.valid() ? H5Tget_class(type.get()) : H5T_NO_CLASS;
   if (type_class == H5T_INTEGER) return Precision::kInt32;
   if (type_class != H5T_FLOAT) {
-    throw InputError(with_reason(vector_place(impl_->path_of(id), name) + ": not a numeric dataset"));
+    throw InputError(
+        with_reason(vector_place(impl_->path_of(id), name) + ": not a numeric dataset"));
   }
   return H5Tget_size(type.get()) <= 4 ? Precision::kFloat32 : Precision::kFloat64;
 }
@@ -353,7 +362,8 @@ SegmentProvenance BlobStore::provenance(SegmentId id) const {
   const Hid* file = &segment->file;
   QuietErrors quiet;
   SegmentProvenance p;
-  p.scene_hash = blobs_detail::read_string_attribute(file->get(), "hapstate_scene_hash").value_or("");
+  p.scene_hash =
+      blobs_detail::read_string_attribute(file->get(), "hapstate_scene_hash").value_or("");
   p.writer_version =
       blobs_detail::read_string_attribute(file->get(), "hapstate_writer_version").value_or("");
   p.stage = blobs_detail::read_string_attribute(file->get(), "hapstate_stage").value_or("");
@@ -369,7 +379,9 @@ std::vector<SegmentId> BlobStore::list_segments() const {
     if (!entry.is_regular_file()) continue;
     if (auto id = parse_segment_file_name(entry.path().filename().string())) ids.push_back(*id);
   }
-  if (ec) throw EnvironmentError(impl_->dir.string() + ": cannot list the blobs directory: " + ec.message());
+  if (ec)
+    throw EnvironmentError(impl_->dir.string() +
+                           ": cannot list the blobs directory: " + ec.message());
   std::sort(ids.begin(), ids.end());
   return ids;
 }
@@ -399,7 +411,9 @@ std::vector<std::filesystem::path> BlobStore::remove_unreferenced_segments(
   for (const auto& path : garbage) {
     std::error_code ec;
     std::filesystem::remove(path, ec);
-    if (ec) throw EnvironmentError(path.string() + ": cannot remove unreferenced segment: " + ec.message());
+    if (ec)
+      throw EnvironmentError(path.string() +
+                             ": cannot remove unreferenced segment: " + ec.message());
   }
   const int fd = ::open(impl_->dir.c_str(), O_RDONLY | O_DIRECTORY);
   if (fd >= 0) {

@@ -59,11 +59,13 @@ class BlobStore {
   // Segment files whose id is not in `referenced`, ascending by id: garbage left by a crash
   // between a segment's close() and the commit of the catalogue rows referencing it, or by
   // compaction. Call it only while no writer of this directory is running.
-  std::vector<std::filesystem::path> unreferenced_segments(const std::set<SegmentId>& referenced) const;
+  std::vector<std::filesystem::path> unreferenced_segments(
+      const std::set<SegmentId>& referenced) const;
 
   // Deletes the unreferenced segments (closing any cached handle first) and fsyncs the
   // directory. Returns the deleted files. Throws InputError if a file cannot be removed.
-  std::vector<std::filesystem::path> remove_unreferenced_segments(const std::set<SegmentId>& referenced);
+  std::vector<std::filesystem::path> remove_unreferenced_segments(
+      const std::set<SegmentId>& referenced);
 
   // Closes every cached file handle (e.g. before the files are replaced).
   void close_all() const;

@@ -79,9 +79,22 @@ Hdf5Failure take_hdf5_failure() {
 
 bool is_environment_errno(int os_errno) {
   switch (os_errno) {
-    case ENOSPC: case EDQUOT: case EFBIG: case EIO: case EACCES: case EPERM: case EROFS:
-    case EMFILE: case ENFILE: case ENOMEM: case EBUSY: case ENXIO: case ENODEV: case ESTALE:
-    case ETIMEDOUT: case EAGAIN:  // EAGAIN: HDF5's file lock held by another process
+    case ENOSPC:
+    case EDQUOT:
+    case EFBIG:
+    case EIO:
+    case EACCES:
+    case EPERM:
+    case EROFS:
+    case EMFILE:
+    case ENFILE:
+    case ENOMEM:
+    case EBUSY:
+    case ENXIO:
+    case ENODEV:
+    case ESTALE:
+    case ETIMEDOUT:
+    case EAGAIN:  // EAGAIN: HDF5's file lock held by another process
       return true;
     default:
       return false;
@@ -97,7 +110,8 @@ std::string hdf5_suffix(const Hdf5Failure& f) {
 }  // namespace
 
 std::string failure_text(const Hdf5Failure& f) {
-  return (f.os_errno != 0 ? std::string(": ") + os_error_text(f.os_errno) : std::string()) + hdf5_suffix(f);
+  return (f.os_errno != 0 ? std::string(": ") + os_error_text(f.os_errno) : std::string()) +
+         hdf5_suffix(f);
 }
 
 void throw_hdf5_write_failure(const std::string& where) {
@@ -108,7 +122,8 @@ void throw_hdf5_read_failure(const std::string& where, const std::string& action
                              const std::string& corrupt) {
   const Hdf5Failure f = take_hdf5_failure();
   if (is_environment_errno(f.os_errno))
-    throw EnvironmentError(where + ": " + action + ": " + os_error_text(f.os_errno) + hdf5_suffix(f));
+    throw EnvironmentError(where + ": " + action + ": " + os_error_text(f.os_errno) +
+                           hdf5_suffix(f));
   throw InputError(where + ": " + corrupt + hdf5_suffix(f));
 }
 

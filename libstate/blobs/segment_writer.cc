@@ -13,11 +13,11 @@
 #include <cerrno>
 #include <cstring>
 #include <map>
-#include <vector>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace hapstate {
 
@@ -63,12 +63,14 @@ struct SegmentWriter::Impl {
 
   void write_row(std::string_view name, const void* data, std::size_t count, hid_t file_type,
                  hid_t memory_type);
-  Table& table(const std::string& leaf, hid_t file_type, std::size_t first_width, const std::string& where);
+  Table& table(const std::string& leaf, hid_t file_type, std::size_t first_width,
+               const std::string& where);
   void write_index();
 };
 
 SegmentWriter::Impl::Table& SegmentWriter::Impl::table(const std::string& leaf, hid_t file_type,
-                                                       std::size_t first_width, const std::string& where) {
+                                                       std::size_t first_width,
+                                                       const std::string& where) {
   const auto key = std::make_pair(leaf, file_type);
   if (auto it = tables.find(key); it != tables.end()) return it->second;
   if (leaf == blobs_detail::kIndexGroup) throw InputError(where + ": reserved name");
@@ -77,7 +79,10 @@ SegmentWriter::Impl::Table& SegmentWriter::Impl::table(const std::string& leaf, 
   bool taken = false;
   for (const auto& [k, t] : tables) taken = taken || k.first == leaf;
   Table t;
-  t.dataset = taken ? leaf + (file_type == H5T_IEEE_F32LE ? ".f32" : file_type == H5T_STD_I32LE ? ".i32" : ".f64") : leaf;
+  t.dataset = taken ? leaf + (file_type == H5T_IEEE_F32LE  ? ".f32"
+                              : file_type == H5T_STD_I32LE ? ".i32"
+                                                           : ".f64")
+                    : leaf;
   t.file_type = file_type;
   const hsize_t dims[2] = {0, 0};
   const hsize_t max_dims[2] = {H5S_UNLIMITED, H5S_UNLIMITED};
@@ -85,16 +90,18 @@ SegmentWriter::Impl::Table& SegmentWriter::Impl::table(const std::string& leaf, 
   Hid create(H5Pcreate(H5P_DATASET_CREATE));
   // One chunk per row (a configuration's vector decompresses alone), at least 64 values wide
   // so that short, varying rows (touched sets) are not split into many chunks.
-  const hsize_t chunk[2] = {1, static_cast<hsize_t>(std::clamp<std::size_t>(first_width, 64, options.chunk_elements))};
+  const hsize_t chunk[2] = {
+      1, static_cast<hsize_t>(std::clamp<std::size_t>(first_width, 64, options.chunk_elements))};
   const unsigned level = static_cast<unsigned>(options.zstd_level);
   const bool ok = space.valid() && create.valid() && H5Pset_chunk(create.get(), 2, chunk) >= 0 &&
                   H5Pset_shuffle(create.get()) >= 0 &&
-                  H5Pset_filter(create.get(), static_cast<H5Z_filter_t>(kZstdFilterId), H5Z_FLAG_MANDATORY, 1,
-                                &level) >= 0;
+                  H5Pset_filter(create.get(), static_cast<H5Z_filter_t>(kZstdFilterId),
+                                H5Z_FLAG_MANDATORY, 1, &level) >= 0;
   if (!ok) blobs_detail::throw_hdf5_write_failure(where + ": cannot set up the dataset");
-  t.handle = Hid(H5Dcreate2(file.get(), t.dataset.c_str(), file_type, space.get(), H5P_DEFAULT, create.get(),
-                            H5P_DEFAULT));
-  if (!t.handle.valid() || !blobs_detail::write_string_attribute(t.handle.get(), "hapstate_leaf", leaf))
+  t.handle = Hid(H5Dcreate2(file.get(), t.dataset.c_str(), file_type, space.get(), H5P_DEFAULT,
+                            create.get(), H5P_DEFAULT));
+  if (!t.handle.valid() ||
+      !blobs_detail::write_string_attribute(t.handle.get(), "hapstate_leaf", leaf))
     blobs_detail::throw_hdf5_write_failure(where + ": cannot create the dataset");
   return tables.emplace(key, std::move(t)).first->second;
 }
@@ -143,13 +150,15 @@ void SegmentWriter::Impl::write_index() {
   Hid links(H5Pcreate(H5P_LINK_CREATE));
   if (!links.valid() || H5Pset_create_intermediate_group(links.get(), 1) < 0)
     blobs_detail::throw_hdf5_write_failure(where + ": cannot set up");
-  auto put = [&](const std::string& dataset, hid_t file_type, hid_t memory_type, int rank, const hsize_t* dims,
-                 const void* data) {
+  auto put = [&](const std::string& dataset, hid_t file_type, hid_t memory_type, int rank,
+                 const hsize_t* dims, const void* data) {
     Hid space(H5Screate_simple(rank, dims, nullptr));
-    Hid d(H5Dcreate2(file.get(), dataset.c_str(), file_type, space.get(), links.get(), H5P_DEFAULT, H5P_DEFAULT));
+    Hid d(H5Dcreate2(file.get(), dataset.c_str(), file_type, space.get(), links.get(), H5P_DEFAULT,
+                     H5P_DEFAULT));
     bool empty = false;
     for (int r = 0; r < rank; ++r) empty = empty || dims[r] == 0;
-    if (!d.valid() || (!empty && H5Dwrite(d.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) ||
+    if (!d.valid() ||
+        (!empty && H5Dwrite(d.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) ||
         !d.reset())
       blobs_detail::throw_hdf5_write_failure(where + ": cannot write " + dataset);
   };
@@ -159,11 +168,11 @@ void SegmentWriter::Impl::write_index() {
   put(blobs_detail::kGroupsDataset, H5T_STD_U8LE, H5T_NATIVE_UCHAR, 1, text_size, text.data());
   for (auto& [key, t] : tables) {
     const hsize_t dims[2] = {t.rows, 2};
-    put(std::string(blobs_detail::kIndexGroup) + "/" + t.dataset, H5T_STD_I64LE, H5T_NATIVE_INT64, 2, dims,
-        t.index.data());
+    put(std::string(blobs_detail::kIndexGroup) + "/" + t.dataset, H5T_STD_I64LE, H5T_NATIVE_INT64,
+        2, dims, t.index.data());
     if (!t.handle.reset())
-      blobs_detail::throw_hdf5_write_failure(path.string() + ": cannot close the dataset '" + t.dataset +
-                                             "'");
+      blobs_detail::throw_hdf5_write_failure(path.string() + ": cannot close the dataset '" +
+                                             t.dataset + "'");
   }
 }
 
@@ -182,7 +191,9 @@ SegmentWriter::SegmentWriter(const std::filesystem::path& blobs_dir, SegmentId i
 
   std::error_code ec;
   std::filesystem::create_directories(blobs_dir, ec);
-  if (ec) throw EnvironmentError(blobs_dir.string() + ": cannot create the blobs directory: " + ec.message());
+  if (ec)
+    throw EnvironmentError(blobs_dir.string() +
+                           ": cannot create the blobs directory: " + ec.message());
 
   QuietErrors quiet;
   if (std::filesystem::exists(impl_->path)) {

@@ -24,13 +24,22 @@ size_t decompress_unknown_size(const void* in, size_t in_bytes, void** out_buf, 
   bool ok = out != nullptr;
   while (ok) {
     result = ZSTD_decompressStream(stream, &output, &input);
-    if (ZSTD_isError(result)) { ok = false; break; }
+    if (ZSTD_isError(result)) {
+      ok = false;
+      break;
+    }
     if (result == 0) break;  // frame complete
-    if (input.pos == input.size && output.pos < output.size) { ok = false; break; }  // truncated
+    if (input.pos == input.size && output.pos < output.size) {
+      ok = false;
+      break;
+    }  // truncated
     if (output.pos == output.size) {
       capacity *= 2;
       void* bigger = H5resize_memory(out, capacity);
-      if (bigger == nullptr) { ok = false; break; }
+      if (bigger == nullptr) {
+        ok = false;
+        break;
+      }
       out = bigger;
       output.dst = out;
       output.size = capacity;

@@ -28,7 +28,7 @@ void check_sqlite_header(const std::filesystem::path& file, const std::string& l
   std::error_code ec;
   const auto size = std::filesystem::file_size(file, ec);
   if (ec) throw InputError(label + ": cannot read the catalogue: " + ec.message());
-  if (size == 0) return;  // an empty file is an empty database
+  if (size == 0) return;                                 // an empty file is an empty database
   static constexpr char kMagic[16] = "SQLite format 3";  // 15 characters and '\0'
   char head[16] = {};
   std::ifstream in(file, std::ios::binary);
@@ -74,12 +74,14 @@ void check_schema_state(const SchemaState& s, OpenMode mode, const std::string& 
                      ": upgrade hapstate");
   }
   if (s.version < supported && mode != OpenMode::kMigrate) {
-    throw InputError(label + " has schema version " + std::to_string(s.version) +
-                     ", this hapstate needs " + std::to_string(supported) +
-                     ": run any writing stage on it (hapstate-expand, -compact, -index, or hapstate run) "
-                     "and it is migrated");
+    throw InputError(
+        label + " has schema version " + std::to_string(s.version) + ", this hapstate needs " +
+        std::to_string(supported) +
+        ": run any writing stage on it (hapstate-expand, -compact, -index, or hapstate run) "
+        "and it is migrated");
   }
-  if (s.version < 1) throw InputError(label + ": invalid schema version " + std::to_string(s.version));
+  if (s.version < 1)
+    throw InputError(label + ": invalid schema version " + std::to_string(s.version));
 }
 
 // Applies every migration above the current version, each in its own transaction.
@@ -166,9 +168,7 @@ const std::filesystem::path& Catalogue::file() const { return impl_->file; }
 
 int Catalogue::schema_version() const { return impl_->schema_version; }
 
-std::string Catalogue::integrity_check() {
-  return impl_->db->query_text("PRAGMA integrity_check");
-}
+std::string Catalogue::integrity_check() { return impl_->db->query_text("PRAGMA integrity_check"); }
 
 std::int64_t Catalogue::num_foreign_key_violations() {
   catalogue_detail::Statement s(*impl_->db, "PRAGMA foreign_key_check");
@@ -183,8 +183,8 @@ int ranged_column(const Statement& s, int column, int lo, int hi, const std::str
                   const char* name) {
   const std::int64_t v = s.column_int(column);
   if (v < lo || v > hi)
-    throw InputError(label + ": damaged catalogue: " + name + " = " + std::to_string(v) + ", not in " +
-                     std::to_string(lo) + ".." + std::to_string(hi));
+    throw InputError(label + ": damaged catalogue: " + name + " = " + std::to_string(v) +
+                     ", not in " + std::to_string(lo) + ".." + std::to_string(hi));
   return static_cast<int>(v);
 }
 
@@ -205,7 +205,8 @@ std::vector<double> unpack_doubles(std::span<const std::byte> bytes, const std::
   std::vector<double> values(bytes.size() / 8);
   for (std::size_t i = 0; i < values.size(); ++i) {
     std::uint64_t bits = 0;
-    for (int b = 7; b >= 0; --b) bits = (bits << 8) | std::to_integer<std::uint64_t>(bytes[8 * i + b]);
+    for (int b = 7; b >= 0; --b)
+      bits = (bits << 8) | std::to_integer<std::uint64_t>(bytes[8 * i + b]);
     values[i] = std::bit_cast<double>(bits);
   }
   return values;

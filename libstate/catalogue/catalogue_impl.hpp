@@ -37,8 +37,8 @@ class Savepoint {
   explicit Savepoint(Database& db) : db_(db) { db_.exec("SAVEPOINT hapstate_verb"); }
   ~Savepoint() {
     if (!released_) {
-      sqlite3_exec(db_.get(), "ROLLBACK TO hapstate_verb; RELEASE hapstate_verb", nullptr,
-                   nullptr, nullptr);
+      sqlite3_exec(db_.get(), "ROLLBACK TO hapstate_verb; RELEASE hapstate_verb", nullptr, nullptr,
+                   nullptr);
     }
   }
   Savepoint(const Savepoint&) = delete;

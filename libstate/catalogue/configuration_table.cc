@@ -5,26 +5,25 @@
 namespace hapstate {
 namespace {
 
-#define HAPSTATE_CONFIG_COLUMNS                                                              \
+#define HAPSTATE_CONFIG_COLUMNS                                                            \
   "id, checkpoint, level, wave, force_x, force_y, force_z, k_xx, k_xy, k_xz, k_yx, k_yy, " \
   "k_yz, k_zx, k_zy, k_zz, expandable, status, blob_segment, blob_name, summary"
 
 constexpr const char* kInsert = "INSERT INTO configuration (" HAPSTATE_CONFIG_COLUMNS
                                 ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
                                 "?, ?, ?)";
-constexpr const char* kRead =
-    "SELECT " HAPSTATE_CONFIG_COLUMNS " FROM configuration WHERE id = ?";
+constexpr const char* kRead = "SELECT " HAPSTATE_CONFIG_COLUMNS " FROM configuration WHERE id = ?";
 constexpr const char* kAtCheckpoint =
     "SELECT " HAPSTATE_CONFIG_COLUMNS " FROM configuration WHERE checkpoint = ? ORDER BY level";
 constexpr const char* kFrontier = "SELECT " HAPSTATE_CONFIG_COLUMNS
                                   " FROM configuration WHERE wave = ? AND status = 0 AND "
                                   "expandable = 1 ORDER BY id";
-constexpr const char* kReadAll = "SELECT " HAPSTATE_CONFIG_COLUMNS " FROM configuration ORDER BY id";
+constexpr const char* kReadAll =
+    "SELECT " HAPSTATE_CONFIG_COLUMNS " FROM configuration ORDER BY id";
 constexpr const char* kCount = "SELECT count(*) FROM configuration";
 constexpr const char* kExists = "SELECT 1 FROM configuration WHERE id = ?";
 constexpr const char* kUpdateStatus = "UPDATE configuration SET status = ? WHERE id = ?";
-constexpr const char* kUpdateExpandable =
-    "UPDATE configuration SET expandable = ? WHERE id = ?";
+constexpr const char* kUpdateExpandable = "UPDATE configuration SET expandable = ? WHERE id = ?";
 constexpr const char* kMaxWave = "SELECT max(wave) FROM configuration";
 constexpr const char* kNextLevel =
     "SELECT coalesce(max(level) + 1, 0) FROM configuration WHERE checkpoint = ?";

@@ -16,9 +16,8 @@ Direction::Direction(int index) : index_(0) {
 Direction Direction::from_offset(int di, int dj, int dk) {
   const auto unit = [](int v) { return v >= -1 && v <= 1; };
   if (!unit(di) || !unit(dj) || !unit(dk) || (di == 0 && dj == 0 && dk == 0)) {
-    throw std::out_of_range("Direction: offset (" + std::to_string(di) + ", " +
-                            std::to_string(dj) + ", " + std::to_string(dk) +
-                            ") is not a neighbour");
+    throw std::out_of_range("Direction: offset (" + std::to_string(di) + ", " + std::to_string(dj) +
+                            ", " + std::to_string(dk) + ") is not a neighbour");
   }
   const int c = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);
   return Direction(c < 13 ? c : c - 1);

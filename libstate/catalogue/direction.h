@@ -22,9 +22,9 @@ class Direction {
   static Direction from_offset(int di, int dj, int dk);
 
   constexpr int index() const { return index_; }
-  std::array<int, 3> offset() const;              // (di, dj, dk)
+  std::array<int, 3> offset() const;  // (di, dj, dk)
   Direction opposite() const { return Direction(kCount - 1 - index_); }
-  int taxicab_length() const;                     // 1 (face), 2 (edge) or 3 (corner) neighbour
+  int taxicab_length() const;  // 1 (face), 2 (edge) or 3 (corner) neighbour
 
   friend auto operator<=>(Direction, Direction) = default;
 

@@ -11,7 +11,8 @@ namespace {
 
 bool equals_ignoring_case(const char* a, const char* b) {
   for (; *a != '\0' && *b != '\0'; ++a, ++b)
-    if (std::tolower(static_cast<unsigned char>(*a)) != std::tolower(static_cast<unsigned char>(*b)))
+    if (std::tolower(static_cast<unsigned char>(*a)) !=
+        std::tolower(static_cast<unsigned char>(*b)))
       return false;
   return *a == *b;
 }
@@ -22,9 +23,9 @@ bool equals_ignoring_case(const char* a, const char* b) {
 // except those that act (checkpoint, optimize, free memory or pages).
 bool pragma_reads(const char* name, bool has_argument) {
   if (has_argument) {
-    for (const char* reader : {"table_info", "table_xinfo", "table_list", "index_info",
-                               "index_xinfo", "index_list", "foreign_key_list",
-                               "foreign_key_check", "integrity_check", "quick_check"})
+    for (const char* reader :
+         {"table_info", "table_xinfo", "table_list", "index_info", "index_xinfo", "index_list",
+          "foreign_key_list", "foreign_key_check", "integrity_check", "quick_check"})
       if (equals_ignoring_case(name, reader)) return true;
     return false;
   }
@@ -35,8 +36,8 @@ bool pragma_reads(const char* name, bool has_argument) {
 
 // Called by SQLite for every action a statement being prepared would take. Denies whatever
 // changes the connection or the files even though sqlite3_stmt_readonly calls it a read.
-int deny_non_reads(void* reason_out, int action, const char* arg1, const char* arg2,
-                   const char*, const char*) {
+int deny_non_reads(void* reason_out, int action, const char* arg1, const char* arg2, const char*,
+                   const char*) {
   auto* reason = static_cast<std::string*>(reason_out);
   switch (action) {
     case SQLITE_ATTACH:
@@ -112,9 +113,11 @@ QueryResult Catalogue::query_read_only(std::string_view sql) {
   PreparedQuery q{db};
   sqlite3_set_authorizer(db, deny_non_reads, &denied);
   const char* tail = nullptr;
-  const int rc = sqlite3_prepare_v2(db, text.c_str(), static_cast<int>(text.size()), &q.stmt, &tail);
+  const int rc =
+      sqlite3_prepare_v2(db, text.c_str(), static_cast<int>(text.size()), &q.stmt, &tail);
   if (rc != SQLITE_OK) {
-    if (!denied.empty()) throw InputError(label + ": refused (" + denied + "): read-only queries only");
+    if (!denied.empty())
+      throw InputError(label + ": refused (" + denied + "): read-only queries only");
     impl_->db->fail(text, rc);
   }
   if (q.stmt == nullptr) throw InputError(label + ": empty SQL statement");

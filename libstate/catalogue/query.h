@@ -11,8 +11,8 @@
 namespace hapstate {
 
 // NULL, INTEGER, REAL, TEXT or BLOB.
-using QueryValue = std::variant<std::monostate, std::int64_t, double, std::string,
-                                std::vector<std::byte>>;
+using QueryValue =
+    std::variant<std::monostate, std::int64_t, double, std::string, std::vector<std::byte>>;
 
 struct QueryResult {
   std::vector<std::string> columns;

@@ -4,8 +4,8 @@
 
 #include "blobs/segment.h"
 #include "catalogue/direction.h"
-#include "util/hash.h"
 #include "catalogue/ids.h"
+#include "util/hash.h"
 
 #include <array>
 #include <chrono>
@@ -19,16 +19,16 @@ namespace hapstate {
 
 // Table scene: the scene this state directory belongs to (one row).
 struct SceneRecord {
-  std::string text;             // scene.toml as read
-  ContentHash hash;             // of text
-  std::string mesh_file;        // as named in the scene
-  ContentHash mesh_hash;        // of the mesh file's bytes
+  std::string text;       // scene.toml as read
+  ContentHash hash;       // of text
+  std::string mesh_file;  // as named in the scene
+  ContentHash mesh_hash;  // of the mesh file's bytes
   std::int64_t mesh_nodes = 0;
   std::int64_t mesh_elements = 0;
   std::int64_t mesh_surface_triangles = 0;
   std::array<double, 3> bbox_min{};  // mesh units
   std::array<double, 3> bbox_max{};
-  double volume = 0.0;               // mesh units^3
+  double volume = 0.0;  // mesh units^3
 
   bool operator==(const SceneRecord&) const = default;
 };
@@ -41,15 +41,15 @@ using TimeMs = std::chrono::time_point<Clock, std::chrono::milliseconds>;
 
 // Table stage_run (+ stage_run_input): one execution of a stage and what it consumed.
 struct StageRun {
-  StageRunId id;                 // assigned by the catalogue
-  std::string stage;             // "import", "grid", "expand", "compact", "index"
+  StageRunId id;      // assigned by the catalogue
+  std::string stage;  // "import", "grid", "expand", "compact", "index"
   std::vector<std::pair<std::string, ContentHash>> inputs;  // name -> hash, sorted by name
-  std::string parameters;        // resolved options as text
-  std::string hapstate_version;  // filled in by the catalogue if ""
+  std::string parameters;                                   // resolved options as text
+  std::string hapstate_version;                             // filled in by the catalogue if ""
   TimeMs started{};
-  std::optional<TimeMs> ended;   // nullopt while running
+  std::optional<TimeMs> ended;  // nullopt while running
   StageOutcome outcome = StageOutcome::kRunning;
-  std::string message;           // summary or failure reason
+  std::string message;  // summary or failure reason
 
   bool operator==(const StageRun&) const = default;
 };
@@ -65,7 +65,7 @@ enum class CheckpointClass {
 
 // Table checkpoint: P_ijk = origin + (i, j, k) * spacing.
 struct Checkpoint {
-  CheckpointId id;                // kInvalid on insert: assigned by the catalogue
+  CheckpointId id;  // kInvalid on insert: assigned by the catalogue
   std::array<int, 3> ijk{};
   std::array<double, 3> position{};  // mesh units
   CheckpointClass classification = CheckpointClass::kUnclassified;
@@ -92,13 +92,13 @@ struct BlobRef {
 
 // Table configuration: one equilibrium state (a level of a check-point).
 struct Configuration {
-  ConfigId id;                  // kInvalid on insert: assigned (or give one to fix it)
+  ConfigId id;  // kInvalid on insert: assigned (or give one to fix it)
   CheckpointId checkpoint;
   Level level;
-  int wave = 0;                 // breadth-first distance from a zero configuration
+  int wave = 0;                       // breadth-first distance from a zero configuration
   std::array<double, 3> force{};      // felt by the user, N
   std::array<double, 9> stiffness{};  // d(force)/d(probe), row-major, N per mesh unit
-  bool expandable = false;      // |force| <= F_max and inside the workspace
+  bool expandable = false;            // |force| <= F_max and inside the workspace
   ConfigStatus status = ConfigStatus::kOpen;
   std::optional<BlobRef> blob;  // nullopt: no vectors stored (e.g. the trivial zero state)
   std::vector<double> summary;  // small sketch for fast level comparison
@@ -118,13 +118,13 @@ struct Transition {
   ConfigId source;
   Direction direction{0};
   TransitionOutcome outcome = TransitionOutcome::kReached;
-  ConfigId target;              // valid iff outcome == kReached
+  ConfigId target;  // valid iff outcome == kReached
   int substeps = 0;
   int newton_iterations = 0;
   int factorisations = 0;       // numeric factorisations spent (schema 2; 0 in older rows)
   double final_residual = 0.0;  // N
   double wall_ms = 0.0;
-  std::string failure_reason;   // "" unless kFailed
+  std::string failure_reason;  // "" unless kFailed
 
   bool operator==(const Transition&) const = default;
 };

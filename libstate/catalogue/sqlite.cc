@@ -19,9 +19,16 @@ std::string shorten(std::string_view sql) {
 // SQLite result codes that say the environment failed, not the catalogue's content.
 bool environment_failure(int rc) {
   switch (rc & 0xFF) {
-    case SQLITE_FULL: case SQLITE_IOERR: case SQLITE_CANTOPEN: case SQLITE_PERM:
-    case SQLITE_READONLY: case SQLITE_BUSY: case SQLITE_LOCKED: case SQLITE_NOMEM:
-    case SQLITE_NOLFS: case SQLITE_PROTOCOL:
+    case SQLITE_FULL:
+    case SQLITE_IOERR:
+    case SQLITE_CANTOPEN:
+    case SQLITE_PERM:
+    case SQLITE_READONLY:
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED:
+    case SQLITE_NOMEM:
+    case SQLITE_NOLFS:
+    case SQLITE_PROTOCOL:
       return true;
     default:
       return false;
@@ -41,15 +48,25 @@ std::string os_error(sqlite3* db, int rc) {
   }
   if (primary != SQLITE_IOERR) return "";
   switch (rc) {
-    case SQLITE_IOERR_WRITE: return " (write failed, SQLITE_IOERR_WRITE)";
-    case SQLITE_IOERR_READ: return " (read failed, SQLITE_IOERR_READ)";
-    case SQLITE_IOERR_SHORT_READ: return " (short read, SQLITE_IOERR_SHORT_READ)";
-    case SQLITE_IOERR_FSYNC: return " (fsync failed, SQLITE_IOERR_FSYNC)";
-    case SQLITE_IOERR_DIR_FSYNC: return " (directory fsync failed, SQLITE_IOERR_DIR_FSYNC)";
-    case SQLITE_IOERR_TRUNCATE: return " (truncate failed, SQLITE_IOERR_TRUNCATE)";
-    case SQLITE_IOERR_FSTAT: return " (fstat failed, SQLITE_IOERR_FSTAT)";
-    case SQLITE_IOERR_DELETE: return " (delete failed, SQLITE_IOERR_DELETE)";
-    case SQLITE_IOERR_SHMOPEN: case SQLITE_IOERR_SHMSIZE: case SQLITE_IOERR_SHMMAP:
+    case SQLITE_IOERR_WRITE:
+      return " (write failed, SQLITE_IOERR_WRITE)";
+    case SQLITE_IOERR_READ:
+      return " (read failed, SQLITE_IOERR_READ)";
+    case SQLITE_IOERR_SHORT_READ:
+      return " (short read, SQLITE_IOERR_SHORT_READ)";
+    case SQLITE_IOERR_FSYNC:
+      return " (fsync failed, SQLITE_IOERR_FSYNC)";
+    case SQLITE_IOERR_DIR_FSYNC:
+      return " (directory fsync failed, SQLITE_IOERR_DIR_FSYNC)";
+    case SQLITE_IOERR_TRUNCATE:
+      return " (truncate failed, SQLITE_IOERR_TRUNCATE)";
+    case SQLITE_IOERR_FSTAT:
+      return " (fstat failed, SQLITE_IOERR_FSTAT)";
+    case SQLITE_IOERR_DELETE:
+      return " (delete failed, SQLITE_IOERR_DELETE)";
+    case SQLITE_IOERR_SHMOPEN:
+    case SQLITE_IOERR_SHMSIZE:
+    case SQLITE_IOERR_SHMMAP:
       return " (the WAL index -shm file failed, extended code " + std::to_string(rc) + ")";
     default:
       return " (extended code " + std::to_string(rc) + ")";
@@ -58,8 +75,8 @@ std::string os_error(sqlite3* db, int rc) {
 
 [[noreturn]] void throw_error(const std::string& label, std::string_view sql, int rc,
                               const char* message, sqlite3* db) {
-  std::string text = label + ": SQLite error in `" + shorten(sql) + "`: " +
-                     (message != nullptr ? message : sqlite3_errstr(rc)) + os_error(db, rc);
+  std::string text = label + ": SQLite error in `" + shorten(sql) +
+                     "`: " + (message != nullptr ? message : sqlite3_errstr(rc)) + os_error(db, rc);
   const int primary = rc & 0xFF;
   if (primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB) {
     text += " (the catalogue file is corrupt or not an SQLite database)";
@@ -70,7 +87,8 @@ std::string os_error(sqlite3* db, int rc) {
 
 }  // namespace
 
-Database::Database(const std::string& file, int flags, std::string label) : label_(std::move(label)) {
+Database::Database(const std::string& file, int flags, std::string label)
+    : label_(std::move(label)) {
   const int rc = sqlite3_open_v2(file.c_str(), &db_, flags | SQLITE_OPEN_EXRESCODE, nullptr);
   if (rc != SQLITE_OK) {
     const std::string message =
@@ -135,8 +153,8 @@ void Statement::bind(int index, double value) {
 }
 
 void Statement::bind(int index, std::string_view text) {
-  const int rc = sqlite3_bind_text64(stmt_, index, text.data(), text.size(), SQLITE_TRANSIENT,
-                                     SQLITE_UTF8);
+  const int rc =
+      sqlite3_bind_text64(stmt_, index, text.data(), text.size(), SQLITE_TRANSIENT, SQLITE_UTF8);
   if (rc != SQLITE_OK) db_.fail(sql_, rc);
 }
 

@@ -11,7 +11,8 @@ namespace {
 constexpr const char* kInsertRun =
     "INSERT INTO stage_run (id, stage, parameters, hapstate_version, started_ms, ended_ms, "
     "outcome, message) VALUES (?, ?, ?, ?, ?, ?, ?, ?)";
-constexpr const char* kInsertInput = "INSERT INTO stage_run_input (run, name, hash) VALUES (?, ?, ?)";
+constexpr const char* kInsertInput =
+    "INSERT INTO stage_run_input (run, name, hash) VALUES (?, ?, ?)";
 constexpr const char* kUpdateEnd =
     "UPDATE stage_run SET outcome = ?, ended_ms = ?, message = ? WHERE id = ?";
 constexpr const char* kReadRun =
@@ -28,11 +29,16 @@ constexpr const char* kReadInputs =
 
 const char* outcome_text(StageOutcome outcome) {
   switch (outcome) {
-    case StageOutcome::kRunning: return "running";
-    case StageOutcome::kOk: return "ok";
-    case StageOutcome::kUnchanged: return "unchanged";
-    case StageOutcome::kPartial: return "partial";
-    case StageOutcome::kFailed: return "failed";
+    case StageOutcome::kRunning:
+      return "running";
+    case StageOutcome::kOk:
+      return "ok";
+    case StageOutcome::kUnchanged:
+      return "unchanged";
+    case StageOutcome::kPartial:
+      return "partial";
+    case StageOutcome::kFailed:
+      return "failed";
   }
   return "failed";
 }
@@ -53,7 +59,8 @@ StageRun row_to_run(const catalogue_detail::Statement& s, const std::string& lab
   run.hapstate_version = s.column_text(3);
   run.started = TimeMs(std::chrono::milliseconds(s.column_int(4)));
   if (!s.is_null(5)) run.ended = TimeMs(std::chrono::milliseconds(s.column_int(5)));
-  run.outcome = parse_outcome(s.column_text(6), label + ": stage_run " + std::to_string(run.id.value()));
+  run.outcome =
+      parse_outcome(s.column_text(6), label + ": stage_run " + std::to_string(run.id.value()));
   run.message = s.column_text(7);
   return run;
 }
@@ -121,7 +128,8 @@ StageRun Catalogue::read_stage_run(StageRunId id) {
   }
   catalogue_detail::StatementUse s(impl_->statement(kReadInputs));
   s->bind(1, id.value());
-  while (s->step()) run.inputs.emplace_back(s->column_text(0), ContentHash::from_hex(s->column_text(1)));
+  while (s->step())
+    run.inputs.emplace_back(s->column_text(0), ContentHash::from_hex(s->column_text(1)));
   return run;
 }
 

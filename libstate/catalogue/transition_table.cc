@@ -5,16 +5,16 @@
 namespace hapstate {
 namespace {
 
-#define HAPSTATE_TRANSITION_COLUMNS                                                       \
+#define HAPSTATE_TRANSITION_COLUMNS                                                   \
   "source, direction, outcome, target, substeps, newton_iterations, final_residual, " \
   "wall_ms, failure_reason, factorisations"
 
 constexpr const char* kInsert = "INSERT INTO transition (" HAPSTATE_TRANSITION_COLUMNS
                                 ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
-constexpr const char* kRead = "SELECT " HAPSTATE_TRANSITION_COLUMNS
-                              " FROM transition WHERE source = ? AND direction = ?";
-constexpr const char* kOfSource = "SELECT " HAPSTATE_TRANSITION_COLUMNS
-                                  " FROM transition WHERE source = ? ORDER BY direction";
+constexpr const char* kRead =
+    "SELECT " HAPSTATE_TRANSITION_COLUMNS " FROM transition WHERE source = ? AND direction = ?";
+constexpr const char* kOfSource =
+    "SELECT " HAPSTATE_TRANSITION_COLUMNS " FROM transition WHERE source = ? ORDER BY direction";
 constexpr const char* kReadAll =
     "SELECT " HAPSTATE_TRANSITION_COLUMNS " FROM transition ORDER BY source, direction";
 constexpr const char* kCount = "SELECT count(*) FROM transition";
@@ -27,8 +27,10 @@ Transition row_to_transition(const catalogue_detail::Statement& s, const std::st
   using catalogue_detail::ranged_column;
   Transition t;
   t.source = ConfigId(s.column_int(0));
-  t.direction = Direction(ranged_column(s, 1, 0, Direction::kCount - 1, label, "transition.direction"));
-  t.outcome = static_cast<TransitionOutcome>(ranged_column(s, 2, 0, 2, label, "transition.outcome"));
+  t.direction =
+      Direction(ranged_column(s, 1, 0, Direction::kCount - 1, label, "transition.direction"));
+  t.outcome =
+      static_cast<TransitionOutcome>(ranged_column(s, 2, 0, 2, label, "transition.outcome"));
   if (!s.is_null(3)) t.target = ConfigId(s.column_int(3));
   t.substeps = static_cast<int>(s.column_int(4));
   t.newton_iterations = static_cast<int>(s.column_int(5));

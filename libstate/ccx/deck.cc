@@ -96,7 +96,8 @@ void check_mesh(const Mesh& m, const std::filesystem::path& dir) {
     // ccx's C3D4 wants det[b-a, c-a, d-a] > 0, our convention too (ccx stops with
     // "nonpositive jacobian determinant" otherwise).
     Eigen::Matrix3d d;
-    for (int k = 0; k < 3; ++k) d.col(k) = m.nodes.col(m.tets(k + 1, e)) - m.nodes.col(m.tets(0, e));
+    for (int k = 0; k < 3; ++k)
+      d.col(k) = m.nodes.col(m.tets(k + 1, e)) - m.nodes.col(m.tets(0, e));
     if (!(d.determinant() > 0)) {
       throw InputError(deck_error(dir, "tet " + std::to_string(e) + " is not positively oriented"));
     }
@@ -234,14 +235,14 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
   probe_nodes.erase(std::unique(probe_nodes.begin(), probe_nodes.end()), probe_nodes.end());
   if (!probe_nodes.empty()) write_node_set(out, "PROBE", probe_nodes);
 
-  out << "*MATERIAL, NAME=TISSUE\n" << material
-      << "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n";
+  out << "*MATERIAL, NAME=TISSUE\n" << material << "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n";
   bool any_fixed = false;
   for (int c = 0; c < 3; ++c) any_fixed = any_fixed || !sets.fixed[c].empty();
   if (any_fixed) {
     out << "** fixed DOFs, held at 0 in every step\n*BOUNDARY\n";
     for (int c = 0; c < 3; ++c) {
-      if (!sets.fixed[c].empty()) out << set_name("FIXED", c) << ", " << c + 1 << ", " << c + 1 << "\n";
+      if (!sets.fixed[c].empty())
+        out << set_name("FIXED", c) << ", " << c + 1 << ", " << c + 1 << "\n";
     }
   }
 
@@ -250,8 +251,8 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
     const Eigen::Vector3d& pk = probe_path[k];
     const Eigen::Vector3d t = (pk - p.probe_rest) * p.unit;
     out << "**\n** path point " << k + 1 << ": probe at (" << num(pk.x()) << ", " << num(pk.y())
-        << ", " << num(pk.z()) << ") mesh units, t = (" << num(t.x()) << ", " << num(t.y())
-        << ", " << num(t.z()) << ") m; step time ends at " << k + 1 << "\n"
+        << ", " << num(pk.z()) << ") mesh units, t = (" << num(t.x()) << ", " << num(t.y()) << ", "
+        << num(t.z()) << ") m; step time ends at " << k + 1 << "\n"
         << step;
     bool any_probe = false;
     for (int c = 0; c < 3; ++c) any_probe = any_probe || !sets.probe[c].empty();

@@ -24,10 +24,10 @@ struct CcxDeckOptions {
 };
 
 // File names inside the deck directory.
-inline constexpr const char* kCcxJobName = "problem";       // ccx -i problem
+inline constexpr const char* kCcxJobName = "problem";  // ccx -i problem
 inline constexpr const char* kCcxDeckFile = "problem.inp";
-inline constexpr const char* kCcxPathFile = "path.csv";      // x,y,z (mesh units), row k = step k
-inline constexpr const char* kCcxMetaFile = "hapstate.json"; // what the .dat reader needs
+inline constexpr const char* kCcxPathFile = "path.csv";       // x,y,z (mesh units), row k = step k
+inline constexpr const char* kCcxMetaFile = "hapstate.json";  // what the .dat reader needs
 
 // Writes DIR/problem.inp, DIR/path.csv and DIR/hapstate.json (creating DIR if needed).
 // One ccx *STEP per point p_k of `probe_path` (mesh units): the probe DOFs are prescribed to

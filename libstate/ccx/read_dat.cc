@@ -108,8 +108,7 @@ std::vector<CcxDatBlock> read_ccx_dat(const std::filesystem::path& dat) {
 }
 
 std::vector<CcxPathPoint> ccx_path_results(const Problem& problem,
-                                           const std::vector<CcxDatBlock>& blocks,
-                                           int num_points) {
+                                           const std::vector<CcxDatBlock>& blocks, int num_points) {
   const int n = problem.mesh.num_nodes();
   const auto& role = problem.constraints.role;
   if (static_cast<int>(role.size()) != 3 * n) {

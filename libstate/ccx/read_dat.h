@@ -36,7 +36,6 @@ struct CcxPathPoint {
 // end of step k (time k) gives point k-1. Throws InputError if a point is missing (ccx failed
 // before the end) or the tables do not match the problem.
 std::vector<CcxPathPoint> ccx_path_results(const Problem& problem,
-                                           const std::vector<CcxDatBlock>& blocks,
-                                           int num_points);
+                                           const std::vector<CcxDatBlock>& blocks, int num_points);
 
 }  // namespace hapstate

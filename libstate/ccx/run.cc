@@ -42,8 +42,8 @@ void run_ccx(const std::filesystem::path& dir) {
   const int rc = std::system(cmd.c_str());
   if (rc != 0 || log_reports_error(log)) {
     std::ostringstream m;
-    m << "CalculiX (" << exe << ") failed in " << dir.string() << " (status " << rc
-      << "); see " << log.string();
+    m << "CalculiX (" << exe << ") failed in " << dir.string() << " (status " << rc << "); see "
+      << log.string();
     if (rc == 127 * 256) m << " -- is calculix-ccx installed?";
     throw InputError(m.str());
   }

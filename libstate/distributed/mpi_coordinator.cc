@@ -50,10 +50,11 @@ class MpiEngine final : public TransitionEngine {
   MpiEngine(const StageContext& ctx, const ProbeModel& probe, const BlobStore& blobs,
             const MpiSession& session, int threads, SolverAlgorithm algorithm)
       : threads_(threads),
-        load_source_(blob_source_loader(
-            blobs, 3 * static_cast<int>(ctx.problem.mesh.num_nodes()), probe.layout())),
+        load_source_(blob_source_loader(blobs, 3 * static_cast<int>(ctx.problem.mesh.num_nodes()),
+                                        probe.layout())),
         start_(Clock::now()) {
-    for (int r = 1; r < session.size(); ++r) workers_.push_back(Worker{r, 0, 0, 0, 0.0, SolverTimings{}, 0});
+    for (int r = 1; r < session.size(); ++r)
+      workers_.push_back(Worker{r, 0, 0, 0, 0.0, SolverTimings{}, 0});
     wire::Setup setup;
     setup.algorithm = algorithm;
     setup.threads = threads;
@@ -132,8 +133,7 @@ class MpiEngine final : public TransitionEngine {
 
   std::string parameters() const override {
     return "ranks=" + std::to_string(workers_.size() + 1) + " (1 coordinator + " +
-           std::to_string(workers_.size()) + " workers x " + std::to_string(threads_) +
-           " threads)";
+           std::to_string(workers_.size()) + " workers x " + std::to_string(threads_) + " threads)";
   }
 
   std::string summary() const override {
@@ -286,8 +286,8 @@ class MpiEngine final : public TransitionEngine {
       throw std::runtime_error(what);
     }
     if (m.tag != mpi::kResult)
-      throw std::runtime_error("rank " + std::to_string(m.source) + " sent an unexpected message (tag " +
-                               std::to_string(m.tag) + ")");
+      throw std::runtime_error("rank " + std::to_string(m.source) +
+                               " sent an unexpected message (tag " + std::to_string(m.tag) + ")");
     --w.outstanding;
     const auto kind = static_cast<ResultKind>(r.pod<std::uint8_t>());
     const auto generation = r.pod<std::uint64_t>();
@@ -334,10 +334,11 @@ class MpiEngine final : public TransitionEngine {
 
 TransitionEngineFactory mpi_engine_factory(const MpiSession& session, int threads,
                                            SolverAlgorithm algorithm) {
-  return [&session, threads, algorithm](const StageContext& ctx, const ProbeModel& probe,
-                                        const BlobStore& blobs) -> std::unique_ptr<TransitionEngine> {
-    return std::make_unique<MpiEngine>(ctx, probe, blobs, session, threads, algorithm);
-  };
+  return
+      [&session, threads, algorithm](const StageContext& ctx, const ProbeModel& probe,
+                                     const BlobStore& blobs) -> std::unique_ptr<TransitionEngine> {
+        return std::make_unique<MpiEngine>(ctx, probe, blobs, session, threads, algorithm);
+      };
 }
 
 void release_mpi_workers(const MpiSession& session) {

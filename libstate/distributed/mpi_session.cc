@@ -6,8 +6,8 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
@@ -83,7 +83,8 @@ Message receive(int source, PendingSends* sends) {
 
 void send(int dest, int tag, const std::vector<char>& bytes) {
   if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw std::runtime_error("MPI message of " + std::to_string(bytes.size()) + " bytes is too large");
+    throw std::runtime_error("MPI message of " + std::to_string(bytes.size()) +
+                             " bytes is too large");
   MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD);
 }
 
@@ -108,13 +109,14 @@ PendingSends::~PendingSends() {
 
 void PendingSends::post(int dest, int tag, std::vector<char> bytes) {
   if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw std::runtime_error("MPI message of " + std::to_string(bytes.size()) + " bytes is too large");
+    throw std::runtime_error("MPI message of " + std::to_string(bytes.size()) +
+                             " bytes is too large");
   // Kept first, then sent: the buffer outlives the send even if keeping it throws.
   pending_.push_back(std::make_unique<Pending>(Pending{std::move(bytes), MPI_REQUEST_NULL}));
   Pending& p = *pending_.back();
   bytes_sent_ += static_cast<long long>(p.bytes.size());
-  MPI_Isend(p.bytes.data(), static_cast<int>(p.bytes.size()), MPI_BYTE, dest, tag,
-            MPI_COMM_WORLD, &p.request);
+  MPI_Isend(p.bytes.data(), static_cast<int>(p.bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD,
+            &p.request);
 }
 
 void PendingSends::progress() {

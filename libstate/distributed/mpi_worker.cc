@@ -45,9 +45,8 @@ std::unique_ptr<WorkerState> set_up(const mpi::Message& m) {
       throw std::logic_error("MPI worker: a task's source vectors are missing from its chunk");
     return *it->second;
   };
-  state->solver = std::make_unique<TransitionSolver>(state->problem, *state->probe,
-                                                     std::move(loader), setup.threads,
-                                                     setup.algorithm);
+  state->solver = std::make_unique<TransitionSolver>(
+      state->problem, *state->probe, std::move(loader), setup.threads, setup.algorithm);
   return state;
 }
 

@@ -6,7 +6,6 @@
 namespace hapstate::wire {
 namespace {
 
-
 void put_vec3(Writer& w, const Eigen::Vector3d& v) {
   w.pod(v.x());
   w.pod(v.y());
@@ -61,8 +60,8 @@ void put(Writer& w, const Setup& s) {
   w.string(s.scene_label);
   w.pod(s.problem_hash);
   const ProblemVectors& p = s.problem;
-  for (const auto* v : {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes,
-                        &p.probe_components, &p.rest})
+  for (const auto* v :
+       {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes, &p.probe_components, &p.rest})
     w.values(*v);
 }
 
@@ -74,8 +73,8 @@ Setup get_setup(Reader& r) {
   s.scene_label = r.string();
   s.problem_hash = r.pod<std::uint64_t>();
   ProblemVectors& p = s.problem;
-  for (auto* v : {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes, &p.probe_components,
-                  &p.rest})
+  for (auto* v :
+       {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes, &p.probe_components, &p.rest})
     *v = r.values<double>();
   return s;
 }
@@ -220,8 +219,8 @@ StiffnessResult get_stiffness_result(Reader& r) {
 
 void put(Writer& w, const SolverTimings& t) {
   for (double v : {t.assembly, t.factorize, t.solve, t.analyze, t.contact_detection}) w.pod(v);
-  for (long long v : {t.assemblies, t.factorizations, t.psd_fallbacks, t.inner_iterations,
-                      t.contact_queries})
+  for (long long v :
+       {t.assemblies, t.factorizations, t.psd_fallbacks, t.inner_iterations, t.contact_queries})
     w.pod(v);
 }
 

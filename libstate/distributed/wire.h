@@ -77,8 +77,8 @@ class Reader {
 struct Setup {
   SolverAlgorithm algorithm = SolverAlgorithm::kFast;
   int threads = 1;
-  std::string scene_text;    // the catalogue's stored scene
-  std::string scene_label;   // names it in messages
+  std::string scene_text;   // the catalogue's stored scene
+  std::string scene_label;  // names it in messages
   std::uint64_t problem_hash = 0;
   ProblemVectors problem;
 };

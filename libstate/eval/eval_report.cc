@@ -94,8 +94,8 @@ void write_eval_csv(const EvalResult& result, const std::filesystem::path& file)
         << st.exact_force.x() << ',' << st.exact_force.y() << ',' << st.exact_force.z() << ','
         << (st.solved ? 1 : 0);
     for (const SchemeResult& r : st.schemes)
-      out << ',' << r.force.x() << ',' << r.force.y() << ',' << r.force.z() << ',' << r.force_error << ','
-          << r.deformation_error_all << ',' << r.deformation_error_surface;
+      out << ',' << r.force.x() << ',' << r.force.y() << ',' << r.force.z() << ',' << r.force_error
+          << ',' << r.deformation_error_all << ',' << r.deformation_error_surface;
     out << '\n';
   }
   if (!out.flush()) throw InputError(file.string() + ": write failed");
@@ -110,16 +110,18 @@ std::string eval_table(const EvalResult& result) {
     solved += st.solved;
     solve_ms += st.solve_ms;
   }
-  std::snprintf(line, sizeof line,
-                "%zu steps (%d solved precisely), grid spacing (%.4g, %.4g, %.4g), max |f*| = %.4g N\n",
-                result.steps.size(), solved, result.spacing.x(), result.spacing.y(), result.spacing.z(),
-                result.max_exact_force);
+  std::snprintf(
+      line, sizeof line,
+      "%zu steps (%d solved precisely), grid spacing (%.4g, %.4g, %.4g), max |f*| = %.4g N\n",
+      result.steps.size(), solved, result.spacing.x(), result.spacing.y(), result.spacing.z(),
+      result.max_exact_force);
   t << line;
   t << result.path_description << "\n";
   if (result.outside_grid > 0) {
     std::snprintf(line, sizeof line,
                   "%d step(s) lie outside the precomputed grid: playback extends the boundary "
-                  "values there, so large errors are expected\n", result.outside_grid);
+                  "values there, so large errors are expected\n",
+                  result.outside_grid);
     t << line;
   }
   t << "force error |f - f*| / max|f*| over the path; deformation error ||u - u*|| / ||u*|| per "
@@ -159,7 +161,8 @@ std::string eval_table(const EvalResult& result) {
     t << line;
     const double deformation = result.has_all_nodes ? amax : smax;
     const bool good = fmax <= kPaperForce && deformation <= kPaperDeformation;
-    std::snprintf(line, sizeof line, "  %s: max force error %.2f %% %s 4 %%, max deformation error "
+    std::snprintf(line, sizeof line,
+                  "  %s: max force error %.2f %% %s 4 %%, max deformation error "
                   "%.2f %% %s 14 %%: %s\n",
                   scheme_name(result.schemes[s]), 100 * fmax, fmax <= kPaperForce ? "<=" : ">",
                   100 * deformation, deformation <= kPaperDeformation ? "<=" : ">",
@@ -174,7 +177,8 @@ std::string eval_table(const EvalResult& result) {
     t << line;
   }
   t << "verdict against the paper's Matlab prototype (Peterlik & Matyska 2007: force <= 4 %, "
-       "deformation <= 14 %):\n" << verdicts;
+       "deformation <= 14 %):\n"
+    << verdicts;
   if (!result.has_all_nodes)
     t << "(the playback file holds the surface nodes only: index with --nodes all for the all-node "
          "error)\n";
@@ -182,23 +186,26 @@ std::string eval_table(const EvalResult& result) {
                 solve_ms / std::max<std::size_t>(result.steps.size(), 1));
   t << line;
   for (std::size_t k = 0; k < result.steps.size(); ++k)
-    if (!result.steps[k].solved) t << "step " << k + 1 << ": precise solve failed: " << result.steps[k].failure << '\n';
+    if (!result.steps[k].solved)
+      t << "step " << k + 1 << ": precise solve failed: " << result.steps[k].failure << '\n';
   return t.str();
 }
 
-void plot_eval(const std::filesystem::path& csv, const std::filesystem::path& png, const std::string& title) {
+void plot_eval(const std::filesystem::path& csv, const std::filesystem::path& png,
+               const std::string& title) {
   // Debian's interpreter first: it is the one python3-matplotlib installs into.
-  const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  const std::string command = python + " - " + shell_quote(csv.string()) + " " + shell_quote(png.string()) +
-                              " " + shell_quote(title) + " 2>&1";
+  const std::string python =
+      std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  const std::string command = python + " - " + shell_quote(csv.string()) + " " +
+                              shell_quote(png.string()) + " " + shell_quote(title) + " 2>&1";
   FILE* pipe = ::popen(command.c_str(), "w");
   if (!pipe) throw InputError(png.string() + ": cannot start " + python + " to plot");
   std::fputs(kPlotScript, pipe);
   const int status = ::pclose(pipe);
   if (status != 0 || !std::filesystem::exists(png))
     throw InputError(png.string() + ": plotting with " + python +
-                     " and matplotlib failed (install python3-matplotlib); the CSV " + csv.string() +
-                     " holds the numbers");
+                     " and matplotlib failed (install python3-matplotlib); the CSV " +
+                     csv.string() + " holds the numbers");
 }
 
 }  // namespace hapstate

@@ -63,23 +63,25 @@ EvalResult run_eval(const EvalOptions& options) {
                      ctx.dir.root.string() + " first (or give --playback)");
   const PlaybackFile file(result.playback);
   if (file.scene_hash() != ctx.scene_record.hash.value)
-    throw InputError(result.playback.string() + ": built from another scene than the state directory " +
-                     ctx.dir.root.string() + ": run hapstate-index --state " + ctx.dir.root.string());
+    throw InputError(
+        result.playback.string() + ": built from another scene than the state directory " +
+        ctx.dir.root.string() + ": run hapstate-index --state " + ctx.dir.root.string());
   result.has_all_nodes = file.view_is_all_nodes();
   const auto h = file.grid_spacing();
   result.spacing = Eigen::Vector3d(h[0], h[1], h[2]);
 
   const double step_length =
       options.step_length > 0 ? options.step_length : 0.5 * result.spacing.minCoeff();
-  const ProbePath path = options.path_file.empty()
-                             ? precomputed_random_path(file, options.steps, step_length, options.seed)
-                             : read_probe_path(options.path_file);
+  const ProbePath path =
+      options.path_file.empty()
+          ? precomputed_random_path(file, options.steps, step_length, options.seed)
+          : read_probe_path(options.path_file);
   char description[256];
   if (options.path_file.empty()) {
     std::snprintf(description, sizeof description,
                   "random path from rest inside the grid: %d steps of at most %.4g mesh units, "
-                  "seed %llu", options.steps, step_length,
-                  static_cast<unsigned long long>(options.seed));
+                  "seed %llu",
+                  options.steps, step_length, static_cast<unsigned long long>(options.seed));
   } else {
     std::snprintf(description, sizeof description, "path %s", options.path_file.c_str());
   }
@@ -112,7 +114,8 @@ EvalResult run_eval(const EvalOptions& options) {
     ConfigVectors rest;
     rest.u.assign(3 * ctx.problem.mesh.nodes.cols(), 0.0);
     probe->set_state(solver, rest, path.front());
-    for (auto& cursor : cursors) cursor->reset({path.front().x(), path.front().y(), path.front().z()});
+    for (auto& cursor : cursors)
+      cursor->reset({path.front().x(), path.front().y(), path.front().z()});
   }
   std::vector<float> u(3 * view_nodes.size());
   // Per scheme, per step.
@@ -149,7 +152,8 @@ EvalResult run_eval(const EvalOptions& options) {
       norms_surface[s].push_back(squared_norms(u, exact_u, view_nodes, surface));
       step.schemes.push_back(r);
     }
-    if (step.solved) result.max_exact_force = std::max(result.max_exact_force, step.exact_force.norm());
+    if (step.solved)
+      result.max_exact_force = std::max(result.max_exact_force, step.exact_force.norm());
     result.steps.push_back(std::move(step));
     progress.update(static_cast<long long>(result.steps.size()), failures);
   }

@@ -18,11 +18,11 @@ namespace hapstate {
 
 struct EvalOptions {
   std::filesystem::path state;
-  std::filesystem::path playback;    // "" = <state>/playback.bin
-  std::filesystem::path path_file;   // a probe path CSV instead of the random path
+  std::filesystem::path playback;   // "" = <state>/playback.bin
+  std::filesystem::path path_file;  // a probe path CSV instead of the random path
   int steps = 20;
   std::uint64_t seed = 1;
-  double step_length = 0;            // mesh units; 0 = half the smallest grid spacing
+  double step_length = 0;  // mesh units; 0 = half the smallest grid spacing
 };
 
 struct SchemeResult {
@@ -36,7 +36,7 @@ struct EvalStep {
   Eigen::Vector3d probe = Eigen::Vector3d::Zero();  // mesh units
   Eigen::Vector3d exact_force = Eigen::Vector3d::Zero();
   bool solved = true;
-  std::string failure;                // the solver's reason if !solved
+  std::string failure;  // the solver's reason if !solved
   double solve_ms = 0;
   // Contact probe: in contact, less than one grid spacing of path travelled since the last
   // step off the body. u* is small there and the relative deformation error large, so the
@@ -49,11 +49,11 @@ struct EvalResult {
   std::filesystem::path playback;
   std::vector<Scheme> schemes{Scheme::kTrilinear, Scheme::kHermite};
   std::vector<EvalStep> steps;
-  double max_exact_force = 0;         // N
+  double max_exact_force = 0;  // N
   bool has_all_nodes = false;
   Eigen::Vector3d spacing = Eigen::Vector3d::Zero();
-  std::string path_description;       // "random path: 20 steps of 0.25 mesh units, seed 1"
-  int outside_grid = 0;               // steps outside the precomputed grid (playback extends)
+  std::string path_description;  // "random path: 20 steps of 0.25 mesh units, seed 1"
+  int outside_grid = 0;          // steps outside the precomputed grid (playback extends)
 };
 
 // Runs the experiment. Throws InputError naming the file if the state directory or the

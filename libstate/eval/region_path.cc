@@ -21,8 +21,10 @@ bool expanded(const PlaybackFile& file, std::int32_t c) {
 bool corners_stored(const PlaybackFile& file, const HapticCursor& cursor) {
   const auto dims = file.grid_dims();
   for (int c = 0; c < 8; ++c) {
-    if ((dims[0] == 1 && (c & 4)) || (dims[1] == 1 && (c & 2)) || (dims[2] == 1 && (c & 1))) continue;
-    if (cursor.corner_source(c) != CornerSource::kStored || !expanded(file, cursor.corner_configuration(c)))
+    if ((dims[0] == 1 && (c & 4)) || (dims[1] == 1 && (c & 2)) || (dims[2] == 1 && (c & 1)))
+      continue;
+    if (cursor.corner_source(c) != CornerSource::kStored ||
+        !expanded(file, cursor.corner_configuration(c)))
       return false;
   }
   return true;
@@ -85,7 +87,8 @@ ProbePath precomputed_random_path(const PlaybackFile& file, int steps, double st
   RegionWalker walker(file);
   walker.replay(start, {});
   if (!walker.stored_here())
-    throw InputError(file.path().string() + ": the cell around the rest position is not precomputed "
+    throw InputError(file.path().string() +
+                     ": the cell around the rest position is not precomputed "
                      "(some corner has no configuration): run hapstate-expand further");
   RandomDirections rng(seed);
   const auto dims = file.grid_dims();

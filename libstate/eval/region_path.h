@@ -13,8 +13,8 @@ namespace hapstate {
 
 // A seeded random walk of `steps` points from the rest position: each step moves
 // `step_length` (mesh units) in a random direction chosen so that a cursor following the walk
-// keeps every corner stored and expanded along the whole segment (tried 200 times, then the length is
-// halved). Along an axis with a single check-point the walk stays on it. With a contact probe
+// keeps every corner stored and expanded along the whole segment (tried 200 times, then the length
+// is halved). Along an axis with a single check-point the walk stays on it. With a contact probe
 // each random direction is pulled toward the nearest surface node of the rest shape (the
 // direction to it, weight `pull`, added before normalising), so the walk comes to touch the
 // body instead of wandering in free space. Deterministic for a seed on every platform. Throws

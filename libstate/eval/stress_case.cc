@@ -35,25 +35,34 @@ void fix_face(Problem* p, const char* group) {
 
 const char* stress_name(StressProbe p) {
   switch (p) {
-    case StressProbe::kNode: return "node";
-    case StressProbe::kPatch: return "patch";
-    case StressProbe::kContact: return "contact";
+    case StressProbe::kNode:
+      return "node";
+    case StressProbe::kPatch:
+      return "patch";
+    case StressProbe::kContact:
+      return "contact";
   }
   return "?";
 }
 const char* stress_name(StressLoad l) {
   switch (l) {
-    case StressLoad::kStretch: return "stretch";
-    case StressLoad::kCompress: return "compress";
-    case StressLoad::kShear: return "shear";
+    case StressLoad::kStretch:
+      return "stretch";
+    case StressLoad::kCompress:
+      return "compress";
+    case StressLoad::kShear:
+      return "shear";
   }
   return "?";
 }
 const char* stress_name(StressStep s) {
   switch (s) {
-    case StressStep::kGrid: return "grid";
-    case StressStep::kWhole: return "whole";
-    case StressStep::kFine: return "fine";
+    case StressStep::kGrid:
+      return "grid";
+    case StressStep::kWhole:
+      return "whole";
+    case StressStep::kFine:
+      return "fine";
   }
   return "?";
 }
@@ -90,18 +99,20 @@ std::vector<StressCase> stress_matrix(bool full) {
     for (StressLoad load : loads) {
       for (StressProbe probe : probes)
         cases.push_back({law, 0.3, load, StressStep::kWhole, StressMesh::kSliver, probe});
-      cases.push_back({law, 0.3, load, StressStep::kGrid, StressMesh::kRegular, StressProbe::kPatch});
+      cases.push_back(
+          {law, 0.3, load, StressStep::kGrid, StressMesh::kRegular, StressProbe::kPatch});
       for (StressProbe probe : {StressProbe::kNode, StressProbe::kPatch})
         cases.push_back({law, 0.4999, load, StressStep::kWhole, StressMesh::kSliver, probe});
     }
-  cases.push_back({Law::kStvk, 0.45, StressLoad::kCompress, StressStep::kWhole, StressMesh::kRegular,
-                   StressProbe::kContact});
+  cases.push_back({Law::kStvk, 0.45, StressLoad::kCompress, StressStep::kWhole,
+                   StressMesh::kRegular, StressProbe::kContact});
   cases.push_back({Law::kNeoHooke, 0.4999, StressLoad::kCompress, StressStep::kWhole,
                    StressMesh::kRegular, StressProbe::kNode});
   return cases;
 }
 
-std::vector<StressCase> filter_cases(const std::vector<StressCase>& cases, const std::string& filter) {
+std::vector<StressCase> filter_cases(const std::vector<StressCase>& cases,
+                                     const std::string& filter) {
   std::vector<std::string> terms;
   std::stringstream s(filter);
   for (std::string t; std::getline(s, t, ',');)
@@ -134,7 +145,8 @@ Problem stress_problem(const StressCase& c) {
       if (!fixed) sphere.candidates.push_back(n);
     }
     p.contact = sphere;
-    p.probe_rest = Eigen::Vector3d(0.5 * kBarSize.x(), 0.5 * kBarSize.y(), kBarSize.z() + kRadius + kClearance);
+    p.probe_rest = Eigen::Vector3d(0.5 * kBarSize.x(), 0.5 * kBarSize.y(),
+                                   kBarSize.z() + kRadius + kClearance);
     return p;
   }
   fix_face(&p, "xmin");
@@ -155,15 +167,21 @@ std::vector<Eigen::Vector3d> stress_legs(const StressCase& c) {
   if (c.probe == StressProbe::kContact) {
     auto indent = [](double depth) { return Eigen::Vector3d(0, 0, -(kClearance + depth)); };
     switch (c.load) {
-      case StressLoad::kStretch: return {indent(0.45)};
-      case StressLoad::kCompress: return {indent(0.3)};
-      case StressLoad::kShear: return {indent(0.25), indent(0.25) + Eigen::Vector3d(0.5, 0, 0)};
+      case StressLoad::kStretch:
+        return {indent(0.45)};
+      case StressLoad::kCompress:
+        return {indent(0.3)};
+      case StressLoad::kShear:
+        return {indent(0.25), indent(0.25) + Eigen::Vector3d(0.5, 0, 0)};
     }
   }
   switch (c.load) {
-    case StressLoad::kStretch: return {Eigen::Vector3d(0.5 * kBarSize.x(), 0, 0)};
-    case StressLoad::kCompress: return {Eigen::Vector3d(-0.3 * kBarSize.x(), 0, 0)};
-    case StressLoad::kShear: return {Eigen::Vector3d(0, 0.5 * kBarSize.x(), 0)};
+    case StressLoad::kStretch:
+      return {Eigen::Vector3d(0.5 * kBarSize.x(), 0, 0)};
+    case StressLoad::kCompress:
+      return {Eigen::Vector3d(-0.3 * kBarSize.x(), 0, 0)};
+    case StressLoad::kShear:
+      return {Eigen::Vector3d(0, 0.5 * kBarSize.x(), 0)};
   }
   return {};
 }
@@ -179,7 +197,9 @@ std::vector<Eigen::Vector3d> stress_moves(const StressCase& c, double* path_leng
     const double length = (to - from).norm();
     *path_length += length;
     const double step = c.step == StressStep::kGrid ? kSpacing : kSpacing / 4;
-    const int n = c.step == StressStep::kWhole ? 1 : std::max(1, static_cast<int>(std::ceil(length / step - 1e-9)));
+    const int n = c.step == StressStep::kWhole
+                      ? 1
+                      : std::max(1, static_cast<int>(std::ceil(length / step - 1e-9)));
     for (int k = 1; k <= n; ++k) moves.push_back(from + (to - from) * (static_cast<double>(k) / n));
     from = to;
   }

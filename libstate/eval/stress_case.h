@@ -56,26 +56,28 @@ std::vector<StressCase> stress_matrix(bool full);
 
 // Keeps the cases whose id() contains every comma-separated term of `filter` as a substring
 // ("stvk,compress" keeps StVK compression cases). Empty: all.
-std::vector<StressCase> filter_cases(const std::vector<StressCase>& cases, const std::string& filter);
+std::vector<StressCase> filter_cases(const std::vector<StressCase>& cases,
+                                     const std::string& filter);
 
 struct StressOutcome {
   StressCase c;
-  std::string status;      // "converged", "failed", "wall_cap", "nan" (a bug), "exception" (a bug)
-  std::string failure;     // the solver's failure name (failure_name) or the status's reason
-  std::string reason;      // the solver's reason, empty if converged
+  std::string status;   // "converged", "failed", "wall_cap", "nan" (a bug), "exception" (a bug)
+  std::string failure;  // the solver's failure name (failure_name) or the status's reason
+  std::string reason;   // the solver's reason, empty if converged
   int moves = 0, moves_done = 0;
-  double reached = 0;      // fraction of the path's length reached (1 if converged)
+  double reached = 0;  // fraction of the path's length reached (1 if converged)
   int iterations = 0, substeps = 0, cutbacks = 0, factorisations = 0;
   long long psd_fallbacks = 0;
   double wall_ms = 0;
-  double max_force = 0;    // N, over the converged moves
-  StretchRange strain;     // at the last converged state
+  double max_force = 0;  // N, over the converged moves
+  StretchRange strain;   // at the last converged state
   double mesh_min_quality = 0;
   // A failed case run again with moves of a quarter grid spacing: "" (not run), "converged" or
   // "failed: <failure name>".
   std::string retry;
-  bool bug() const { return status == "nan" || status == "exception" ||
-                            (status == "failed" && reason.empty()); }
+  bool bug() const {
+    return status == "nan" || status == "exception" || (status == "failed" && reason.empty());
+  }
 };
 
 // The problem of a case (mesh, material, constraints, probe) and its probe path: the targets of

@@ -48,7 +48,9 @@ struct SplitMix {
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
     return z ^ (z >> 31);
   }
-  double symmetric() { return 2.0 * static_cast<double>(next() >> 11) * 0x1.0p-53 - 1.0; }  // [-1, 1)
+  double symmetric() {
+    return 2.0 * static_cast<double>(next() >> 11) * 0x1.0p-53 - 1.0;
+  }  // [-1, 1)
 };
 
 }  // namespace
@@ -65,7 +67,8 @@ Mesh perturb_interior(const Mesh& mesh, double amplitude, double floor, std::uin
   for (int e = 0; e < mesh.num_tets(); ++e)
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b)
-        edge = std::min(edge, (mesh.nodes.col(mesh.tets(a, e)) - mesh.nodes.col(mesh.tets(b, e))).norm());
+        edge = std::min(edge,
+                        (mesh.nodes.col(mesh.tets(a, e)) - mesh.nodes.col(mesh.tets(b, e))).norm());
   SplitMix rng{seed};
   auto quality_ok = [&](int n) {
     for (int e : around[n]) {

@@ -61,7 +61,8 @@ std::string axis_table(const std::vector<StressOutcome>& outcomes, const std::st
 
 }  // namespace
 
-void write_stress_csv(const std::vector<StressOutcome>& outcomes, const std::filesystem::path& file) {
+void write_stress_csv(const std::vector<StressOutcome>& outcomes,
+                      const std::filesystem::path& file) {
   std::ofstream out(file);
   if (!out) throw EnvironmentError("cannot write " + file.string());
   out << "law,nu,load,step,mesh,probe,status,failure,reason,moves,moves_done,reached,iterations,"
@@ -125,15 +126,20 @@ std::string stress_markdown(const std::vector<StressOutcome>& outcomes) {
     s << " " << all.rate() << " |\n";
   }
   s << "\n";
-  s << axis_table(outcomes, "load", [](const StressCase& c) { return std::string(stress_name(c.load)); });
-  s << axis_table(outcomes, "step", [](const StressCase& c) { return std::string(stress_name(c.step)); });
-  s << axis_table(outcomes, "mesh", [](const StressCase& c) { return std::string(stress_name(c.mesh)); });
-  s << axis_table(outcomes, "probe", [](const StressCase& c) { return std::string(stress_name(c.probe)); });
+  s << axis_table(outcomes, "load",
+                  [](const StressCase& c) { return std::string(stress_name(c.load)); });
+  s << axis_table(outcomes, "step",
+                  [](const StressCase& c) { return std::string(stress_name(c.step)); });
+  s << axis_table(outcomes, "mesh",
+                  [](const StressCase& c) { return std::string(stress_name(c.mesh)); });
+  s << axis_table(outcomes, "probe",
+                  [](const StressCase& c) { return std::string(stress_name(c.probe)); });
 
   // Strain reached (converged cases) and mesh quality.
   s << "Strain reached by the converged cases (largest and smallest principal stretch of any tet "
        "at the end of the path, over the cases of the row; smallest det F; linear and stvk allow "
-       "det F <= 0):\n\n| law / probe / load | max stretch | min stretch | min det F |\n|---|---|---|---|\n";
+       "det F <= 0):\n\n| law / probe / load | max stretch | min stretch | min det F "
+       "|\n|---|---|---|---|\n";
   std::map<std::string, StretchRange> reach;
   std::vector<std::string> order;
   for (const StressOutcome& o : outcomes) {
@@ -160,7 +166,8 @@ std::string stress_markdown(const std::vector<StressOutcome>& outcomes) {
 
   // Failures.
   s << "Failures (retry: the same case with moves of a quarter grid spacing):\n\n"
-       "| case | status | failure | reached | strain at last converged state (max / min stretch) | reason | retry |\n"
+       "| case | status | failure | reached | strain at last converged state (max / min stretch) | "
+       "reason | retry |\n"
        "|---|---|---|---|---|---|---|\n";
   for (const StressOutcome& o : outcomes) {
     if (o.status == "converged") continue;

@@ -12,7 +12,8 @@
 namespace hapstate {
 
 // Throws EnvironmentError naming the file if it cannot be written.
-void write_stress_csv(const std::vector<StressOutcome>& outcomes, const std::filesystem::path& file);
+void write_stress_csv(const std::vector<StressOutcome>& outcomes,
+                      const std::filesystem::path& file);
 
 std::string stress_markdown(const std::vector<StressOutcome>& outcomes);
 

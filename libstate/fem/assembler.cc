@@ -79,7 +79,8 @@ Assembler::Assembler(const Eigen::Matrix3Xd& positions_m, const Tets& tets,
   geometry_.reserve(tets.cols());
   for (int e = 0; e < tets.cols(); ++e) {
     geometry_.push_back(make_tet_geometry(positions_m.col(tets(0, e)), positions_m.col(tets(1, e)),
-                                          positions_m.col(tets(2, e)), positions_m.col(tets(3, e))));
+                                          positions_m.col(tets(2, e)),
+                                          positions_m.col(tets(3, e))));
     if (!(geometry_.back().volume > 0.0)) {
       throw InputError("tetrahedron " + std::to_string(e) +
                        " has non-positive reference volume (mesh not validated?)");

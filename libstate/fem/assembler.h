@@ -59,8 +59,8 @@ class Assembler {
   void gather(const Eigen::VectorXd& u, int e, Vec12* u_e) const;
   static void upper_triangle(const Mat12& k_e, std::array<double, 78>* upper);
   // Adds element e's force and stiffness (upper triangle) into the global f and K.
-  void scatter(int e, const Vec12& f_e, const std::array<double, 78>& k_upper,
-               Eigen::VectorXd* f, std::vector<double>* k_values) const;
+  void scatter(int e, const Vec12& f_e, const std::array<double, 78>& k_upper, Eigen::VectorXd* f,
+               std::vector<double>* k_values) const;
 
   Tets tets_;
   const Material* material_;

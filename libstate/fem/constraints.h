@@ -11,8 +11,8 @@ namespace hapstate {
 enum class DofRole : std::uint8_t { kFree = 0, kFixed = 1, kProbe = 2 };
 
 struct Constraints {
-  std::vector<DofRole> role;               // size 3 * num_nodes
-  std::vector<int> probe_nodes;            // grabbed nodes; they translate rigidly with the probe
+  std::vector<DofRole> role;     // size 3 * num_nodes
+  std::vector<int> probe_nodes;  // grabbed nodes; they translate rigidly with the probe
   std::array<bool, 3> probe_components{true, true, true};  // components that follow the probe
 };
 

@@ -29,8 +29,8 @@ Mat3 deformation_gradient(const TetGeometry& g, const Vec12& u_e) {
   return f;
 }
 
-double tet_energy(const TetGeometry& g, const Material& material, const Vec12& u_e,
-                  Vec12* force, Mat12* stiffness) {
+double tet_energy(const TetGeometry& g, const Material& material, const Vec12& u_e, Vec12* force,
+                  Mat12* stiffness) {
   const Mat3 f = deformation_gradient(g, u_e);
   if (material.requires_positive_jacobian() && !(f.determinant() > 0.0)) {
     return std::numeric_limits<double>::infinity();
@@ -40,7 +40,8 @@ double tet_energy(const TetGeometry& g, const Material& material, const Vec12& u
   const double w = material.evaluate(f, force ? &p : nullptr, stiffness ? &a : nullptr);
   if (force) {
     // dW/du_{a,i} = sum_j P(i,j) grad(a,j)
-    for (int n = 0; n < 4; ++n) force->segment<3>(3 * n) = g.volume * (p * g.grad.row(n).transpose());
+    for (int n = 0; n < 4; ++n)
+      force->segment<3>(3 * n) = g.volume * (p * g.grad.row(n).transpose());
   }
   if (stiffness) {
     // K(3a+i, 3b+k) = V sum_{j,l} A(i+3j, k+3l) grad(a,j) grad(b,l), using the sparsity of

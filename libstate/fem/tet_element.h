@@ -27,7 +27,7 @@ Mat3 deformation_gradient(const TetGeometry& g, const Vec12& u_e);
 // Element energy V*W(F); writes the element force V*dW/du_e and stiffness V*d2W/du_e2 if the
 // pointers are non-null. Returns +infinity (outputs untouched) if the material needs det F > 0
 // and the element is inverted.
-double tet_energy(const TetGeometry& g, const Material& material, const Vec12& u_e,
-                  Vec12* force, Mat12* stiffness);
+double tet_energy(const TetGeometry& g, const Material& material, const Vec12& u_e, Vec12* force,
+                  Mat12* stiffness);
 
 }  // namespace hapstate

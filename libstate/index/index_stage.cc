@@ -29,7 +29,8 @@ ContentHash fingerprint_of(const std::vector<Configuration>& configs,
                            const std::vector<Transition>& transitions, const NamedHashes& inputs,
                            ViewNodes view) {
   ContentHasher h;
-  for (const auto& [name, hash] : inputs) h.update(name).update(static_cast<std::int64_t>(hash.value));
+  for (const auto& [name, hash] : inputs)
+    h.update(name).update(static_cast<std::int64_t>(hash.value));
   h.update(static_cast<std::int64_t>(view == ViewNodes::kAll));
   for (const Configuration& c : configs) {
     h.update(c.id.value()).update(c.checkpoint.value()).update(std::int64_t{c.level.value()});
@@ -40,7 +41,8 @@ ContentHash fingerprint_of(const std::vector<Configuration>& configs,
   }
   for (const Transition& t : transitions) {
     h.update(t.source.value()).update(std::int64_t{t.direction.index()});
-    h.update(std::int64_t{static_cast<int>(t.outcome)}).update(t.target.valid() ? t.target.value() : -1);
+    h.update(std::int64_t{static_cast<int>(t.outcome)})
+        .update(t.target.valid() ? t.target.value() : -1);
   }
   return h.value();
 }
@@ -90,14 +92,17 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
   std::sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) {
     return a.first != b.first ? a.first < b.first : a.second.level.value() < b.second.level.value();
   });
-  if (ordered.empty()) throw InputError(where + ": no configurations: run hapstate-grid and hapstate-expand first");
+  if (ordered.empty())
+    throw InputError(where + ": no configurations: run hapstate-grid and hapstate-expand first");
   playback::Content& c = g.content;
   c.checkpoints.assign(2 * points, 0);
   for (std::int64_t p = 0; p < points; ++p) c.checkpoints[2 * p] = -1;
   std::map<std::int64_t, std::int32_t> index_of;  // configuration id -> file index
   std::int32_t rest_point = 0;  // grid point of check-point (0, 0, 0), -1 if outside the grid
   for (int a = 0; a < 3; ++a)
-    rest_point = -m.lo[a] < 0 || -m.lo[a] >= m.dims[a] || rest_point < 0 ? -1 : rest_point * m.dims[a] - m.lo[a];
+    rest_point = -m.lo[a] < 0 || -m.lo[a] >= m.dims[a] || rest_point < 0
+                     ? -1
+                     : rest_point * m.dims[a] - m.lo[a];
   m.rest_configuration = -1;
   for (std::size_t k = 0; k < ordered.size(); ++k) {
     const auto& [p, conf] = ordered[k];
@@ -109,11 +114,13 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
     c.config_zero.push_back(conf.blob ? 0 : 1);  // no blob: the body at rest
     c.force.insert(c.force.end(), conf.force.begin(), conf.force.end());
     c.stiffness.insert(c.stiffness.end(), conf.stiffness.begin(), conf.stiffness.end());
-    if (!conf.blob && p == rest_point && conf.level.value() == 0) m.rest_configuration = static_cast<std::int32_t>(k);
+    if (!conf.blob && p == rest_point && conf.level.value() == 0)
+      m.rest_configuration = static_cast<std::int32_t>(k);
     g.configs.push_back(conf);
   }
   if (m.rest_configuration < 0)
-    throw InputError(where + ": no zero configuration at the rest check-point (0, 0, 0): run hapstate-grid");
+    throw InputError(
+        where + ": no zero configuration at the rest check-point (0, 0, 0): run hapstate-grid");
 
   const std::vector<Transition> transitions = cat.read_all_transitions();
   c.transitions.assign(26 * ordered.size(), playback::kUndecided);
@@ -208,8 +215,11 @@ IndexReport run_index(const IndexOptions& options) {
   report.view_nodes = static_cast<std::int64_t>(g.content.view_nodes.size());
   const std::string params = "output=" + report.output.string() +
                              " nodes=" + (options.view == ViewNodes::kAll ? "all" : "surface");
-  StageRun run = make_stage_run("index", {{"configurations", g.fingerprint}, {"problem", ctx.problem_hash},
-                                          {"scene", ctx.scene_record.hash}}, params);
+  StageRun run = make_stage_run("index",
+                                {{"configurations", g.fingerprint},
+                                 {"problem", ctx.problem_hash},
+                                 {"scene", ctx.scene_record.hash}},
+                                params);
   if (up_to_date(report.output, g.fingerprint)) {
     report.unchanged = true;
     report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
@@ -229,9 +239,9 @@ IndexReport run_index(const IndexOptions& options) {
       if (conf.blob) {
         const std::vector<float> u = blobs.read_float32(conf.blob->segment, conf.blob->name + "/u");
         if (static_cast<int>(u.size()) != 3 * num_nodes)
-          throw InputError(ctx.dir.blobs().string() + ": configuration " + std::to_string(conf.id.value()) +
-                           " has " + std::to_string(u.size()) + " displacement values, the mesh needs " +
-                           std::to_string(3 * num_nodes));
+          throw InputError(ctx.dir.blobs().string() + ": configuration " +
+                           std::to_string(conf.id.value()) + " has " + std::to_string(u.size()) +
+                           " displacement values, the mesh needs " + std::to_string(3 * num_nodes));
         for (std::size_t v = 0; v < view_nodes.size(); ++v)
           for (int r = 0; r < 3; ++r) out[3 * v + r] = u[3 * std::size_t(view_nodes[v]) + r];
       }
@@ -249,21 +259,24 @@ IndexReport run_index(const IndexOptions& options) {
         std::vector<float> du_dp;
         if (conf.blob) {
           du_dp = blobs.read_float32(conf.blob->segment, conf.blob->name + "/du_dp");
-        } else if (std::any_of(conf.stiffness.begin(), conf.stiffness.end(), [](double v) { return v != 0.0; })) {
+        } else if (std::any_of(conf.stiffness.begin(), conf.stiffness.end(),
+                               [](double v) { return v != 0.0; })) {
           if (!rest) rest = rest_stiffness(ctx.problem);
           du_dp = rest->du_dp;
         } else {
           return;  // a zero configuration the probe does not touch: no slopes
         }
         if (static_cast<int>(du_dp.size()) != 9 * num_nodes)
-          throw InputError(ctx.dir.blobs().string() + ": configuration " + std::to_string(conf.id.value()) +
-                           " has " + std::to_string(du_dp.size()) + " displacement slope values, the mesh needs " +
-                           std::to_string(9 * num_nodes));
+          throw InputError(
+              ctx.dir.blobs().string() + ": configuration " + std::to_string(conf.id.value()) +
+              " has " + std::to_string(du_dp.size()) +
+              " displacement slope values, the mesh needs " + std::to_string(9 * num_nodes));
         const std::size_t v = view_nodes.size();
         for (int a = 0; a < 3; ++a)
           for (std::size_t n = 0; n < v; ++n)
             for (int r = 0; r < 3; ++r)
-              out[3 * (a * v + n) + r] = du_dp[std::size_t(a) * 3 * num_nodes + 3 * std::size_t(view_nodes[n]) + r];
+              out[3 * (a * v + n) + r] =
+                  du_dp[std::size_t(a) * 3 * num_nodes + 3 * std::size_t(view_nodes[n]) + r];
       };
     playback::write_file(std::move(g.content), report.output);
     progress.finish();
@@ -273,8 +286,9 @@ IndexReport run_index(const IndexOptions& options) {
     std::snprintf(text, sizeof text, "%lld configurations, %lld view nodes, %.1f MB%s",
                   static_cast<long long>(report.configurations),
                   static_cast<long long>(report.view_nodes), report.bytes / 1e6,
-                  report.slopes ? "" : "; no displacement slopes (a state expanded before they "
-                                       "were stored): Hermite deformation falls back to trilinear");
+                  report.slopes ? ""
+                                : "; no displacement slopes (a state expanded before they "
+                                  "were stored): Hermite deformation falls back to trilinear");
     report.message = "wrote " + report.output.string() + ": " + text;
     if (!replaced.empty()) report.message += " (replaced the previous file: " + replaced + ")";
     run.ended = now_ms();

@@ -13,9 +13,9 @@ enum class ViewNodes { kSurface, kAll };
 
 struct IndexOptions {
   std::filesystem::path state;
-  std::filesystem::path output;         // "" = <state>/playback.bin
+  std::filesystem::path output;      // "" = <state>/playback.bin
   ViewNodes view = ViewNodes::kAll;  // whose displacements are stored
-  std::FILE* progress = stderr;         // progress line; nullptr: none
+  std::FILE* progress = stderr;      // progress line; nullptr: none
 
   // Throws InputError naming the first missing option (run_index calls it first).
   void check() const;

@@ -51,11 +51,13 @@ ProbePath read_probe_path(const std::filesystem::path& file) {
         used = 0;
       }
       if (used == 0 || used != cells[c].size() || !std::isfinite(p[c]))
-        throw InputError(where + "column " + "xyz"[c] + ": '" + cells[c] + "' is not a finite number");
+        throw InputError(where + "column " + "xyz"[c] + ": '" + cells[c] +
+                         "' is not a finite number");
     }
     path.push_back(p);
   }
-  if (!header_seen) throw InputError(file.string() + ": empty probe path (expected header 'x,y,z')");
+  if (!header_seen)
+    throw InputError(file.string() + ": empty probe path (expected header 'x,y,z')");
   if (path.empty()) throw InputError(file.string() + ": probe path has no points");
   return path;
 }

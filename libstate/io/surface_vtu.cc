@@ -37,16 +37,19 @@ void write_surface_vtu(const std::filesystem::path& file, std::span<const float>
   std::FILE* f = out.get();
   const std::size_t n = positions.size() / 3;
   const std::size_t m = triangles.size() / 3;
-  std::fprintf(f,
-               "<?xml version=\"1.0\"?>\n"
-               "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-               "<UnstructuredGrid>\n<Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n<Points>\n"
-               "<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">\n",
-               n, m);
+  std::fprintf(
+      f,
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "<UnstructuredGrid>\n<Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n<Points>\n"
+      "<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+      n, m);
   for (std::size_t i = 0; i < n; ++i)
-    std::fprintf(f, "%.9g %.9g %.9g\n", positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);
-  std::fprintf(f, "</DataArray>\n</Points>\n<Cells>\n"
-                  "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
+    std::fprintf(f, "%.9g %.9g %.9g\n", positions[3 * i], positions[3 * i + 1],
+                 positions[3 * i + 2]);
+  std::fprintf(f,
+               "</DataArray>\n</Points>\n<Cells>\n"
+               "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
   for (std::size_t t = 0; t < m; ++t)
     std::fprintf(f, "%d %d %d\n", triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2]);
   std::fprintf(f, "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
@@ -55,8 +58,10 @@ void write_surface_vtu(const std::filesystem::path& file, std::span<const float>
   for (std::size_t t = 0; t < m; ++t) std::fputs("5\n", f);  // VTK_TRIANGLE
   std::fputs("</DataArray>\n</Cells>\n", f);
   if (!reference.empty()) {
-    std::fputs("<PointData Vectors=\"displacement\">\n<DataArray type=\"Float32\" "
-               "Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n", f);
+    std::fputs(
+        "<PointData Vectors=\"displacement\">\n<DataArray type=\"Float32\" "
+        "Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+        f);
     for (std::size_t i = 0; i < n; ++i)
       std::fprintf(f, "%.9g %.9g %.9g\n", positions[3 * i] - reference[3 * i],
                    positions[3 * i + 1] - reference[3 * i + 1],

@@ -38,9 +38,11 @@ std::int64_t freelist_pages(Catalogue& catalogue) {
 std::string bytes_text(std::int64_t bytes) {
   char text[64];
   if (bytes >= (1 << 20)) {
-    std::snprintf(text, sizeof text, "%lld (%.1f MiB)", static_cast<long long>(bytes), bytes / 1048576.0);
+    std::snprintf(text, sizeof text, "%lld (%.1f MiB)", static_cast<long long>(bytes),
+                  bytes / 1048576.0);
   } else if (bytes >= 1024) {
-    std::snprintf(text, sizeof text, "%lld (%.1f KiB)", static_cast<long long>(bytes), bytes / 1024.0);
+    std::snprintf(text, sizeof text, "%lld (%.1f KiB)", static_cast<long long>(bytes),
+                  bytes / 1024.0);
   } else {
     std::snprintf(text, sizeof text, "%lld", static_cast<long long>(bytes));
   }
@@ -50,9 +52,9 @@ std::string bytes_text(std::int64_t bytes) {
 std::string counts_text(const CompactReport& r) {
   std::ostringstream s;
   s << r.merged_levels << " levels merged, " << r.retargeted_transitions
-    << " transitions rewritten, " << r.moved_transitions << " moved, "
-    << r.repacked_configurations << " configurations repacked into " << r.new_segments
-    << " segments, " << r.garbage_segments << " garbage segments dropped";
+    << " transitions rewritten, " << r.moved_transitions << " moved, " << r.repacked_configurations
+    << " configurations repacked into " << r.new_segments << " segments, " << r.garbage_segments
+    << " garbage segments dropped";
   return s.str();
 }
 
@@ -78,7 +80,8 @@ std::string CompactReport::text() const {
   }
   s << "catalogue bytes: " << bytes_text(before.catalogue_bytes) << " -> "
     << bytes_text(after.catalogue_bytes) << "\n";
-  s << "blob bytes: " << bytes_text(before.blob_bytes) << " -> " << bytes_text(after.blob_bytes) << "\n";
+  s << "blob bytes: " << bytes_text(before.blob_bytes) << " -> " << bytes_text(after.blob_bytes)
+    << "\n";
   s << "total bytes: " << bytes_text(before.total()) << " -> " << bytes_text(after.total()) << "\n";
   return s.str();
 }
@@ -88,7 +91,8 @@ void CompactOptions::check() const {
     throw InputError("--segment-values must be >= 1 (got " +
                      std::to_string(repack.max_segment_values) + ")");
   if (repack.zstd_level < 1 || repack.zstd_level > 22)
-    throw InputError("--zstd-level must be in 1..22 (got " + std::to_string(repack.zstd_level) + ")");
+    throw InputError("--zstd-level must be in 1..22 (got " + std::to_string(repack.zstd_level) +
+                     ")");
 }
 
 CompactReport compact_state(const std::filesystem::path& state_dir, const CompactOptions& options,
@@ -105,7 +109,8 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     if (options.fault_point) options.fault_point(point);
   };
   std::optional<Catalogue> catalogue_slot;
-  catalogue_slot.emplace(dir.catalogue(), options.dry_run ? OpenMode::kReadOnly : OpenMode::kMigrate);
+  catalogue_slot.emplace(dir.catalogue(),
+                         options.dry_run ? OpenMode::kReadOnly : OpenMode::kMigrate);
   Catalogue& catalogue = *catalogue_slot;
   BlobStore blobs(dir.blobs());
   ContentHash scene_hash;
@@ -114,16 +119,17 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
 
   StageRunId run_id;
   if (!options.dry_run) {
-    run_id = catalogue.insert_stage_run(make_stage_run(
-        "compact", {{"scene", scene_hash}},
-        "max_segment_values=" + std::to_string(options.repack.max_segment_values) +
-            " zstd_level=" + std::to_string(options.repack.zstd_level)));
+    run_id = catalogue.insert_stage_run(
+        make_stage_run("compact", {{"scene", scene_hash}},
+                       "max_segment_values=" + std::to_string(options.repack.max_segment_values) +
+                           " zstd_level=" + std::to_string(options.repack.zstd_level)));
   }
   // Returns true when a dry run found and reported what it would do.
   auto work = [&]() -> bool {
     // 1. Garbage left by a crash (or by an earlier compaction that died before deleting).
     const std::set<SegmentId> referenced = catalogue.referenced_segments();
-    report.garbage_segments = static_cast<std::int64_t>(blobs.unreferenced_segments(referenced).size());
+    report.garbage_segments =
+        static_cast<std::int64_t>(blobs.unreferenced_segments(referenced).size());
     if (!options.dry_run && report.garbage_segments > 0) {
       blobs.remove_unreferenced_segments(referenced);
       say(log, "removed " + std::to_string(report.garbage_segments) + " garbage segments");
@@ -140,7 +146,8 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     // 3. Repack the vectors of the configurations that stay live.
     std::vector<Configuration> live;
     for (Configuration& c : catalogue.read_all_configurations()) {
-      if (c.status != ConfigStatus::kMerged && !merged_ids.contains(c.id)) live.push_back(std::move(c));
+      if (c.status != ConfigStatus::kMerged && !merged_ids.contains(c.id))
+        live.push_back(std::move(c));
     }
     const RepackPlan plan = plan_repack(live, blobs, options.repack);
     report.dead_vectors = plan.dead_vectors;
@@ -150,14 +157,16 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
 
     if (options.dry_run) {
       report.merged_levels = static_cast<std::int64_t>(merges.size());
-      report.repacked_configurations = plan.needed ? static_cast<std::int64_t>(plan.moves.size()) : 0;
+      report.repacked_configurations =
+          plan.needed ? static_cast<std::int64_t>(plan.moves.size()) : 0;
       // The segments the live configurations would reference afterwards: those the repack
       // leaves alone plus the ones it would write; byte sizes are not predicted.
       report.new_segments = count_repacked_segments(plan, blobs, options.repack);
       const std::set<SegmentId> emptied(plan.sources.begin(), plan.sources.end());
       std::set<SegmentId> kept;
       for (const Configuration& c : live)
-        if (c.blob && !(plan.needed && emptied.contains(c.blob->segment))) kept.insert(c.blob->segment);
+        if (c.blob && !(plan.needed && emptied.contains(c.blob->segment)))
+          kept.insert(c.blob->segment);
       report.after = report.before;
       report.after.segments = static_cast<std::int64_t>(kept.size()) + report.new_segments;
       return true;  // a dry run ends here
@@ -177,7 +186,8 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     if (!merges.empty() || !repacked.new_refs.empty()) {
       Transaction transaction(catalogue);
       const MergeCounts counts = apply_level_merges(catalogue, merges);
-      for (const auto& [config, ref] : repacked.new_refs) catalogue.update_configuration_blob(config, ref);
+      for (const auto& [config, ref] : repacked.new_refs)
+        catalogue.update_configuration_blob(config, ref);
       transaction.commit();
       report.merged_levels = counts.merged_levels;
       report.retargeted_transitions = counts.retargeted_transitions;
@@ -187,8 +197,9 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
 
     // 5. The old segments are now garbage; then VACUUM.
     blobs.remove_unreferenced_segments(catalogue.referenced_segments());
-    catalogue.update_stage_run_end(run_id, report.nothing_to_do ? StageOutcome::kUnchanged : StageOutcome::kOk,
-                                   now_ms(), report.nothing_to_do ? "nothing to do" : counts_text(report));
+    catalogue.update_stage_run_end(
+        run_id, report.nothing_to_do ? StageOutcome::kUnchanged : StageOutcome::kOk, now_ms(),
+        report.nothing_to_do ? "nothing to do" : counts_text(report));
     if (!report.nothing_to_do) catalogue.vacuum();
     return false;
   };

@@ -32,13 +32,13 @@ struct CompactReport {
   std::int64_t merged_levels = 0;
   std::int64_t retargeted_transitions = 0;
   std::int64_t moved_transitions = 0;
-  std::int64_t compared_pairs = 0;       // level pairs whose vectors were compared
-  std::int64_t bound_rejections = 0;     // level pairs told apart by summaries and forces
-  std::int64_t garbage_segments = 0;     // unreferenced segments found at the start (removed)
+  std::int64_t compared_pairs = 0;    // level pairs whose vectors were compared
+  std::int64_t bound_rejections = 0;  // level pairs told apart by summaries and forces
+  std::int64_t garbage_segments = 0;  // unreferenced segments found at the start (removed)
   std::int64_t repacked_configurations = 0;
   std::int64_t new_segments = 0;
-  std::int64_t dead_vectors = 0;         // vectors of merged configurations dropped
-  std::int64_t freelist_pages = 0;       // free catalogue pages before VACUUM
+  std::int64_t dead_vectors = 0;    // vectors of merged configurations dropped
+  std::int64_t freelist_pages = 0;  // free catalogue pages before VACUUM
   bool nothing_to_do = false;
   bool dry_run = false;
 

@@ -43,7 +43,8 @@ InspectOutput inspect_sql(const StateDir& dir, std::string_view sql);
 // Writes the deformed mesh of configuration `id` to `vtu` (point data "displacement").
 // The mesh: `mesh_file` if given (its content hash must match the scene record's), else the
 // mesh stored by hapstate-import (problem/seg-000001.h5: mesh/nodes, mesh/tets), else the
-// scene's mesh file (absolute, or relative to the state directory or its parent; hash checked). Throws InputError if no matching mesh is found or the sizes disagree.
+// scene's mesh file (absolute, or relative to the state directory or its parent; hash checked).
+// Throws InputError if no matching mesh is found or the sizes disagree.
 InspectOutput export_config_vtu(const StateDir& dir, ConfigId id, const std::filesystem::path& vtu,
                                 const std::optional<std::filesystem::path>& mesh_file);
 

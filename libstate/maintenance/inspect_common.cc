@@ -7,45 +7,63 @@ namespace hapstate::inspect_detail {
 
 const char* checkpoint_class_name(CheckpointClass c) {
   switch (c) {
-    case CheckpointClass::kUnclassified: return "unclassified";
-    case CheckpointClass::kWorkspace: return "workspace";
-    case CheckpointClass::kOutsideWorkspace: return "outside_workspace";
-    case CheckpointClass::kFree: return "free";
-    case CheckpointClass::kInsideBody: return "inside_body";
+    case CheckpointClass::kUnclassified:
+      return "unclassified";
+    case CheckpointClass::kWorkspace:
+      return "workspace";
+    case CheckpointClass::kOutsideWorkspace:
+      return "outside_workspace";
+    case CheckpointClass::kFree:
+      return "free";
+    case CheckpointClass::kInsideBody:
+      return "inside_body";
   }
   return "unknown";
 }
 
 const char* config_status_name(ConfigStatus s) {
   switch (s) {
-    case ConfigStatus::kOpen: return "open";
-    case ConfigStatus::kExpanded: return "expanded";
-    case ConfigStatus::kMerged: return "merged";
+    case ConfigStatus::kOpen:
+      return "open";
+    case ConfigStatus::kExpanded:
+      return "expanded";
+    case ConfigStatus::kMerged:
+      return "merged";
   }
   return "unknown";
 }
 
 const char* transition_outcome_name(TransitionOutcome o) {
   switch (o) {
-    case TransitionOutcome::kReached: return "reached";
-    case TransitionOutcome::kOutsideGrid: return "outside_grid";
-    case TransitionOutcome::kFailed: return "failed";
+    case TransitionOutcome::kReached:
+      return "reached";
+    case TransitionOutcome::kOutsideGrid:
+      return "outside_grid";
+    case TransitionOutcome::kFailed:
+      return "failed";
   }
   return "unknown";
 }
 
 const char* stage_outcome_name(StageOutcome o) {
   switch (o) {
-    case StageOutcome::kRunning: return "running";
-    case StageOutcome::kOk: return "ok";
-    case StageOutcome::kUnchanged: return "unchanged";
-    case StageOutcome::kPartial: return "partial";
-    case StageOutcome::kFailed: return "failed";
+    case StageOutcome::kRunning:
+      return "running";
+    case StageOutcome::kOk:
+      return "ok";
+    case StageOutcome::kUnchanged:
+      return "unchanged";
+    case StageOutcome::kPartial:
+      return "partial";
+    case StageOutcome::kFailed:
+      return "failed";
   }
   return "unknown";
 }
 
-Catalogue open_read_only(const StateDir& dir) { return Catalogue(dir.catalogue(), OpenMode::kReadOnly); }
+Catalogue open_read_only(const StateDir& dir) {
+  return Catalogue(dir.catalogue(), OpenMode::kReadOnly);
+}
 
 std::int64_t query_int(Catalogue& catalogue, const std::string& sql) {
   const QueryResult r = catalogue.query_read_only(sql);

@@ -12,7 +12,9 @@ using namespace inspect_detail;
 
 namespace {
 
-double norm3(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+double norm3(const std::array<double, 3>& v) {
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
 
 Json checkpoint_json(const Checkpoint& c) {
   return {{"id", c.id.value()},
@@ -37,7 +39,8 @@ std::string vec_text(const Json& v) {
 
 Configuration read_config(Catalogue& cat, ConfigId id, const StateDir& dir) {
   if (!cat.exists_configuration(id)) {
-    throw InputError(dir.catalogue().string() + ": no configuration with id " + std::to_string(id.value()));
+    throw InputError(dir.catalogue().string() + ": no configuration with id " +
+                     std::to_string(id.value()));
   }
   return cat.read_configuration(id);
 }
@@ -77,8 +80,8 @@ InspectOutput inspect_checkpoint(const StateDir& dir, const std::array<int, 3>& 
   Catalogue cat = open_read_only(dir);
   const auto cp = cat.find_checkpoint(ijk);
   if (!cp) {
-    throw InputError(dir.catalogue().string() + ": no check-point (" + std::to_string(ijk[0]) + ", " +
-                     std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
+    throw InputError(dir.catalogue().string() + ": no check-point (" + std::to_string(ijk[0]) +
+                     ", " + std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
   }
   return checkpoint_output(cat, *cp);
 }
@@ -86,7 +89,8 @@ InspectOutput inspect_checkpoint(const StateDir& dir, const std::array<int, 3>& 
 InspectOutput inspect_checkpoint(const StateDir& dir, CheckpointId id) {
   Catalogue cat = open_read_only(dir);
   if (!cat.exists_checkpoint(id)) {
-    throw InputError(dir.catalogue().string() + ": no check-point with id " + std::to_string(id.value()));
+    throw InputError(dir.catalogue().string() + ": no check-point with id " +
+                     std::to_string(id.value()));
   }
   return checkpoint_output(cat, cat.read_checkpoint(id));
 }
@@ -129,19 +133,22 @@ InspectOutput inspect_config(const StateDir& dir, ConfigId id) {
     t[name] = t[name].get<int>() + 1;
   }
   j["transitions"] = t;
-  j["incoming_transitions"] =
-      query_int(cat, "SELECT count(*) FROM transition WHERE target = " + std::to_string(id.value()));
+  j["incoming_transitions"] = query_int(
+      cat, "SELECT count(*) FROM transition WHERE target = " + std::to_string(id.value()));
 
   std::ostringstream s;
   s << "configuration " << c.id.value() << ": check-point " << c.checkpoint.value() << " "
     << ijk_text(j["checkpoint"]["ijk"]) << ", level " << c.level.value() << ", wave " << c.wave
-    << "\n  status " << config_status_name(c.status) << (c.expandable ? ", expandable" : ", not expandable")
-    << "\n  force " << vec_text(j["force"]) << " N, |F| " << num(norm3(c.force)) << " N (felt by the user)\n  stiffness d(force felt)/d(probe position), N per mesh unit (a "
-         "negative diagonal: the body pushes back)\n";
+    << "\n  status " << config_status_name(c.status)
+    << (c.expandable ? ", expandable" : ", not expandable") << "\n  force " << vec_text(j["force"])
+    << " N, |F| " << num(norm3(c.force))
+    << " N (felt by the user)\n  stiffness d(force felt)/d(probe position), N per mesh unit (a "
+       "negative diagonal: the body pushes back)\n";
   for (const auto& row : j["stiffness"]) s << "    " << vec_text(row) << "\n";
   if (c.blob) {
     s << "  blob " << j["blob"]["file"].get<std::string>() << " group " << c.blob->name << ":";
-    for (const auto& v : j["blob"]["vectors"]) s << " " << v["name"].get<std::string>() << "[" << v["length"] << "]";
+    for (const auto& v : j["blob"]["vectors"])
+      s << " " << v["name"].get<std::string>() << "[" << v["length"] << "]";
     s << "\n";
   } else {
     s << "  blob: none (zero state)\n";
@@ -164,7 +171,8 @@ InspectOutput inspect_transitions(const StateDir& dir, ConfigId id) {
   std::ostringstream s;
   s << "configuration " << id.value() << " (check-point " << c.checkpoint.value() << ", level "
     << c.level.value() << "):\n"
-    << "  dir  offset      outcome       target  level  substeps  iters  factors  residual    wall_ms  reason\n";
+    << "  dir  offset      outcome       target  level  substeps  iters  factors  residual    "
+       "wall_ms  reason\n";
   for (int d = 0; d < Direction::kCount; ++d) {
     const Direction dir_d(d);
     Json e;
@@ -190,18 +198,21 @@ InspectOutput inspect_transitions(const StateDir& dir, ConfigId id) {
     e["failure_reason"] = t ? t->failure_reason : "";
     char line[256];
     const auto o = dir_d.offset();
-    std::snprintf(line, sizeof line, "  %3d  (%2d,%2d,%2d)  %-12s  %6s  %5s  %8s  %5s  %7s  %-10s  %7s  %s\n", d,
-                  o[0], o[1], o[2], e["outcome"].get<std::string>().c_str(),
-                  target.is_null() ? "-" : target.dump().c_str(), level.is_null() ? "-" : level.dump().c_str(),
-                  t ? std::to_string(t->substeps).c_str() : "-",
-                  t ? std::to_string(t->newton_iterations).c_str() : "-",
-                  t ? std::to_string(t->factorisations).c_str() : "-",
-                  t ? num(t->final_residual).c_str() : "-", t ? num(t->wall_ms).c_str() : "-",
-                  t ? t->failure_reason.c_str() : "");
+    std::snprintf(
+        line, sizeof line, "  %3d  (%2d,%2d,%2d)  %-12s  %6s  %5s  %8s  %5s  %7s  %-10s  %7s  %s\n",
+        d, o[0], o[1], o[2], e["outcome"].get<std::string>().c_str(),
+        target.is_null() ? "-" : target.dump().c_str(),
+        level.is_null() ? "-" : level.dump().c_str(), t ? std::to_string(t->substeps).c_str() : "-",
+        t ? std::to_string(t->newton_iterations).c_str() : "-",
+        t ? std::to_string(t->factorisations).c_str() : "-",
+        t ? num(t->final_residual).c_str() : "-", t ? num(t->wall_ms).c_str() : "-",
+        t ? t->failure_reason.c_str() : "");
     s << line;
     list.push_back(e);
   }
-  Json j = {{"config", id.value()}, {"checkpoint", c.checkpoint.value()}, {"level", c.level.value()},
+  Json j = {{"config", id.value()},
+            {"checkpoint", c.checkpoint.value()},
+            {"level", c.level.value()},
             {"transitions", list}};
   return {dump(j), s.str()};
 }

@@ -1,11 +1,11 @@
 // hapstate-inspect export: a configuration's deformed mesh as VTU.
 #include "blobs/blob_store.h"
-#include "util/hash.h"
 #include "io/vtu_writer.h"
 #include "maintenance/inspect_common.hpp"
 #include "mesh/load.h"
 #include "scene/scene.h"
 #include "util/error.h"
+#include "util/hash.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,7 +21,8 @@ namespace {
 std::optional<Mesh> stored_mesh(const StateDir& dir) {
   constexpr SegmentId kProblemSegment{1};
   std::error_code ec;
-  if (!std::filesystem::exists(dir.problem() / segment_file_name(kProblemSegment), ec)) return std::nullopt;
+  if (!std::filesystem::exists(dir.problem() / segment_file_name(kProblemSegment), ec))
+    return std::nullopt;
   BlobStore problem(dir.problem());
   const std::vector<double> nodes = problem.read(kProblemSegment, "mesh/nodes");
   const std::vector<double> tets = problem.read(kProblemSegment, "mesh/tets");
@@ -31,14 +32,16 @@ std::optional<Mesh> stored_mesh(const StateDir& dir) {
   }
   Mesh mesh;
   mesh.source = where;
-  mesh.nodes = Eigen::Map<const Eigen::Matrix3Xd>(nodes.data(), 3, static_cast<Eigen::Index>(nodes.size() / 3));
+  mesh.nodes = Eigen::Map<const Eigen::Matrix3Xd>(nodes.data(), 3,
+                                                  static_cast<Eigen::Index>(nodes.size() / 3));
   mesh.tets.resize(4, static_cast<Eigen::Index>(tets.size() / 4));
   for (std::size_t i = 0; i < tets.size(); ++i) {
     const double id = tets[i];
     if (!(id >= 0 && id < static_cast<double>(mesh.num_nodes()))) {
       throw InputError(where + ": mesh/tets[" + std::to_string(i) + "] is not a node id");
     }
-    mesh.tets(static_cast<Eigen::Index>(i % 4), static_cast<Eigen::Index>(i / 4)) = static_cast<int>(id);
+    mesh.tets(static_cast<Eigen::Index>(i % 4), static_cast<Eigen::Index>(i / 4)) =
+        static_cast<int>(id);
   }
   return mesh;
 }
@@ -53,9 +56,10 @@ std::filesystem::path find_mesh(const StateDir& dir, const SceneRecord& scene,
   } else {
     SceneParseOptions options;
     options.check_files = false;
-    const std::filesystem::path named = scene.mesh_file.empty()
-        ? parse_scene(scene.text, dir.root / "scene.toml", options).mesh.file
-        : std::filesystem::path(scene.mesh_file);
+    const std::filesystem::path named =
+        scene.mesh_file.empty()
+            ? parse_scene(scene.text, dir.root / "scene.toml", options).mesh.file
+            : std::filesystem::path(scene.mesh_file);
     if (named.is_absolute()) {
       candidates.push_back(named);
     } else {
@@ -89,14 +93,16 @@ InspectOutput export_config_vtu(const StateDir& dir, ConfigId id, const std::fil
                                 const std::optional<std::filesystem::path>& mesh_file) {
   Catalogue cat = open_read_only(dir);
   if (!cat.exists_configuration(id)) {
-    throw InputError(dir.catalogue().string() + ": no configuration with id " + std::to_string(id.value()));
+    throw InputError(dir.catalogue().string() + ": no configuration with id " +
+                     std::to_string(id.value()));
   }
   const Configuration c = cat.read_configuration(id);
   const auto scene = cat.read_scene();
-  if (!scene) throw InputError(dir.catalogue().string() + ": no scene stored (run hapstate-import first)");
+  if (!scene)
+    throw InputError(dir.catalogue().string() + ": no scene stored (run hapstate-import first)");
   std::optional<Mesh> stored = mesh_file ? std::nullopt : stored_mesh(dir);
-  const std::filesystem::path mesh_path = stored ? std::filesystem::path(stored->source)
-                                                 : find_mesh(dir, *scene, mesh_file);
+  const std::filesystem::path mesh_path =
+      stored ? std::filesystem::path(stored->source) : find_mesh(dir, *scene, mesh_file);
   const Mesh mesh = stored ? std::move(*stored) : load_mesh(mesh_path);
 
   Eigen::Matrix3Xd u = Eigen::Matrix3Xd::Zero(3, mesh.num_nodes());
@@ -105,19 +111,17 @@ InspectOutput export_config_vtu(const StateDir& dir, ConfigId id, const std::fil
     const std::vector<double> values = blobs.read(c.blob->segment, c.blob->name + "/u");
     if (values.size() != 3 * static_cast<std::size_t>(mesh.num_nodes())) {
       throw InputError((dir.blobs() / segment_file_name(c.blob->segment)).string() + ": vector '" +
-                       c.blob->name + "/u' has " + std::to_string(values.size()) + " values, the mesh " +
-                       mesh_path.string() + " has " + std::to_string(mesh.num_nodes()) + " nodes (x3)");
+                       c.blob->name + "/u' has " + std::to_string(values.size()) +
+                       " values, the mesh " + mesh_path.string() + " has " +
+                       std::to_string(mesh.num_nodes()) + " nodes (x3)");
     }
     u = Eigen::Map<const Eigen::Matrix3Xd>(values.data(), 3, mesh.num_nodes());
   }
   write_vtu(vtu, mesh, u);
   const double max_displacement = mesh.num_nodes() > 0 ? u.colwise().norm().maxCoeff() : 0.0;
-  const Json j = {{"config", id.value()},
-                  {"file", vtu.string()},
-                  {"mesh", mesh_path.string()},
-                  {"nodes", mesh.num_nodes()},
-                  {"tets", mesh.num_tets()},
-                  {"max_displacement", max_displacement}};
+  const Json j = {{"config", id.value()},       {"file", vtu.string()},
+                  {"mesh", mesh_path.string()}, {"nodes", mesh.num_nodes()},
+                  {"tets", mesh.num_tets()},    {"max_displacement", max_displacement}};
   std::ostringstream s;
   s << "wrote " << vtu.string() << ": configuration " << id.value() << " on " << mesh_path.string()
     << " (" << mesh.num_nodes() << " nodes, " << mesh.num_tets() << " tets), max |u| "

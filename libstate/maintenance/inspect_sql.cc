@@ -25,9 +25,12 @@ Json value_json(const QueryValue& v) {
   return std::visit(
       [](const auto& x) -> Json {
         using T = std::decay_t<decltype(x)>;
-        if constexpr (std::is_same_v<T, std::monostate>) return nullptr;
-        else if constexpr (std::is_same_v<T, std::vector<std::byte>>) return {{"blob", hex(x)}};
-        else return x;
+        if constexpr (std::is_same_v<T, std::monostate>)
+          return nullptr;
+        else if constexpr (std::is_same_v<T, std::vector<std::byte>>)
+          return {{"blob", hex(x)}};
+        else
+          return x;
       },
       v);
 }
@@ -36,11 +39,16 @@ std::string value_text(const QueryValue& v) {
   return std::visit(
       [](const auto& x) -> std::string {
         using T = std::decay_t<decltype(x)>;
-        if constexpr (std::is_same_v<T, std::monostate>) return "NULL";
-        else if constexpr (std::is_same_v<T, std::vector<std::byte>>) return "x'" + hex(x) + "'";
-        else if constexpr (std::is_same_v<T, std::string>) return x;
-        else if constexpr (std::is_same_v<T, double>) return num(x);
-        else return std::to_string(x);
+        if constexpr (std::is_same_v<T, std::monostate>)
+          return "NULL";
+        else if constexpr (std::is_same_v<T, std::vector<std::byte>>)
+          return "x'" + hex(x) + "'";
+        else if constexpr (std::is_same_v<T, std::string>)
+          return x;
+        else if constexpr (std::is_same_v<T, double>)
+          return num(x);
+        else
+          return std::to_string(x);
       },
       v);
 }

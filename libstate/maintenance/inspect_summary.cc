@@ -28,8 +28,9 @@ std::string text_at(const std::vector<QueryValue>& row, std::size_t c) {
 void mark_interrupted(Json* run, bool busy) {
   if ((*run)["outcome"] != "running" || busy) return;
   (*run)["outcome"] = "interrupted";
-  (*run)["message"] = "the process ended before finishing (Ctrl-C, kill, crash); run it again to "
-                      "resume";
+  (*run)["message"] =
+      "the process ended before finishing (Ctrl-C, kill, crash); run it again to "
+      "resume";
 }
 
 Json summary_json(const StateDir& dir, Catalogue& cat) {
@@ -48,14 +49,16 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
 
   Json stages = Json::array();
   for (const auto& row : cat.query_read_only("SELECT stage, count(*), max(id) FROM stage_run "
-                                             "GROUP BY stage ORDER BY min(id)").rows) {
+                                             "GROUP BY stage ORDER BY min(id)")
+                             .rows) {
     stages.push_back({{"stage", text_at(row, 0)},
                       {"runs", int_at(row, 1)},
                       {"last", stage_run_json(cat.read_stage_run(StageRunId(int_at(row, 2))))}});
   }
   Json last = Json::array();
   for (const auto& row : cat.query_read_only("SELECT id FROM stage_run ORDER BY id DESC LIMIT " +
-                                             std::to_string(kLastRuns)).rows) {
+                                             std::to_string(kLastRuns))
+                             .rows) {
     last.push_back(stage_run_json(cat.read_stage_run(StageRunId(int_at(row, 0)))));
   }
   const bool busy = state_dir_busy(dir);
@@ -95,14 +98,18 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
                            "WHERE status != 2 GROUP BY checkpoint) GROUP BY n ORDER BY n")
                         .rows;
   for (const auto& row : rows) with_levels += int_at(row, 1);
-  if (checkpoints > with_levels) histogram.push_back({{"levels", 0}, {"checkpoints", checkpoints - with_levels}});
-  for (const auto& row : rows) histogram.push_back({{"levels", int_at(row, 0)}, {"checkpoints", int_at(row, 1)}});
+  if (checkpoints > with_levels)
+    histogram.push_back({{"levels", 0}, {"checkpoints", checkpoints - with_levels}});
+  for (const auto& row : rows)
+    histogram.push_back({{"levels", int_at(row, 0)}, {"checkpoints", int_at(row, 1)}});
   j["levels_per_checkpoint"] = histogram;
 
-  Json transitions = {{"total", cat.num_transitions()}, {"reached", 0}, {"outside_grid", 0}, {"failed", 0}};
+  Json transitions = {
+      {"total", cat.num_transitions()}, {"reached", 0}, {"outside_grid", 0}, {"failed", 0}};
   for (const auto& row :
        cat.query_read_only("SELECT outcome, count(*) FROM transition GROUP BY 1").rows) {
-    transitions[transition_outcome_name(static_cast<TransitionOutcome>(int_at(row, 0)))] = int_at(row, 1);
+    transitions[transition_outcome_name(static_cast<TransitionOutcome>(int_at(row, 0)))] =
+        int_at(row, 1);
   }
   // The cost of the solved ones (reached or failed; 0 in rows older than schema 2).
   const QueryResult cost = cat.query_read_only(
@@ -117,7 +124,8 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
   j["transitions"] = transitions;
   Json failures = Json::array();
   for (const auto& row : cat.query_read_only("SELECT failure_reason, count(*) FROM transition "
-                                             "WHERE outcome = 2 GROUP BY 1 ORDER BY 2 DESC, 1").rows) {
+                                             "WHERE outcome = 2 GROUP BY 1 ORDER BY 2 DESC, 1")
+                             .rows) {
     failures.push_back({{"reason", text_at(row, 0)}, {"count", int_at(row, 1)}});
   }
   j["failures_by_reason"] = failures;
@@ -138,8 +146,8 @@ std::string summary_text(const Json& j) {
     s << "scene: none (not imported)\n";
   } else {
     s << "scene " << j["scene"]["hash"].get<std::string>() << ": mesh "
-      << j["scene"]["mesh_file"].get<std::string>() << ", " << j["scene"]["mesh_nodes"] << " nodes, "
-      << j["scene"]["mesh_elements"] << " tets\n";
+      << j["scene"]["mesh_file"].get<std::string>() << ", " << j["scene"]["mesh_nodes"]
+      << " nodes, " << j["scene"]["mesh_elements"] << " tets\n";
   }
   s << "stages:\n";
   if (j["stages"].empty()) s << "  (no run yet)\n";
@@ -162,15 +170,17 @@ std::string summary_text(const Json& j) {
     << " merged; max wave " << (c["max_wave"].is_null() ? std::string("-") : c["max_wave"].dump())
     << ")\n";
   s << "levels per check-point:";
-  for (const auto& h : j["levels_per_checkpoint"]) s << "  " << h["levels"] << ": " << h["checkpoints"];
+  for (const auto& h : j["levels_per_checkpoint"])
+    s << "  " << h["levels"] << ": " << h["checkpoints"];
   const Json& t = j["transitions"];
   s << "\ntransitions: " << t["total"] << " (" << t["reached"] << " reached, " << t["outside_grid"]
     << " outside the grid, " << t["failed"] << " failed)";
-  if (!t["mean_factorisations"].is_null())
-  {
+  if (!t["mean_factorisations"].is_null()) {
     char cost[128];
-    std::snprintf(cost, sizeof cost, "; per solved transition %.3g Newton iterations, %.3g "
-                  "factorisations of its own", t["mean_newton_iterations"].get<double>(),
+    std::snprintf(cost, sizeof cost,
+                  "; per solved transition %.3g Newton iterations, %.3g "
+                  "factorisations of its own",
+                  t["mean_newton_iterations"].get<double>(),
                   t["mean_factorisations"].get<double>());
     s << cost;
   }
@@ -180,7 +190,8 @@ std::string summary_text(const Json& j) {
   }
   const Json& d = j["disk"];
   s << "disk: catalogue " << d["catalogue_bytes"] << " B, blobs " << d["blob_bytes"] << " B in "
-    << d["segments"] << " segments, problem " << d["problem_bytes"] << " B, total " << d["total_bytes"] << " B\n";
+    << d["segments"] << " segments, problem " << d["problem_bytes"] << " B, total "
+    << d["total_bytes"] << " B\n";
   return s.str();
 }
 

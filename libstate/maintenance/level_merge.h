@@ -17,8 +17,8 @@ class BlobStore;
 class Catalogue;
 
 struct LevelMerge {
-  ConfigId kept;    // the lowest id of its group of duplicates
-  ConfigId merged;  // a duplicate of `kept`, higher id
+  ConfigId kept;        // the lowest id of its group of duplicates
+  ConfigId merged;      // a duplicate of `kept`, higher id
   double distance = 0;  // level_distance(kept, merged) <= 1
 };
 
@@ -39,7 +39,7 @@ std::vector<LevelMerge> find_level_merges(Catalogue& catalogue, const BlobStore&
 struct MergeCounts {
   std::int64_t merged_levels = 0;
   std::int64_t retargeted_transitions = 0;  // transitions that reached a merged level
-  std::int64_t moved_transitions = 0;       // a merged level's own transitions given to the kept one
+  std::int64_t moved_transitions = 0;  // a merged level's own transitions given to the kept one
 };
 
 // Applies `merges` to the catalogue; call it inside a Transaction (it is not atomic by itself).

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <map>
-#include <set>
 #include <memory>
+#include <set>
 
 namespace hapstate {
 namespace {
@@ -14,7 +14,8 @@ namespace {
 // "c<digits>": the group of a configuration's vectors (docs/storage.md, naming scheme).
 bool is_configuration_group(std::string_view group) {
   return group.size() > 1 && group[0] == 'c' &&
-         std::all_of(group.begin() + 1, group.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+         std::all_of(group.begin() + 1, group.end(),
+                     [](char ch) { return ch >= '0' && ch <= '9'; });
 }
 
 // The live blob name `vector` lies under, or "" if none.
@@ -70,7 +71,8 @@ RepackPlan plan_repack(std::span<const Configuration> live, const BlobStore& blo
             [](const BlobMove& a, const BlobMove& b) { return a.config < b.config; });
   plan.dead_vectors = dead;
   const std::int64_t cap = std::max<std::int64_t>(options.max_segment_values, 1);
-  const auto wanted = static_cast<std::size_t>(std::max<std::int64_t>(1, (plan.live_values + cap - 1) / cap));
+  const auto wanted =
+      static_cast<std::size_t>(std::max<std::int64_t>(1, (plan.live_values + cap - 1) / cap));
   plan.needed = !plan.sources.empty() && (dead > 0 || plan.sources.size() > wanted);
   return plan;
 }
@@ -128,7 +130,7 @@ RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& bl
   writer_options.zstd_level = options.zstd_level;
   SegmentId next = blobs.next_segment_id();
   std::unique_ptr<SegmentWriter> writer;
-  int current = -1;  // packing index of `writer`
+  int current = -1;                                             // packing index of `writer`
   std::map<std::pair<SegmentId, std::string>, BlobRef> copied;  // shared blobs copied once
 
   const auto close_current = [&] {

@@ -34,13 +34,13 @@ struct BlobMove {
 };
 
 struct RepackPlan {
-  bool needed = false;                 // false: nothing is written
-  std::vector<BlobMove> moves;         // by config id
-  std::vector<SegmentId> sources;      // segments emptied by the moves
-  std::set<SegmentId> pinned;          // segments holding vectors that belong to no
-                                       // configuration (e.g. the mesh): never repacked
-  std::int64_t live_values = 0;        // values of the repackable live vectors
-  std::int64_t dead_vectors = 0;       // vectors of merged or deleted configurations
+  bool needed = false;             // false: nothing is written
+  std::vector<BlobMove> moves;     // by config id
+  std::vector<SegmentId> sources;  // segments emptied by the moves
+  std::set<SegmentId> pinned;      // segments holding vectors that belong to no
+                                   // configuration (e.g. the mesh): never repacked
+  std::int64_t live_values = 0;    // values of the repackable live vectors
+  std::int64_t dead_vectors = 0;   // vectors of merged or deleted configurations
 };
 
 // Decides what to repack. `live` = the configurations that keep their vectors (not merged).

@@ -12,9 +12,9 @@ namespace hapstate::detail {
 struct Kinematics {
   explicit Kinematics(const Mat3& F);
   const Mat3& f;
-  double j;        // det F
-  double i1;       // tr C = F:F
-  Mat3 inv_t;      // F^{-T} (only set if j > 0)
+  double j;    // det F
+  double i1;   // tr C = F:F
+  Mat3 inv_t;  // F^{-T} (only set if j > 0)
 };
 
 // c10 (I1bar - 3).

@@ -35,9 +35,7 @@ class Linear final : public Material {
   bool requires_positive_jacobian() const override { return false; }
 
  private:
-  static Mat3 strain(const Mat3& F) {
-    return 0.5 * (F + F.transpose()) - Mat3::Identity();
-  }
+  static Mat3 strain(const Mat3& F) { return 0.5 * (F + F.transpose()) - Mat3::Identity(); }
 
   double mu_, lambda_;
   Mat9 tangent_;

@@ -31,8 +31,8 @@ void validate(const MaterialConstants& c) {
     case Law::kLinear:
     case Law::kStvk:
       require(std::isfinite(c.mu) && c.mu > 0, law, "mu", c.mu, "0 < mu < inf [Pa]");
-      require(std::isfinite(c.lambda) && c.lambda + 2.0 / 3.0 * c.mu > 0, law, "lambda",
-              c.lambda, "lambda > -2/3 mu (positive bulk modulus), finite [Pa]");
+      require(std::isfinite(c.lambda) && c.lambda + 2.0 / 3.0 * c.mu > 0, law, "lambda", c.lambda,
+              "lambda > -2/3 mu (positive bulk modulus), finite [Pa]");
       return;
     case Law::kMooney:
       require(std::isfinite(c.c01) && c.c01 >= 0, law, "c01", c.c01, "0 <= c01 < inf [Pa]");
@@ -69,20 +69,28 @@ MaterialConstants constants_from_young_poisson(Law law, double young, double poi
 std::unique_ptr<Material> make_material(const MaterialConstants& c) {
   validate(c);
   switch (c.law) {
-    case Law::kLinear: return detail::make_linear(c.mu, c.lambda);
-    case Law::kStvk: return detail::make_stvk(c.mu, c.lambda);
-    case Law::kNeoHooke: return detail::make_neohooke(c.c10, c.d1);
-    case Law::kMooney: return detail::make_mooney(c.c10, c.c01, c.d1);
+    case Law::kLinear:
+      return detail::make_linear(c.mu, c.lambda);
+    case Law::kStvk:
+      return detail::make_stvk(c.mu, c.lambda);
+    case Law::kNeoHooke:
+      return detail::make_neohooke(c.c10, c.d1);
+    case Law::kMooney:
+      return detail::make_mooney(c.c10, c.c01, c.d1);
   }
   throw InputError("material: unknown law enumerator");  // unreachable after validate()
 }
 
 std::string_view law_name(Law law) {
   switch (law) {
-    case Law::kLinear: return "linear";
-    case Law::kStvk: return "stvk";
-    case Law::kNeoHooke: return "neohooke";
-    case Law::kMooney: return "mooney";
+    case Law::kLinear:
+      return "linear";
+    case Law::kStvk:
+      return "stvk";
+    case Law::kNeoHooke:
+      return "neohooke";
+    case Law::kMooney:
+      return "mooney";
   }
   throw InputError("material: unknown law enumerator " + std::to_string(static_cast<int>(law)));
 }

@@ -38,8 +38,8 @@ enum class Law { kLinear, kStvk, kNeoHooke, kMooney };
 // mooney uses c10, c01, d1 (Abaqus/CalculiX forms, docs/mechanics.md and docs/calculix.md).
 struct MaterialConstants {
   Law law = Law::kStvk;
-  double mu = 0, lambda = 0;          // Pa
-  double c10 = 0, c01 = 0, d1 = 0;    // Pa, Pa, 1/Pa
+  double mu = 0, lambda = 0;        // Pa
+  double c10 = 0, c01 = 0, d1 = 0;  // Pa, Pa, 1/Pa
 };
 
 // Constants from Young's modulus E [Pa] and Poisson's ratio nu (-1 < nu < 0.5):

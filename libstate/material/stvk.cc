@@ -39,9 +39,7 @@ class Stvk final : public Material {
   bool requires_positive_jacobian() const override { return false; }
 
  private:
-  static Mat3 green_strain(const Mat3& F) {
-    return 0.5 * (F.transpose() * F - Mat3::Identity());
-  }
+  static Mat3 green_strain(const Mat3& F) { return 0.5 * (F.transpose() * F - Mat3::Identity()); }
 
   double mu_, lambda_;
 };

@@ -19,10 +19,13 @@ std::array<int, 3> TetGrid::node_index(int node) const {
   return {node % (nx + 1), (node / (nx + 1)) % (ny + 1), node / ((nx + 1) * (ny + 1))};
 }
 
-std::array<int, 3> TetGrid::cell_index(int cell) const { return {cell % nx, (cell / nx) % ny, cell / (nx * ny)}; }
+std::array<int, 3> TetGrid::cell_index(int cell) const {
+  return {cell % nx, (cell / nx) % ny, cell / (nx * ny)};
+}
 
 Eigen::Vector3d TetGrid::node(int i, int j, int k) const {
-  return {origin.x() + size.x() * i / nx, origin.y() + size.y() * j / ny, origin.z() + size.z() * k / nz};
+  return {origin.x() + size.x() * i / nx, origin.y() + size.y() * j / ny,
+          origin.z() + size.z() * k / nz};
 }
 
 Eigen::Vector3d TetGrid::node(int id) const {
@@ -54,7 +57,8 @@ int TetGrid::tets_around_node(int id, std::array<int, 24>* out) const {
         const int c = (i - ci) | ((j - cj) << 1) | ((k - ck) << 2);
         for (int local = 0; local < 6; ++local) {
           const auto& t = kCellTets[static_cast<std::size_t>(local)];
-          if (std::find(t.begin(), t.end(), c) != t.end()) (*out)[static_cast<std::size_t>(n++)] = 6 * cell_id(ci, cj, ck) + local;
+          if (std::find(t.begin(), t.end(), c) != t.end())
+            (*out)[static_cast<std::size_t>(n++)] = 6 * cell_id(ci, cj, ck) + local;
         }
       }
     }

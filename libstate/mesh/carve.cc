@@ -34,7 +34,8 @@ std::vector<char> near_surface_cells(const TriangleSurface& s, const TetGrid& gr
     }
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
-        for (int i = lo[0]; i <= hi[0]; ++i) near[static_cast<std::size_t>(grid.cell_id(i, j, k))] = 1;
+        for (int i = lo[0]; i <= hi[0]; ++i)
+          near[static_cast<std::size_t>(grid.cell_id(i, j, k))] = 1;
   }
   return near;
 }
@@ -50,7 +51,8 @@ std::vector<char> classify(const TriangleSurface& s, const TetGrid& grid, double
   for (int c = 0; c < grid.num_cells(); ++c) {
     if (done[static_cast<std::size_t>(c)] != 0) continue;
     const auto [i, j, k] = grid.cell_index(c);
-    const bool inside = sign * winding((grid.node(i, j, k) + grid.node(i + 1, j + 1, k + 1)) / 2) > 0.5;
+    const bool inside =
+        sign * winding((grid.node(i, j, k) + grid.node(i + 1, j + 1, k + 1)) / 2) > 0.5;
     stack.assign(1, c);
     done[static_cast<std::size_t>(c)] = 1;
     while (!stack.empty()) {
@@ -58,9 +60,12 @@ std::vector<char> classify(const TriangleSurface& s, const TetGrid& grid, double
       stack.pop_back();
       if (inside) std::fill_n(kept.begin() + 6 * static_cast<std::ptrdiff_t>(d), 6, 1);
       const auto [a, b, e] = grid.cell_index(d);
-      const int next[6][3] = {{a - 1, b, e}, {a + 1, b, e}, {a, b - 1, e}, {a, b + 1, e}, {a, b, e - 1}, {a, b, e + 1}};
+      const int next[6][3] = {{a - 1, b, e}, {a + 1, b, e}, {a, b - 1, e},
+                              {a, b + 1, e}, {a, b, e - 1}, {a, b, e + 1}};
       for (const auto& q : next) {
-        if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= grid.nx || q[1] >= grid.ny || q[2] >= grid.nz) continue;
+        if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= grid.nx || q[1] >= grid.ny ||
+            q[2] >= grid.nz)
+          continue;
         const int m = grid.cell_id(q[0], q[1], q[2]);
         if (done[static_cast<std::size_t>(m)] == 0) {
           done[static_cast<std::size_t>(m)] = 1;
@@ -84,7 +89,8 @@ std::vector<char> classify(const TriangleSurface& s, const TetGrid& grid, double
 }  // namespace
 
 double carve_cell_size(const Eigen::Vector3d& extent, double volume, bool* capped) {
-  double h = std::min(std::cbrt(6.0 * volume / kCarveTargetTets), extent.minCoeff() / kCarveMinCellsAcross);
+  double h = std::min(std::cbrt(6.0 * volume / kCarveTargetTets),
+                      extent.minCoeff() / kCarveMinCellsAcross);
   *capped = false;
   for (int round = 0; round < 100; ++round) {
     double cells = 1;
@@ -110,8 +116,8 @@ CarveResult carve_surface(const TriangleSurface& s, bool snap) {
   const double signed_volume = WindingNumber(s).enclosed_volume();
   r.surface_volume = std::abs(signed_volume);
   if (!(extent.minCoeff() > 0) || !(r.surface_volume > 1e-9 * extent.prod())) {
-    throw InputError(s.source + ": the surface encloses no volume (enclosed volume " + std::to_string(signed_volume) +
-                     "); cannot carve a volume mesh from it");
+    throw InputError(s.source + ": the surface encloses no volume (enclosed volume " +
+                     std::to_string(signed_volume) + "); cannot carve a volume mesh from it");
   }
   const double h = carve_cell_size(extent, r.surface_volume, &r.capped);
   TetGrid grid;
@@ -124,7 +130,8 @@ CarveResult carve_surface(const TriangleSurface& s, bool snap) {
 
   std::vector<char> kept = classify(s, grid, h, signed_volume > 0 ? 1.0 : -1.0);
   if (std::find(kept.begin(), kept.end(), 1) == kept.end()) {
-    throw InputError(s.source + ": no grid tet of cell size " + std::to_string(h) + " lies inside the surface; cannot carve it");
+    throw InputError(s.source + ": no grid tet of cell size " + std::to_string(h) +
+                     " lies inside the surface; cannot carve it");
   }
   make_carved_boundary_manifold(grid, &kept, &r.added_tets, &r.removed_tets);
   r.dropped_pieces = keep_largest_piece(grid, &kept, &r.dropped_tets);
@@ -148,7 +155,9 @@ CarveResult carve_surface(const TriangleSurface& s, bool snap) {
     r.mesh.tets.push_back(tet);
   }
   r.tets = static_cast<int>(r.mesh.tets.size());
-  if (snap) r.snapped_nodes = snap_boundary_nodes(s, signed_volume > 0 ? 1.0 : -1.0, h, &r.mesh, &r.boundary_nodes);
+  if (snap)
+    r.snapped_nodes =
+        snap_boundary_nodes(s, signed_volume > 0 ? 1.0 : -1.0, h, &r.mesh, &r.boundary_nodes);
   for (const auto& t : r.mesh.tets) {
     const auto p = [&](int k) {
       const auto v = static_cast<std::size_t>(t[static_cast<std::size_t>(k)]);
@@ -159,15 +168,17 @@ CarveResult carve_surface(const TriangleSurface& s, bool snap) {
 
   if (r.dropped_pieces > 0) {
     std::ostringstream w;
-    w << s.source << ": carving left " << r.dropped_pieces + 1 << " disconnected pieces; kept the largest ("
-      << r.tets << " tets), dropped " << r.dropped_pieces << " smaller piece" << (r.dropped_pieces > 1 ? "s" : "")
-      << " (" << r.dropped_tets << " tets)";
+    w << s.source << ": carving left " << r.dropped_pieces + 1
+      << " disconnected pieces; kept the largest (" << r.tets << " tets), dropped "
+      << r.dropped_pieces << " smaller piece" << (r.dropped_pieces > 1 ? "s" : "") << " ("
+      << r.dropped_tets << " tets)";
     r.mesh.warnings.push_back(w.str());
   }
   if (r.capped) {
     std::ostringstream w;
     w << s.source << ": the shape is too thin for " << kCarveMinCellsAcross
-      << " grid cells across its smallest extent within " << kCarveMaxCells << " cells; carved with cell size " << h;
+      << " grid cells across its smallest extent within " << kCarveMaxCells
+      << " cells; carved with cell size " << h;
     r.mesh.warnings.push_back(w.str());
   }
   return r;

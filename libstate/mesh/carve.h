@@ -34,8 +34,8 @@ inline constexpr double kCarveSnapMinVolume = 0.2;
 double carve_cell_size(const Eigen::Vector3d& extent, double volume, bool* capped);
 
 struct CarveResult {
-  RawMesh mesh;               // kept nodes renumbered in grid order, tets positively oriented
-  double cell_size = 0;       // h
+  RawMesh mesh;          // kept nodes renumbered in grid order, tets positively oriented
+  double cell_size = 0;  // h
   int tets = 0;
   double carved_volume = 0;   // tets * h^3 / 6
   double surface_volume = 0;  // |volume enclosed by the input surface|
@@ -51,10 +51,10 @@ struct CarveResult {
 // Carves `s` (closed; may self-intersect): grid over its bounding box plus one cell of margin,
 // keeps the grid tets whose centroid has winding number > 0.5 (sign taken from the enclosed
 // volume, so inward-oriented surfaces work too), adds or removes grid tets where the kept set's
-// boundary would be non-manifold at an edge or node, keeps the largest face-connected piece and drops
-// unused nodes, then snaps boundary nodes onto the surface (snap_boundary_nodes; `snap` false
-// leaves the stair steps). mesh.warnings notes dropped pieces and a capped grid. Throws InputError if the
-// surface encloses no volume or no tet is inside.
+// boundary would be non-manifold at an edge or node, keeps the largest face-connected piece and
+// drops unused nodes, then snaps boundary nodes onto the surface (snap_boundary_nodes; `snap` false
+// leaves the stair steps). mesh.warnings notes dropped pieces and a capped grid. Throws InputError
+// if the surface encloses no volume or no tet is inside.
 CarveResult carve_surface(const TriangleSurface& s, bool snap = true);
 
 // Steps of carve_surface (carve_repair.cc), on `kept` (one flag per grid tet):
@@ -64,13 +64,15 @@ CarveResult carve_surface(const TriangleSurface& s, bool snap = true);
 // tet is never switched back unless both options would undo an earlier switch, then the fan or
 // star is filled). Repeats until none is left: the boundary is then a closed 2-manifold.
 // *added / *removed get the numbers of tets switched each way.
-void make_carved_boundary_manifold(const TetGrid& grid, std::vector<char>* kept, int* added, int* removed);
+void make_carved_boundary_manifold(const TetGrid& grid, std::vector<char>* kept, int* added,
+                                   int* removed);
 // Keeps the largest face-connected piece of the kept tets (first in grid order on ties).
 // Returns the number of pieces dropped; *dropped_tets gets their tet count.
 int keep_largest_piece(const TetGrid& grid, std::vector<char>* kept, int* dropped_tets);
 // Moves the boundary nodes of a carved `mesh` (cell size h) onto the surface `s` as described at
 // kCarveSnapReach (carve_snap.cc); `orientation` is +1 for an outward surface, -1 for an inward
 // one. Tets stay positive. Returns the number of nodes moved; *boundary gets the boundary nodes.
-int snap_boundary_nodes(const TriangleSurface& s, double orientation, double h, RawMesh* mesh, int* boundary);
+int snap_boundary_nodes(const TriangleSurface& s, double orientation, double h, RawMesh* mesh,
+                        int* boundary);
 
 }  // namespace hapstate

@@ -9,9 +9,13 @@ namespace {
 
 // Union-find over 0..n-1.
 struct Pieces {
-  explicit Pieces(int n) : parent(static_cast<std::size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
+  explicit Pieces(int n) : parent(static_cast<std::size_t>(n)) {
+    std::iota(parent.begin(), parent.end(), 0);
+  }
   int find(int x) {
-    while (parent[static_cast<std::size_t>(x)] != x) x = parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
+    while (parent[static_cast<std::size_t>(x)] != x)
+      x = parent[static_cast<std::size_t>(x)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
     return x;
   }
   void join(int a, int b) { parent[static_cast<std::size_t>(find(a))] = find(b); }
@@ -30,13 +34,15 @@ int count_pieces(const std::vector<int>& ids, const std::array<std::array<int, 4
   Pieces p(static_cast<int>(ids.size()));
   for (std::size_t a = 0; a < ids.size(); ++a) {
     for (std::size_t b = a + 1; b < ids.size(); ++b) {
-      if (shared_nodes(nodes[static_cast<std::size_t>(ids[a])], nodes[static_cast<std::size_t>(ids[b])]) == 3) {
+      if (shared_nodes(nodes[static_cast<std::size_t>(ids[a])],
+                       nodes[static_cast<std::size_t>(ids[b])]) == 3) {
         p.join(static_cast<int>(a), static_cast<int>(b));
       }
     }
   }
   int count = 0;
-  for (std::size_t a = 0; a < ids.size(); ++a) count += p.find(static_cast<int>(a)) == static_cast<int>(a);
+  for (std::size_t a = 0; a < ids.size(); ++a)
+    count += p.find(static_cast<int>(a)) == static_cast<int>(a);
   return count;
 }
 
@@ -52,9 +58,12 @@ struct Carving {
 
 // Makes the tets `ids` (indices into `star`) all kept (`fill`) or all removed; false (nothing
 // changed) if that would undo an earlier change the other way.
-bool change(Carving* c, const std::array<int, 24>& star, const std::vector<int>& ids, bool fill, bool force) {
+bool change(Carving* c, const std::array<int, 24>& star, const std::vector<int>& ids, bool fill,
+            bool force) {
   for (int t : ids) {
-    if (!force && c->history[static_cast<std::size_t>(star[static_cast<std::size_t>(t)])] == (fill ? 2 : 1)) return false;
+    if (!force &&
+        c->history[static_cast<std::size_t>(star[static_cast<std::size_t>(t)])] == (fill ? 2 : 1))
+      return false;
   }
   for (int t : ids) {
     const auto g = static_cast<std::size_t>(star[static_cast<std::size_t>(t)]);
@@ -68,7 +77,8 @@ bool change(Carving* c, const std::array<int, 24>& star, const std::vector<int>&
 // Where the kept tets `in` and the others `out` of a star or an edge fan are not a manifold,
 // the smaller set switches sides (removing `in` or filling `out`), unless that would undo an
 // earlier change; then the other one, and filling if both would.
-void resolve(Carving* c, const std::array<int, 24>& star, const std::vector<int>& in, const std::vector<int>& out) {
+void resolve(Carving* c, const std::array<int, 24>& star, const std::vector<int>& in,
+             const std::vector<int>& out) {
   const bool fill_first = out.size() <= in.size();
   if (change(c, star, fill_first ? out : in, fill_first, false)) return;
   if (change(c, star, fill_first ? in : out, !fill_first, false)) return;
@@ -80,13 +90,15 @@ void resolve(Carving* c, const std::array<int, 24>& star, const std::vector<int>
 bool repair_node(const TetGrid& grid, int u, Carving* c) {
   std::array<int, 24> star{};
   const int n = grid.tets_around_node(u, &star);
-  if (n < 24) return false;  // on the grid's outer face: never reached by kept tets (one cell margin)
+  if (n < 24)
+    return false;  // on the grid's outer face: never reached by kept tets (one cell margin)
   std::array<std::array<int, 4>, 24> nodes{};
   std::vector<int> in;
   std::vector<int> out;
   for (int t = 0; t < n; ++t) {
     nodes[static_cast<std::size_t>(t)] = grid.tet(star[static_cast<std::size_t>(t)]);
-    ((*c->kept)[static_cast<std::size_t>(star[static_cast<std::size_t>(t)])] != 0 ? in : out).push_back(t);
+    ((*c->kept)[static_cast<std::size_t>(star[static_cast<std::size_t>(t)])] != 0 ? in : out)
+        .push_back(t);
   }
   if (in.empty() || out.empty()) return false;
   const int before = c->added + c->removed;
@@ -109,7 +121,9 @@ bool repair_node(const TetGrid& grid, int u, Carving* c) {
     for (int t = 0; t < n; ++t) {
       const auto& tn = nodes[static_cast<std::size_t>(t)];
       if (std::find(tn.begin(), tn.end(), v) == tn.end()) continue;
-      ((*c->kept)[static_cast<std::size_t>(star[static_cast<std::size_t>(t)])] != 0 ? fan_in : fan_out).push_back(t);
+      ((*c->kept)[static_cast<std::size_t>(star[static_cast<std::size_t>(t)])] != 0 ? fan_in
+                                                                                    : fan_out)
+          .push_back(t);
     }
     if (count_pieces(fan_in, nodes) > 1) {
       resolve(c, star, fan_in, fan_out);
@@ -121,7 +135,8 @@ bool repair_node(const TetGrid& grid, int u, Carving* c) {
 
 }  // namespace
 
-void make_carved_boundary_manifold(const TetGrid& grid, std::vector<char>* kept, int* added, int* removed) {
+void make_carved_boundary_manifold(const TetGrid& grid, std::vector<char>* kept, int* added,
+                                   int* removed) {
   Carving c{kept, std::vector<char>(kept->size(), 0)};
   // Each tet changes at most twice (see Carving), so this ends; the bound is a safety net.
   for (int pass = 0; pass < 1000; ++pass) {
@@ -170,13 +185,15 @@ int keep_largest_piece(const TetGrid& grid, std::vector<char>* kept, int* droppe
     if (faces[i].key == faces[i - 1].key) pieces.join(faces[i].tet, faces[i - 1].tet);
   }
   std::vector<int> size(ids.size(), 0);
-  for (std::size_t i = 0; i < ids.size(); ++i) ++size[static_cast<std::size_t>(pieces.find(static_cast<int>(i)))];
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    ++size[static_cast<std::size_t>(pieces.find(static_cast<int>(i)))];
   int largest = -1;
   int count = 0;
   for (std::size_t i = 0; i < ids.size(); ++i) {
     if (size[i] == 0) continue;
     ++count;
-    if (largest < 0 || size[i] > size[static_cast<std::size_t>(largest)]) largest = static_cast<int>(i);
+    if (largest < 0 || size[i] > size[static_cast<std::size_t>(largest)])
+      largest = static_cast<int>(i);
   }
   *dropped_tets = 0;
   for (std::size_t i = 0; i < ids.size(); ++i) {

@@ -18,7 +18,8 @@ namespace {
 
 std::string face_where(const TriangleSurface& s, std::size_t f) {
   const int line = s.face_lines[f];
-  return line > 0 ? s.source + ":" + std::to_string(line) : s.source + ": triangle " + std::to_string(f);
+  return line > 0 ? s.source + ":" + std::to_string(line)
+                  : s.source + ": triangle " + std::to_string(f);
 }
 
 Eigen::Vector3d point(const TriangleSurface& s, int v) {
@@ -62,7 +63,8 @@ class FaceGrid {
     }
     for (int i = lo[0]; i <= hi[0]; ++i) {
       for (int j = lo[1]; j <= hi[1]; ++j) {
-        for (int k = lo[2]; k <= hi[2]; ++k) f(cells_[(static_cast<std::size_t>(i) * n_[1] + j) * n_[2] + k]);
+        for (int k = lo[2]; k <= hi[2]; ++k)
+          f(cells_[(static_cast<std::size_t>(i) * n_[1] + j) * n_[2] + k]);
       }
     }
   }
@@ -82,22 +84,27 @@ void check_surface_topology(const TriangleSurface& s) {
   for (std::size_t f = 0; f < s.faces.size(); ++f) {
     const auto& t = s.faces[f];
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
-      throw InputError(face_where(s, f) + ": degenerate face (a vertex repeats); a clean closed surface is required");
+      throw InputError(face_where(s, f) +
+                       ": degenerate face (a vertex repeats); a clean closed surface is required");
     }
     for (int k = 0; k < 3; ++k) {
-      const auto [it, inserted] = directed.emplace(std::make_pair(t[k], t[(k + 1) % 3]), static_cast<int>(f));
+      const auto [it, inserted] =
+          directed.emplace(std::make_pair(t[k], t[(k + 1) % 3]), static_cast<int>(f));
       if (!inserted) {
-        throw InputError(face_where(s, f) + ": edge (" + std::to_string(t[k] + 1) + ", " + std::to_string(t[(k + 1) % 3] + 1) +
-                         ") is used twice in the same direction (also by the face at " + face_where(s, it->second) +
+        throw InputError(face_where(s, f) + ": edge (" + std::to_string(t[k] + 1) + ", " +
+                         std::to_string(t[(k + 1) % 3] + 1) +
+                         ") is used twice in the same direction (also by the face at " +
+                         face_where(s, it->second) +
                          "): inconsistent orientation or non-manifold surface");
       }
     }
   }
   for (const auto& [edge, f] : directed) {
     if (directed.count({edge.second, edge.first}) == 0) {
-      throw InputError(face_where(s, static_cast<std::size_t>(f)) + ": open surface: edge (" + std::to_string(edge.first + 1) +
-                       ", " + std::to_string(edge.second + 1) +
-                       ") (1-based vertices) belongs to only one face; a closed surface is required to fill it with tets");
+      throw InputError(face_where(s, static_cast<std::size_t>(f)) + ": open surface: edge (" +
+                       std::to_string(edge.first + 1) + ", " + std::to_string(edge.second + 1) +
+                       ") (1-based vertices) belongs to only one face; a closed surface is "
+                       "required to fill it with tets");
     }
   }
 }
@@ -110,7 +117,8 @@ std::optional<SelfIntersection> find_self_intersection(const TriangleSurface& s)
     for (std::size_t f = 0; f < s.faces.size(); ++f) {
       const auto& t = s.faces[f];
       for (int k = 0; k < 3; ++k) {
-        if ((t[k] < t[(k + 1) % 3]) == (pass == 0)) edges.emplace(std::minmax(t[k], t[(k + 1) % 3]), static_cast<int>(f));
+        if ((t[k] < t[(k + 1) % 3]) == (pass == 0))
+          edges.emplace(std::minmax(t[k], t[(k + 1) % 3]), static_cast<int>(f));
       }
     }
   }
@@ -130,7 +138,9 @@ std::optional<SelfIntersection> find_self_intersection(const TriangleSurface& s)
         if (hit || seen[static_cast<std::size_t>(g)] == edge_index) continue;
         seen[static_cast<std::size_t>(g)] = edge_index;
         const auto& t = s.faces[static_cast<std::size_t>(g)];
-        if (std::find(t.begin(), t.end(), edge.first) != t.end() || std::find(t.begin(), t.end(), edge.second) != t.end()) continue;
+        if (std::find(t.begin(), t.end(), edge.first) != t.end() ||
+            std::find(t.begin(), t.end(), edge.second) != t.end())
+          continue;
         const Eigen::Vector3d a = point(s, t[0]);
         const Eigen::Vector3d b = point(s, t[1]);
         const Eigen::Vector3d c = point(s, t[2]);
@@ -158,7 +168,8 @@ std::optional<SelfIntersection> find_self_intersection(const TriangleSurface& s)
 }
 
 std::string SelfIntersection::near() const {
-  std::string out = "(";  // appended piece by piece: GCC 12 -O3 warns (-Wrestrict) on "(" + std::string
+  std::string out =
+      "(";  // appended piece by piece: GCC 12 -O3 warns (-Wrestrict) on "(" + std::string
   out += std::to_string(point.x());
   out += ", ";
   out += std::to_string(point.y());
@@ -169,13 +180,15 @@ std::string SelfIntersection::near() const {
 }
 
 std::string SelfIntersection::message() const {
-  return face + ": self-intersecting surface: this face is crossed by the edge (" + std::to_string(edge[0] + 1) + ", " +
-         std::to_string(edge[1] + 1) + ") (1-based vertices; face at " + edge_face + ") near " + near();
+  return face + ": self-intersecting surface: this face is crossed by the edge (" +
+         std::to_string(edge[0] + 1) + ", " + std::to_string(edge[1] + 1) +
+         ") (1-based vertices; face at " + edge_face + ") near " + near();
 }
 
 void check_closed_surface(const TriangleSurface& s) {
   check_surface_topology(s);
-  if (const auto hit = find_self_intersection(s)) throw InputError(hit->message() + "; repair the surface before meshing");
+  if (const auto hit = find_self_intersection(s))
+    throw InputError(hit->message() + "; repair the surface before meshing");
 }
 
 }  // namespace hapstate

@@ -53,7 +53,8 @@ constexpr GmshElementType kHex125 = {125, 3, kU, "125-node hexahedron"};
 }  // namespace
 
 const GmshElementType& gmsh_element_type(int type, const TextCursor& cursor) {
-  if (type >= 1 && type < static_cast<int>(kTypes.size())) return kTypes[static_cast<std::size_t>(type)];
+  if (type >= 1 && type < static_cast<int>(kTypes.size()))
+    return kTypes[static_cast<std::size_t>(type)];
   if (type == 92) return kHex64;
   if (type == 93) return kHex125;
   cursor.fail("unknown Gmsh element type " + std::to_string(type) +
@@ -67,7 +68,8 @@ void read_physical_names(TextCursor& cursor, PhysicalNames* names) {
     const int dim = static_cast<int>(cursor.read_int("physical name dimension"));
     const int tag = static_cast<int>(cursor.read_int("physical tag"));
     std::string_view name = cursor.rest_of_line();
-    if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = name.substr(1, name.size() - 2);
+    if (name.size() >= 2 && name.front() == '"' && name.back() == '"')
+      name = name.substr(1, name.size() - 2);
     if (name.empty()) cursor.fail("expected a quoted physical name after dimension and tag");
     (*names)[{dim, tag}] = std::string(name);
   }
@@ -79,8 +81,8 @@ std::string physical_group_name(const PhysicalNames& names, int dim, int tag) {
   return it != names.end() ? it->second : std::to_string(tag);
 }
 
-void add_gmsh_element(RawMesh* mesh, GmshGroups* groups, const TextCursor& cursor, int type, const int* ids,
-                      const int* phys, int num_phys) {
+void add_gmsh_element(RawMesh* mesh, GmshGroups* groups, const TextCursor& cursor, int type,
+                      const int* ids, const int* phys, int num_phys) {
   const GmshElementType& t = gmsh_element_type(type, cursor);
   if (t.role == GmshRole::kUnsupported) {
     cursor.fail(std::string("unsupported element type ") + std::to_string(type) + " (" + t.name +
@@ -95,25 +97,29 @@ void add_gmsh_element(RawMesh* mesh, GmshGroups* groups, const TextCursor& curso
 }
 
 void name_gmsh_groups(const PhysicalNames& names, GmshGroups&& groups, RawMesh* mesh) {
-  for (auto& [key, ids] : groups) mesh->add_to_group(physical_group_name(names, key.first, key.second), ids.data(),
-                                                     static_cast<int>(ids.size()));
+  for (auto& [key, ids] : groups)
+    mesh->add_to_group(physical_group_name(names, key.first, key.second), ids.data(),
+                       static_cast<int>(ids.size()));
 }
 
-int resolve_gmsh_node(const NodeTags& tags, long long tag, long long element, const TextCursor& cursor) {
+int resolve_gmsh_node(const NodeTags& tags, long long tag, long long element,
+                      const TextCursor& cursor) {
   const int id = tags.find(tag);
   if (id < 0) {
-    cursor.fail("element " + std::to_string(element) + " references node tag " + std::to_string(tag) +
-                ", which the nodes section does not define (missing node)");
+    cursor.fail("element " + std::to_string(element) + " references node tag " +
+                std::to_string(tag) + ", which the nodes section does not define (missing node)");
   }
   return id;
 }
 
 bool read_gmsh_format_tail(TextCursor& c, int expected_size, bool* swap) {
   const long long file_type = c.read_int("file-type (0 = ASCII, 1 = binary)");
-  if (file_type != 0 && file_type != 1) c.fail("expected file-type 0 (ASCII) or 1 (binary), got " + std::to_string(file_type));
+  if (file_type != 0 && file_type != 1)
+    c.fail("expected file-type 0 (ASCII) or 1 (binary), got " + std::to_string(file_type));
   const long long data_size = c.read_int("data-size");
   if (data_size != expected_size) {
-    c.fail("expected data-size " + std::to_string(expected_size) + ", got " + std::to_string(data_size));
+    c.fail("expected data-size " + std::to_string(expected_size) + ", got " +
+           std::to_string(data_size));
   }
   *swap = false;
   if (file_type == 1) {
@@ -139,9 +145,8 @@ void skip_gmsh_section(TextCursor& cursor, std::string_view keyword) {
 void expect_gmsh_end_elements(TextCursor& cursor, long long count) {
   const std::string_view end = cursor.token("$EndElements");
   if (end != "$EndElements") {
-    cursor.fail_expected("'$EndElements' after " + std::to_string(count) +
-                             " elements (wrong element count?)",
-                         end);
+    cursor.fail_expected(
+        "'$EndElements' after " + std::to_string(count) + " elements (wrong element count?)", end);
   }
 }
 

@@ -16,8 +16,8 @@ namespace hapstate {
 enum class GmshRole { kTet, kGroupOnly, kUnsupported };
 
 struct GmshElementType {
-  int nodes = 0;   // nodes per element
-  int dim = 0;     // topological dimension
+  int nodes = 0;  // nodes per element
+  int dim = 0;    // topological dimension
   GmshRole role = GmshRole::kUnsupported;
   const char* name = "";
 };
@@ -42,15 +42,16 @@ using GmshGroups = std::map<std::pair<int, int>, std::vector<int>>;
 // Adds one element with 0-based node ids `ids` and physical tags `phys[0..num_phys)`: a tet for
 // type 4; every element's nodes go to its physical groups. Throws a file:line "unsupported
 // element type" error for volume elements other than linear tets (hexahedra, tet10, ...).
-void add_gmsh_element(RawMesh* mesh, GmshGroups* groups, const TextCursor& cursor, int type, const int* ids,
-                      const int* phys, int num_phys);
+void add_gmsh_element(RawMesh* mesh, GmshGroups* groups, const TextCursor& cursor, int type,
+                      const int* ids, const int* phys, int num_phys);
 
 // Moves `groups` into mesh->groups under their names (physical_group_name).
 void name_gmsh_groups(const PhysicalNames& names, GmshGroups&& groups, RawMesh* mesh);
 
 // Reads a node tag reference and returns its 0-based id; throws "file:line: element E
 // references node tag T, which $Nodes does not define".
-int resolve_gmsh_node(const NodeTags& tags, long long tag, long long element, const TextCursor& cursor);
+int resolve_gmsh_node(const NodeTags& tags, long long tag, long long element,
+                      const TextCursor& cursor);
 
 // Reads the rest of $MeshFormat after the version token (file-type, data-size, the binary
 // endianness marker, $EndMeshFormat). Returns true for binary; sets *swap if the file's byte

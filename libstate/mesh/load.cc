@@ -39,7 +39,8 @@ bool starts_with_skipping_space(std::string_view text, std::string_view prefix) 
 
 Mesh load_mesh(const std::filesystem::path& file, MeshReport* report) {
   std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char ch) { return std::tolower(ch); });
   const std::string source = file.string();
   std::string format;
   RawMesh raw;

@@ -12,13 +12,14 @@ namespace hapstate {
 
 // What validation found and repaired while importing a mesh.
 struct MeshReport {
-  int reoriented = 0;     // negatively oriented tets that were flipped
-  int degenerate = 0;     // zero-volume tets (removed)
-  int duplicate = 0;      // tets repeating another tet's node set (removed)
-  int unreferenced = 0;   // nodes used by no tet (kept, reported)
-  std::vector<std::string> warnings;  // one line each, for the user (each kind listed up to 20 times)
-  std::vector<int> degenerate_tets;     // file-order indices (0-based) of the removed degenerate tets
-  std::vector<int> duplicate_tets;      // file-order indices of the removed later copies
+  int reoriented = 0;    // negatively oriented tets that were flipped
+  int degenerate = 0;    // zero-volume tets (removed)
+  int duplicate = 0;     // tets repeating another tet's node set (removed)
+  int unreferenced = 0;  // nodes used by no tet (kept, reported)
+  std::vector<std::string>
+      warnings;  // one line each, for the user (each kind listed up to 20 times)
+  std::vector<int> degenerate_tets;  // file-order indices (0-based) of the removed degenerate tets
+  std::vector<int> duplicate_tets;   // file-order indices of the removed later copies
   std::vector<int> unreferenced_nodes;  // 0-based node ids used by no tet
   std::string format;                   // detected format, e.g. "gmsh-4.1-binary", "vtu"
 };

@@ -20,7 +20,7 @@ struct Mesh {
   // Physical groups of the file (Gmsh physical names or numbers, Medit refs, ...): group name ->
   // sorted unique node ids of every element in the group.
   std::map<std::string, std::vector<int>> groups;
-  std::string source;      // file the mesh came from (for error messages)
+  std::string source;  // file the mesh came from (for error messages)
 
   int num_nodes() const { return static_cast<int>(nodes.cols()); }
   int num_tets() const { return static_cast<int>(tets.cols()); }

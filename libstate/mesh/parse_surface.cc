@@ -28,15 +28,18 @@ TriangleSurface parse_obj(std::string_view text, const std::string& source) {
         const std::size_t end = rest.find_first_of(" \t");
         const std::string_view corner = rest.substr(0, end);
         rest = end == std::string_view::npos ? std::string_view() : rest.substr(end);
-        while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
+        while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t'))
+          rest.remove_prefix(1);
         long long v = 0;
         if (!parse_int(corner.substr(0, corner.find('/')), &v) || v == 0) {
-          c.fail_at(line, "expected a face vertex index (v, v/vt, v//vn or v/vt/vn), got '" + printable(corner) + "'");
+          c.fail_at(line, "expected a face vertex index (v, v/vt, v//vn or v/vt/vn), got '" +
+                              printable(corner) + "'");
         }
         const long long count = static_cast<long long>(s.xyz.size() / 3);
         const long long id = v > 0 ? v - 1 : count + v;  // negative = relative to the end
         if (id < 0 || id >= count) {
-          c.fail_at(line, "face references vertex " + std::to_string(v) + ", but only " + std::to_string(count) +
+          c.fail_at(line, "face references vertex " + std::to_string(v) + ", but only " +
+                              std::to_string(count) +
                               " vertices are defined so far (missing node)");
         }
         polygon.push_back(static_cast<int>(id));
@@ -72,9 +75,12 @@ TriangleSurface parse_stl(std::string_view text, const std::string& source) {
         std::array<int, 3> face{};
         for (int k = 0; k < 3; ++k) {
           std::array<double, 3> q{};
-          for (int j = 0; j < 3; ++j) q[j] = load_binary<float>(p + 12 * k + 4 * j, !kHostLittleEndian);
+          for (int j = 0; j < 3; ++j)
+            q[j] = load_binary<float>(p + 12 * k + 4 * j, !kHostLittleEndian);
           for (double v : q) {
-            if (!std::isfinite(v)) throw InputError(source + ": binary STL triangle " + std::to_string(t) + " has a non-finite coordinate");
+            if (!std::isfinite(v))
+              throw InputError(source + ": binary STL triangle " + std::to_string(t) +
+                               " has a non-finite coordinate");
           }
           face[k] = vertex(q);
         }
@@ -91,7 +97,8 @@ TriangleSurface parse_stl(std::string_view text, const std::string& source) {
   while (true) {
     const std::string_view key = c.token("'facet' or 'endsolid'");
     if (key == "endsolid") break;
-    if (key != "facet") c.fail_expected("'facet' or 'endsolid' (or a binary STL of the right size)", key);
+    if (key != "facet")
+      c.fail_expected("'facet' or 'endsolid' (or a binary STL of the right size)", key);
     const int line = c.line();
     c.expect("normal");
     for (int k = 0; k < 3; ++k) c.read_double("normal component");

@@ -13,11 +13,11 @@
 namespace hapstate {
 
 struct RawMesh {
-  std::string source;                          // file name for messages
-  std::vector<double> xyz;                     // 3 coordinates per node, file order
-  std::vector<std::array<int, 4>> tets;        // 0-based node ids, file order
+  std::string source;                              // file name for messages
+  std::vector<double> xyz;                         // 3 coordinates per node, file order
+  std::vector<std::array<int, 4>> tets;            // 0-based node ids, file order
   std::map<std::string, std::vector<int>> groups;  // node ids, unsorted, may repeat
-  std::vector<std::string> warnings;           // reader remarks (ignored sections, ...)
+  std::vector<std::string> warnings;               // reader remarks (ignored sections, ...)
 
   int num_nodes() const { return static_cast<int>(xyz.size() / 3); }
   // Appends `count` node ids to group `name`.
@@ -34,7 +34,8 @@ class NodeTags {
   // Registers the next node; false if `tag` was already used.
   bool add(long long tag, int id) {
     if (tag >= 0 && tag < kDenseLimit) {
-      if (static_cast<std::size_t>(tag) >= dense_.size()) dense_.resize(static_cast<std::size_t>(tag) + 1, -1);
+      if (static_cast<std::size_t>(tag) >= dense_.size())
+        dense_.resize(static_cast<std::size_t>(tag) + 1, -1);
       if (dense_[static_cast<std::size_t>(tag)] >= 0) return false;
       dense_[static_cast<std::size_t>(tag)] = id;
       return true;
@@ -44,7 +45,8 @@ class NodeTags {
   // 0-based id of `tag`, or -1 if the file defines no such node.
   int find(long long tag) const {
     if (tag >= 0 && tag < kDenseLimit) {
-      return static_cast<std::size_t>(tag) < dense_.size() ? dense_[static_cast<std::size_t>(tag)] : -1;
+      return static_cast<std::size_t>(tag) < dense_.size() ? dense_[static_cast<std::size_t>(tag)]
+                                                           : -1;
     }
     const auto it = sparse_.find(tag);
     return it == sparse_.end() ? -1 : it->second;

@@ -17,22 +17,35 @@ struct MeditElement {
 };
 
 // Element sections with their node counts (each line: nodes, then the reference).
-constexpr MeditElement kElements[] = {
-    {"Tetrahedra", 4, true}, {"Triangles", 3, false}, {"Edges", 2, false}, {"Quadrilaterals", 4, false}};
+constexpr MeditElement kElements[] = {{"Tetrahedra", 4, true},
+                                      {"Triangles", 3, false},
+                                      {"Edges", 2, false},
+                                      {"Quadrilaterals", 4, false}};
 
 // Sections skipped: keyword and numbers per entry.
-constexpr std::pair<const char*, int> kSkipped[] = {
-    {"Corners", 1},         {"RequiredVertices", 1},  {"Ridges", 1},          {"RequiredEdges", 1},
-    {"RequiredTriangles", 1}, {"RequiredQuadrilaterals", 1}, {"RequiredTetrahedra", 1},
-    {"Normals", 3},         {"Tangents", 3},          {"NormalAtVertices", 2}, {"TangentAtVertices", 2},
-    {"NormalAtTriangleVertices", 3}, {"Identifier", 0}, {"Geometry", 0}};
+constexpr std::pair<const char*, int> kSkipped[] = {{"Corners", 1},
+                                                    {"RequiredVertices", 1},
+                                                    {"Ridges", 1},
+                                                    {"RequiredEdges", 1},
+                                                    {"RequiredTriangles", 1},
+                                                    {"RequiredQuadrilaterals", 1},
+                                                    {"RequiredTetrahedra", 1},
+                                                    {"Normals", 3},
+                                                    {"Tangents", 3},
+                                                    {"NormalAtVertices", 2},
+                                                    {"TangentAtVertices", 2},
+                                                    {"NormalAtTriangleVertices", 3},
+                                                    {"Identifier", 0},
+                                                    {"Geometry", 0}};
 
-constexpr const char* kUnsupported[] = {"Hexahedra", "Prisms", "Pyramids", "TetrahedraP2", "TrianglesP2", "EdgesP2",
-                                         "QuadrilateralsQ2", "HexahedraQ2"};
+constexpr const char* kUnsupported[] = {"Hexahedra",        "Prisms",      "Pyramids",
+                                        "TetrahedraP2",     "TrianglesP2", "EdgesP2",
+                                        "QuadrilateralsQ2", "HexahedraQ2"};
 
 long long read_count(TextCursor& c, std::string_view keyword) {
   const long long n = c.read_int(std::string("number of ") + std::string(keyword));
-  if (n < 0 || n > (1LL << 31) - 1) c.fail("expected a non-negative number of " + std::string(keyword));
+  if (n < 0 || n > (1LL << 31) - 1)
+    c.fail("expected a non-negative number of " + std::string(keyword));
   return n;
 }
 
@@ -43,9 +56,11 @@ RawMesh read_medit(std::string_view text, const std::string& source) {
   RawMesh mesh;
   mesh.source = source;
   std::string_view first = c.token("MeshVersionFormatted");
-  if (first != "MeshVersionFormatted") c.fail_expected("'MeshVersionFormatted' (Medit .mesh header)", first);
+  if (first != "MeshVersionFormatted")
+    c.fail_expected("'MeshVersionFormatted' (Medit .mesh header)", first);
   const long long version = c.read_int("mesh version");
-  if (version < 1 || version > 4) c.fail("expected MeshVersionFormatted 1..4, got " + std::to_string(version));
+  if (version < 1 || version > 4)
+    c.fail("expected MeshVersionFormatted 1..4, got " + std::to_string(version));
   bool have_vertices = false;
   std::vector<int> ids(8);
   while (!c.at_end()) {
@@ -65,8 +80,9 @@ RawMesh read_medit(std::string_view text, const std::string& source) {
         const std::string_view t = c.token("vertex x coordinate");
         double x = 0;
         if (!parse_double(t, &x)) {
-          c.fail_expected("vertex x coordinate (a finite number; vertex " + std::to_string(i + 1) + " of " +
-                              std::to_string(n) + ", wrong vertex count?)", t);
+          c.fail_expected("vertex x coordinate (a finite number; vertex " + std::to_string(i + 1) +
+                              " of " + std::to_string(n) + ", wrong vertex count?)",
+                          t);
         }
         mesh.xyz.push_back(x);
         mesh.xyz.push_back(c.read_double("vertex y coordinate"));
@@ -84,8 +100,9 @@ RawMesh read_medit(std::string_view text, const std::string& source) {
         for (int k = 0; k < e.nodes; ++k) {
           const long long v = c.read_int(std::string(e.keyword) + " vertex index");
           if (v < 1 || v > mesh.num_nodes()) {
-            c.fail(std::string(e.keyword) + " element " + std::to_string(i + 1) + " references vertex " +
-                   std::to_string(v) + ", but " + std::to_string(mesh.num_nodes()) +
+            c.fail(std::string(e.keyword) + " element " + std::to_string(i + 1) +
+                   " references vertex " + std::to_string(v) + ", but " +
+                   std::to_string(mesh.num_nodes()) +
                    " vertices are defined (1-based; missing node)");
           }
           ids[k] = static_cast<int>(v - 1);
@@ -112,7 +129,8 @@ RawMesh read_medit(std::string_view text, const std::string& source) {
       }
     }
     if (!handled) {
-      c.fail_expected("a Medit keyword (Vertices, Tetrahedra, Triangles, Edges, ..., End)", keyword);
+      c.fail_expected("a Medit keyword (Vertices, Tetrahedra, Triangles, Edges, ..., End)",
+                      keyword);
     }
   }
   if (!have_vertices) c.fail("truncated file: no Vertices section");

@@ -1,4 +1,5 @@
-// Gmsh legacy format 1: $NOD n / id x y z / $ENDNOD, $ELM m / id type phys elem nnodes nodes / $ENDELM.
+// Gmsh legacy format 1: $NOD n / id x y z / $ENDNOD, $ELM m / id type phys elem nnodes nodes /
+// $ENDELM.
 #include "mesh/gmsh_common.h"
 #include "mesh/readers.h"
 
@@ -27,7 +28,8 @@ RawMesh read_msh1(std::string_view text, const std::string& source) {
         long long tag = 0;
         if (!parse_int(t, &tag)) {
           c.fail_expected("node id (node " + std::to_string(i + 1) + " of " + std::to_string(n) +
-                              " declared by $NOD; wrong node count?)", t);
+                              " declared by $NOD; wrong node count?)",
+                          t);
         }
         if (!tags.add(tag, static_cast<int>(i))) c.fail("duplicate node id " + std::to_string(tag));
         for (int k = 0; k < 3; ++k) mesh.xyz.push_back(c.read_double("node coordinate"));
@@ -46,8 +48,9 @@ RawMesh read_msh1(std::string_view text, const std::string& source) {
         const std::string_view t = c.token("element id");
         long long id = 0;
         if (!parse_int(t, &id)) {
-          c.fail_expected("element id (element " + std::to_string(e + 1) + " of " + std::to_string(m) +
-                              " declared by $ELM; wrong element count?)", t);
+          c.fail_expected("element id (element " + std::to_string(e + 1) + " of " +
+                              std::to_string(m) + " declared by $ELM; wrong element count?)",
+                          t);
         }
         const int type = static_cast<int>(c.read_int("element type"));
         const GmshElementType& info = gmsh_element_type(type, c);
@@ -55,14 +58,17 @@ RawMesh read_msh1(std::string_view text, const std::string& source) {
         c.read_int("elementary region");
         const long long nn = c.read_int("number of element nodes");
         if (nn != info.nodes) {
-          c.fail("expected " + std::to_string(info.nodes) + " nodes for element type " + std::to_string(type) +
-                 " (" + info.name + "), got " + std::to_string(nn));
+          c.fail("expected " + std::to_string(info.nodes) + " nodes for element type " +
+                 std::to_string(type) + " (" + info.name + "), got " + std::to_string(nn));
         }
-        for (int k = 0; k < info.nodes; ++k) ids[k] = resolve_gmsh_node(tags, c.read_int("node id"), id, c);
+        for (int k = 0; k < info.nodes; ++k)
+          ids[k] = resolve_gmsh_node(tags, c.read_int("node id"), id, c);
         add_gmsh_element(&mesh, &groups, c, type, ids, &phys, 1);
       }
       const std::string_view end = c.token("$ENDELM");
-      if (end != "$ENDELM") c.fail_expected("'$ENDELM' after " + std::to_string(m) + " elements (wrong element count?)", end);
+      if (end != "$ENDELM")
+        c.fail_expected("'$ENDELM' after " + std::to_string(m) + " elements (wrong element count?)",
+                        end);
     } else {
       c.fail_expected("'$NOD' or '$ELM' (Gmsh format 1 section)", section);
     }

@@ -39,10 +39,12 @@ RawMesh read_msh2(std::string_view text, const std::string& source, std::string*
       mesh.xyz.reserve(3 * std::min(static_cast<std::size_t>(n), c.capacity(8)));  // >= 4 numbers
       if (binary) {
         c.skip_line_end();
-        const char* p = c.take_bytes(static_cast<std::size_t>(n) * 28, "nodes (int id + 3 doubles each)");
+        const char* p =
+            c.take_bytes(static_cast<std::size_t>(n) * 28, "nodes (int id + 3 doubles each)");
         for (long long i = 0; i < n; ++i, p += 28) {
           const long long tag = load_binary<std::int32_t>(p, swap);
-          if (!tags.add(tag, static_cast<int>(i))) c.fail("duplicate node id " + std::to_string(tag) + " in binary $Nodes");
+          if (!tags.add(tag, static_cast<int>(i)))
+            c.fail("duplicate node id " + std::to_string(tag) + " in binary $Nodes");
           for (int k = 0; k < 3; ++k) mesh.xyz.push_back(load_binary<double>(p + 4 + 8 * k, swap));
         }
       } else {
@@ -51,14 +53,18 @@ RawMesh read_msh2(std::string_view text, const std::string& source, std::string*
           long long tag = 0;
           if (!parse_int(t, &tag)) {
             c.fail_expected("node id (node " + std::to_string(i + 1) + " of " + std::to_string(n) +
-                                " declared by $Nodes; wrong node count?)", t);
+                                " declared by $Nodes; wrong node count?)",
+                            t);
           }
-          if (!tags.add(tag, static_cast<int>(i))) c.fail("duplicate node id " + std::to_string(tag));
+          if (!tags.add(tag, static_cast<int>(i)))
+            c.fail("duplicate node id " + std::to_string(tag));
           for (int k = 0; k < 3; ++k) mesh.xyz.push_back(c.read_double("node coordinate"));
         }
       }
       const std::string_view end = c.token("$EndNodes");
-      if (end != "$EndNodes") c.fail_expected("'$EndNodes' after " + std::to_string(n) + " nodes (wrong node count?)", end);
+      if (end != "$EndNodes")
+        c.fail_expected("'$EndNodes' after " + std::to_string(n) + " nodes (wrong node count?)",
+                        end);
     } else if (section == "$Elements") {
       if (have_elements) c.fail("second $Elements section (expected one)");
       have_elements = true;
@@ -74,8 +80,8 @@ RawMesh read_msh2(std::string_view text, const std::string& source, std::string*
           const int ntags = load_binary<std::int32_t>(h + 8, swap);
           const GmshElementType& info = gmsh_element_type(type, c);
           if (count <= 0 || count > m - done || ntags < 0 || ntags > 64) {
-            c.fail("corrupt binary element block header (type " + std::to_string(type) + ", count " +
-                   std::to_string(count) + ", tags " + std::to_string(ntags) + ")");
+            c.fail("corrupt binary element block header (type " + std::to_string(type) +
+                   ", count " + std::to_string(count) + ", tags " + std::to_string(ntags) + ")");
           }
           const std::size_t stride = 4 * static_cast<std::size_t>(1 + ntags + info.nodes);
           const char* p = c.take_bytes(stride * static_cast<std::size_t>(count), "elements");
@@ -84,9 +90,11 @@ RawMesh read_msh2(std::string_view text, const std::string& source, std::string*
             const long long id = load_binary<std::int32_t>(p, swap);
             if (ntags > 0) phys[0] = load_binary<std::int32_t>(p + 4, swap);
             for (int k = 0; k < info.nodes; ++k) {
-              ids[k] = resolve_gmsh_node(tags, load_binary<std::int32_t>(p + 4 * (1 + ntags + k), swap), id, c);
+              ids[k] = resolve_gmsh_node(
+                  tags, load_binary<std::int32_t>(p + 4 * (1 + ntags + k), swap), id, c);
             }
-            add_gmsh_element(&mesh, &groups, c, type, ids.data(), phys.data(), static_cast<int>(phys.size()));
+            add_gmsh_element(&mesh, &groups, c, type, ids.data(), phys.data(),
+                             static_cast<int>(phys.size()));
           }
           done += count;
         }
@@ -95,20 +103,24 @@ RawMesh read_msh2(std::string_view text, const std::string& source, std::string*
           const std::string_view t = c.token("element id");
           long long id = 0;
           if (!parse_int(t, &id)) {
-            c.fail_expected("element id (element " + std::to_string(e + 1) + " of " + std::to_string(m) +
-                                " declared by $Elements; wrong element count?)", t);
+            c.fail_expected("element id (element " + std::to_string(e + 1) + " of " +
+                                std::to_string(m) + " declared by $Elements; wrong element count?)",
+                            t);
           }
           const int type = static_cast<int>(c.read_int("element type"));
           const GmshElementType& info = gmsh_element_type(type, c);
           const long long ntags = c.read_int("number of tags");
-          if (ntags < 0 || ntags > 64) c.fail("expected a small number of tags, got " + std::to_string(ntags));
+          if (ntags < 0 || ntags > 64)
+            c.fail("expected a small number of tags, got " + std::to_string(ntags));
           phys.clear();
           for (long long k = 0; k < ntags; ++k) {
             const int tag = static_cast<int>(c.read_int("element tag"));
             if (k == 0) phys.push_back(tag);
           }
-          for (int k = 0; k < info.nodes; ++k) ids[k] = resolve_gmsh_node(tags, c.read_int("node id"), id, c);
-          add_gmsh_element(&mesh, &groups, c, type, ids.data(), phys.data(), static_cast<int>(phys.size()));
+          for (int k = 0; k < info.nodes; ++k)
+            ids[k] = resolve_gmsh_node(tags, c.read_int("node id"), id, c);
+          add_gmsh_element(&mesh, &groups, c, type, ids.data(), phys.data(),
+                           static_cast<int>(phys.size()));
         }
       }
       expect_gmsh_end_elements(c, m);

@@ -19,7 +19,8 @@ class Msh4Numbers {
   long long size(std::string_view what) {
     if (!binary_) {
       const long long v = c_.read_int(what);
-      if (v < 0) c_.fail("expected a non-negative " + std::string(what) + ", got " + std::to_string(v));
+      if (v < 0)
+        c_.fail("expected a non-negative " + std::string(what) + ", got " + std::to_string(v));
       return v;
     }
     const std::uint64_t v = load_binary<std::uint64_t>(c_.take_bytes(8, what), swap_);
@@ -115,15 +116,17 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
                  std::to_string(parametric) + ")");
         }
         if (count > n - done) {
-          c.fail("node block of " + std::to_string(count) + " nodes exceeds the " + std::to_string(n) +
-                 " nodes declared by $Nodes (wrong node count?)");
+          c.fail("node block of " + std::to_string(count) + " nodes exceeds the " +
+                 std::to_string(n) + " nodes declared by $Nodes (wrong node count?)");
         }
         if (static_cast<std::size_t>(count) > c.capacity(2)) {
-          c.fail("node block of " + std::to_string(count) + " nodes is longer than the rest of the "
+          c.fail("node block of " + std::to_string(count) +
+                 " nodes is longer than the rest of the "
                  "file (wrong node count?)");
         }
         block_tags.resize(static_cast<std::size_t>(count));
-        for (long long i = 0; i < count; ++i) block_tags[static_cast<std::size_t>(i)] = num.size("node tag");
+        for (long long i = 0; i < count; ++i)
+          block_tags[static_cast<std::size_t>(i)] = num.size("node tag");
         const int params = parametric != 0 ? dim : 0;
         for (long long i = 0; i < count; ++i) {
           const int id = static_cast<int>(done + i);
@@ -136,11 +139,14 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
         done += count;
       }
       if (done != n) {
-        c.fail_at(header_line, "node blocks hold " + std::to_string(done) + " nodes but $Nodes declares " + std::to_string(n) +
-               " (wrong node count?)");
+        c.fail_at(header_line, "node blocks hold " + std::to_string(done) +
+                                   " nodes but $Nodes declares " + std::to_string(n) +
+                                   " (wrong node count?)");
       }
       const std::string_view end = c.token("$EndNodes");
-      if (end != "$EndNodes") c.fail_expected("'$EndNodes' after " + std::to_string(n) + " nodes (wrong node count?)", end);
+      if (end != "$EndNodes")
+        c.fail_expected("'$EndNodes' after " + std::to_string(n) + " nodes (wrong node count?)",
+                        end);
     } else if (section == "$Elements") {
       if (have_elements) c.fail("second $Elements section (expected one)");
       have_elements = true;
@@ -158,8 +164,8 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
         const long long count = num.size("number of elements in block");
         const GmshElementType& info = gmsh_element_type(type, c);
         if (count > m - done) {
-          c.fail("element block of " + std::to_string(count) + " elements exceeds the " + std::to_string(m) +
-                 " elements declared by $Elements (wrong element count?)");
+          c.fail("element block of " + std::to_string(count) + " elements exceeds the " +
+                 std::to_string(m) + " elements declared by $Elements (wrong element count?)");
         }
         const std::vector<int>* phys = &kNoPhys;
         if (have_entities && entity != 0) {
@@ -172,14 +178,17 @@ RawMesh read_msh4(std::string_view text, const std::string& source, std::string*
         }
         for (long long e = 0; e < count; ++e) {
           const long long id = num.size("element tag");
-          for (int k = 0; k < info.nodes; ++k) ids[k] = resolve_gmsh_node(tags, num.size("node tag"), id, c);
-          add_gmsh_element(&mesh, &groups, c, type, ids.data(), phys->data(), static_cast<int>(phys->size()));
+          for (int k = 0; k < info.nodes; ++k)
+            ids[k] = resolve_gmsh_node(tags, num.size("node tag"), id, c);
+          add_gmsh_element(&mesh, &groups, c, type, ids.data(), phys->data(),
+                           static_cast<int>(phys->size()));
         }
         done += count;
       }
       if (done != m) {
-        c.fail_at(header_line, "element blocks hold " + std::to_string(done) + " elements but $Elements declares " +
-               std::to_string(m) + " (wrong element count?)");
+        c.fail_at(header_line, "element blocks hold " + std::to_string(done) +
+                                   " elements but $Elements declares " + std::to_string(m) +
+                                   " (wrong element count?)");
       }
       expect_gmsh_end_elements(c, m);
     } else {

@@ -15,7 +15,8 @@ namespace {
 
 std::string read_text(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string() + ": cannot open TetGen file (a .node/.ele pair is required)");
+  if (!in)
+    throw InputError(file.string() + ": cannot open TetGen file (a .node/.ele pair is required)");
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
@@ -50,9 +51,11 @@ RawMesh read_tetgen(const std::filesystem::path& file) {
     long long index = 0;
     if (!parse_int(t, &index)) {
       c.fail_expected("point index (point " + std::to_string(i + 1) + " of " + std::to_string(n) +
-                          "; wrong point count?)", t);
+                          "; wrong point count?)",
+                      t);
     }
-    if (!tags.add(index, static_cast<int>(i))) c.fail("duplicate point index " + std::to_string(index));
+    if (!tags.add(index, static_cast<int>(i)))
+      c.fail("duplicate point index " + std::to_string(index));
     for (int k = 0; k < 3; ++k) mesh.xyz.push_back(c.read_double("point coordinate"));
     for (long long k = 0; k < attributes; ++k) c.read_double("point attribute");
     if (markers == 1) {
@@ -61,31 +64,36 @@ RawMesh read_tetgen(const std::filesystem::path& file) {
       if (m != 0) mesh.add_to_group("marker:" + std::to_string(m), &id, 1);
     }
   }
-  if (!c.at_end()) c.fail_expected("end of file after " + std::to_string(n) + " points (wrong point count?)", c.peek());
+  if (!c.at_end())
+    c.fail_expected("end of file after " + std::to_string(n) + " points (wrong point count?)",
+                    c.peek());
 
   TextCursor e(ele_text, ele_file.string(), '#');
   const long long m = e.read_int("number of tetrahedra");
   if (m < 0) e.fail("expected a non-negative number of tetrahedra");
   const long long per_tet = e.read_int("nodes per tetrahedron");
-  if (per_tet == 10) e.fail("unsupported higher-order tetrahedra (10 nodes per tet); only linear 4-node tets");
+  if (per_tet == 10)
+    e.fail("unsupported higher-order tetrahedra (10 nodes per tet); only linear 4-node tets");
   if (per_tet != 4) e.fail("expected 4 nodes per tetrahedron, got " + std::to_string(per_tet));
   const long long tet_attributes = e.read_int("number of tetrahedron attributes");
-  if (tet_attributes < 0 || tet_attributes > 1000) e.fail("expected a small number of tetrahedron attributes");
+  if (tet_attributes < 0 || tet_attributes > 1000)
+    e.fail("expected a small number of tetrahedron attributes");
   mesh.tets.reserve(std::min(static_cast<std::size_t>(m), e.capacity(10)));  // >= 5 numbers
   for (long long i = 0; i < m; ++i) {
     const std::string_view t = e.token("tetrahedron index");
     long long index = 0;
     if (!parse_int(t, &index)) {
-      e.fail_expected("tetrahedron index (tet " + std::to_string(i + 1) + " of " + std::to_string(m) +
-                          "; wrong tet count?)", t);
+      e.fail_expected("tetrahedron index (tet " + std::to_string(i + 1) + " of " +
+                          std::to_string(m) + "; wrong tet count?)",
+                      t);
     }
     std::array<int, 4> tet{};
     for (int k = 0; k < 4; ++k) {
       const long long v = e.read_int("node index");
       tet[k] = tags.find(v);
       if (tet[k] < 0) {
-        e.fail("tetrahedron " + std::to_string(index) + " references point " + std::to_string(v) + ", which " +
-               node_file.filename().string() + " does not define (missing node)");
+        e.fail("tetrahedron " + std::to_string(index) + " references point " + std::to_string(v) +
+               ", which " + node_file.filename().string() + " does not define (missing node)");
       }
     }
     mesh.tets.push_back(tet);
@@ -96,7 +104,9 @@ RawMesh read_tetgen(const std::filesystem::path& file) {
       }
     }
   }
-  if (!e.at_end()) e.fail_expected("end of file after " + std::to_string(m) + " tetrahedra (wrong tet count?)", e.peek());
+  if (!e.at_end())
+    e.fail_expected("end of file after " + std::to_string(m) + " tetrahedra (wrong tet count?)",
+                    e.peek());
   return mesh;
 }
 

@@ -32,7 +32,8 @@ ValueType value_type(TextCursor& c, std::string_view name) {
   if (n == "unsigned_int" || n == "vtktypeuint32") return {4, true, false};
   if (n == "long" || n == "vtktypeint64" || n == "vtkidtype") return {8, true, true};
   if (n == "unsigned_long" || n == "vtktypeuint64") return {8, true, false};
-  c.fail_expected("a VTK data type (float, double, int, unsigned_char, long, vtktypeint64, ...)", name);
+  c.fail_expected("a VTK data type (float, double, int, unsigned_char, long, vtktypeint64, ...)",
+                  name);
 }
 
 // Reads `count` numbers of `type`; integers go to `ints` (if not null), all to `reals` (if not
@@ -41,14 +42,16 @@ class ValueReader {
  public:
   ValueReader(TextCursor& c, bool binary) : c_(c), binary_(binary) {}
 
-  void read(const ValueType& type, std::size_t count, std::string_view what, std::vector<long long>* ints,
-            std::vector<double>* reals, std::vector<int>* lines = nullptr) {
+  void read(const ValueType& type, std::size_t count, std::string_view what,
+            std::vector<long long>* ints, std::vector<double>* reals,
+            std::vector<int>* lines = nullptr) {
     const std::size_t fits = std::min(count, c_.capacity(binary_ ? 1 : 2));  // >= 1 byte / "0 "
     if (ints != nullptr) ints->reserve(ints->size() + fits);
     if (reals != nullptr) reals->reserve(reals->size() + fits);
     if (binary_) {
       c_.skip_line_end();
-      if (count > (std::size_t{1} << 40)) c_.fail("implausible array size " + std::to_string(count));
+      if (count > (std::size_t{1} << 40))
+        c_.fail("implausible array size " + std::to_string(count));
       const char* p = c_.take_bytes(count * static_cast<std::size_t>(type.size), what);
       const int line = c_.line();
       const bool swap = kHostLittleEndian;  // legacy VTK binary is big-endian
@@ -57,16 +60,28 @@ class ValueReader {
         long long integer = 0;
         if (type.integral) {
           switch (type.size) {
-            case 1: integer = type.is_signed ? static_cast<long long>(static_cast<signed char>(*p))
-                                             : static_cast<long long>(static_cast<unsigned char>(*p)); break;
-            case 2: integer = type.is_signed ? load_binary<std::int16_t>(p, swap) : load_binary<std::uint16_t>(p, swap); break;
-            case 4: integer = type.is_signed ? load_binary<std::int32_t>(p, swap) : load_binary<std::uint32_t>(p, swap); break;
-            default: integer = type.is_signed ? load_binary<std::int64_t>(p, swap)
-                                               : static_cast<long long>(load_binary<std::uint64_t>(p, swap)); break;
+            case 1:
+              integer = type.is_signed ? static_cast<long long>(static_cast<signed char>(*p))
+                                       : static_cast<long long>(static_cast<unsigned char>(*p));
+              break;
+            case 2:
+              integer = type.is_signed ? load_binary<std::int16_t>(p, swap)
+                                       : load_binary<std::uint16_t>(p, swap);
+              break;
+            case 4:
+              integer = type.is_signed ? load_binary<std::int32_t>(p, swap)
+                                       : load_binary<std::uint32_t>(p, swap);
+              break;
+            default:
+              integer = type.is_signed
+                            ? load_binary<std::int64_t>(p, swap)
+                            : static_cast<long long>(load_binary<std::uint64_t>(p, swap));
+              break;
           }
           real = static_cast<double>(integer);
         } else {
-          real = type.size == 4 ? static_cast<double>(load_binary<float>(p, swap)) : load_binary<double>(p, swap);
+          real = type.size == 4 ? static_cast<double>(load_binary<float>(p, swap))
+                                : load_binary<double>(p, swap);
         }
         if (ints != nullptr) ints->push_back(integer);
         if (reals != nullptr) reals->push_back(real);
@@ -100,7 +115,8 @@ std::string upper(std::string_view s) {
 
 long long read_count(TextCursor& c, std::string_view what) {
   const long long n = c.read_int(what);
-  if (n < 0 || n > (1LL << 40)) c.fail("expected a non-negative " + std::string(what) + ", got " + std::to_string(n));
+  if (n < 0 || n > (1LL << 40))
+    c.fail("expected a non-negative " + std::string(what) + ", got " + std::to_string(n));
   return n;
 }
 
@@ -123,7 +139,8 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
   *format = binary ? "vtk-legacy-binary" : "vtk-legacy";
   c.expect("DATASET");
   const std::string dataset = upper(c.token("dataset type"));
-  if (dataset != "UNSTRUCTURED_GRID") c.fail_expected("UNSTRUCTURED_GRID (only unstructured grids hold tets)", dataset);
+  if (dataset != "UNSTRUCTURED_GRID")
+    c.fail_expected("UNSTRUCTURED_GRID (only unstructured grids hold tets)", dataset);
 
   ValueReader values(c, binary);
   VtkCells cells;
@@ -136,8 +153,9 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
   int attributes = 0;
   long long attribute_count = 0;
 
-  const auto read_attribute_array = [&](const std::string& name, long long components, long long tuples,
-                                        const ValueType& type, std::string_view what) {
+  const auto read_attribute_array = [&](const std::string& name, long long components,
+                                        long long tuples, const ValueType& type,
+                                        std::string_view what) {
     const std::size_t count = static_cast<std::size_t>(components * tuples);
     if (attributes == 1 && type.integral && components == 1) {
       std::vector<long long> v;
@@ -155,7 +173,8 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
       num_points = read_count(c, "number of points");
       if (num_points > (1LL << 31) - 1) c.fail("too many points");
       const ValueType type = value_type(c, c.token("point data type"));
-      values.read(type, 3 * static_cast<std::size_t>(num_points), "point coordinate", nullptr, &mesh.xyz);
+      values.read(type, 3 * static_cast<std::size_t>(num_points), "point coordinate", nullptr,
+                  &mesh.xyz);
     } else if (keyword == "CELLS") {
       if (num_cells >= 0) c.fail("second CELLS section (expected one)");
       cells_line = c.line();
@@ -170,12 +189,15 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
         const std::string conn = upper(c.token("CONNECTIVITY"));
         if (conn != "CONNECTIVITY") c.fail_expected("CONNECTIVITY after the OFFSETS array", conn);
         const ValueType ct = value_type(c, c.token("connectivity data type"));
-        values.read(ct, static_cast<std::size_t>(b), "cell point id", &cells.connectivity, nullptr, &conn_lines);
+        values.read(ct, static_cast<std::size_t>(b), "cell point id", &cells.connectivity, nullptr,
+                    &conn_lines);
         if (cells.offsets.front() != 0 || cells.offsets.back() != b) {
-          c.fail_at(cells_line, "cell offsets must start at 0 and end at the connectivity size " + std::to_string(b));
+          c.fail_at(cells_line, "cell offsets must start at 0 and end at the connectivity size " +
+                                    std::to_string(b));
         }
         for (long long i = 0; i < num_cells; ++i) {
-          if (cells.offsets[static_cast<std::size_t>(i + 1)] < cells.offsets[static_cast<std::size_t>(i)]) {
+          if (cells.offsets[static_cast<std::size_t>(i + 1)] <
+              cells.offsets[static_cast<std::size_t>(i)]) {
             c.fail_at(cells_line, "cell offsets decrease at cell " + std::to_string(i));
           }
         }
@@ -192,21 +214,26 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
           for (long long i = 0; i < a; ++i) {
             const long long n = k < raw.size() ? raw[k] : -1;
             if (n < 0 || k + 1 + static_cast<std::size_t>(n) > raw.size()) {
-              c.fail_at(cells_line, "cell list size " + std::to_string(b) + " does not match the " + std::to_string(a) +
-                                        " cells (corrupt cell " + std::to_string(i) + ")");
+              c.fail_at(cells_line, "cell list size " + std::to_string(b) + " does not match the " +
+                                        std::to_string(a) + " cells (corrupt cell " +
+                                        std::to_string(i) + ")");
             }
-            cells.connectivity.insert(cells.connectivity.end(), raw.begin() + static_cast<long long>(k) + 1,
+            cells.connectivity.insert(cells.connectivity.end(),
+                                      raw.begin() + static_cast<long long>(k) + 1,
                                       raw.begin() + static_cast<long long>(k) + 1 + n);
             k += 1 + static_cast<std::size_t>(n);
             cells.offsets.push_back(static_cast<long long>(cells.connectivity.size()));
           }
           conn_lines.assign(cells.connectivity.size(), cells_line);
-          if (k != raw.size()) c.fail_at(cells_line, "cell list size " + std::to_string(b) + " does not match its cells");
+          if (k != raw.size())
+            c.fail_at(cells_line,
+                      "cell list size " + std::to_string(b) + " does not match its cells");
         } else {
           long long used = 0;
           for (long long i = 0; i < a; ++i) {
             const long long n = c.read_int("number of points of the cell");
-            if (n < 0 || n > 1000) c.fail("expected a small number of cell points, got " + std::to_string(n));
+            if (n < 0 || n > 1000)
+              c.fail("expected a small number of cell points, got " + std::to_string(n));
             for (long long k = 0; k < n; ++k) {
               cells.connectivity.push_back(c.read_int("cell point id"));
               conn_lines.push_back(c.line());
@@ -215,8 +242,8 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
             used += 1 + n;
           }
           if (used != b) {
-            c.fail("the " + std::to_string(a) + " cells hold " + std::to_string(used) + " numbers but CELLS declares " +
-                   std::to_string(b) + " (wrong cell count?)");
+            c.fail("the " + std::to_string(a) + " cells hold " + std::to_string(used) +
+                   " numbers but CELLS declares " + std::to_string(b) + " (wrong cell count?)");
           }
         }
       }
@@ -224,16 +251,16 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
       types_line = c.line();
       const long long n = read_count(c, "number of cell types");
       if (n != num_cells) {
-        c.fail("CELL_TYPES count " + std::to_string(n) + " differs from the " + std::to_string(num_cells) +
-               " cells of CELLS (or CELLS is missing)");
+        c.fail("CELL_TYPES count " + std::to_string(n) + " differs from the " +
+               std::to_string(num_cells) + " cells of CELLS (or CELLS is missing)");
       }
       values.read({4, true, true}, static_cast<std::size_t>(n), "cell type", &cells.types, nullptr);
     } else if (keyword == "CELL_DATA" || keyword == "POINT_DATA") {
       attributes = keyword == "CELL_DATA" ? 1 : 2;
       attribute_count = read_count(c, "number of attribute tuples");
       if (attributes == 1 && attribute_count != num_cells) {
-        c.fail("CELL_DATA count " + std::to_string(attribute_count) + " differs from the number of cells " +
-               std::to_string(num_cells));
+        c.fail("CELL_DATA count " + std::to_string(attribute_count) +
+               " differs from the number of cells " + std::to_string(num_cells));
       }
     } else if (attributes != 0 && keyword == "SCALARS") {
       const std::string name(c.token("scalars name"));
@@ -257,22 +284,28 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
           while (!c.at_end() && !c.rest_of_line().empty()) c.skip_line_end();
         }
       }
-    } else if (attributes != 0 && (keyword == "VECTORS" || keyword == "NORMALS" || keyword == "TENSORS" ||
-                                   keyword == "TENSORS6" || keyword == "GLOBAL_IDS" || keyword == "PEDIGREE_IDS")) {
+    } else if (attributes != 0 &&
+               (keyword == "VECTORS" || keyword == "NORMALS" || keyword == "TENSORS" ||
+                keyword == "TENSORS6" || keyword == "GLOBAL_IDS" || keyword == "PEDIGREE_IDS")) {
       c.token("array name");
       const ValueType type = value_type(c, c.token("data type"));
-      const long long components = keyword == "TENSORS" ? 9 : keyword == "TENSORS6" ? 6
-                                   : (keyword == "GLOBAL_IDS" || keyword == "PEDIGREE_IDS") ? 1 : 3;
-      values.read(type, static_cast<std::size_t>(components * attribute_count), "attribute value", nullptr, nullptr);
+      const long long components = keyword == "TENSORS"                                     ? 9
+                                   : keyword == "TENSORS6"                                  ? 6
+                                   : (keyword == "GLOBAL_IDS" || keyword == "PEDIGREE_IDS") ? 1
+                                                                                            : 3;
+      values.read(type, static_cast<std::size_t>(components * attribute_count), "attribute value",
+                  nullptr, nullptr);
     } else if (attributes != 0 && keyword == "TEXTURE_COORDINATES") {
       c.token("array name");
       const long long dim = read_count(c, "texture dimension");
       const ValueType type = value_type(c, c.token("data type"));
-      values.read(type, static_cast<std::size_t>(dim * attribute_count), "attribute value", nullptr, nullptr);
+      values.read(type, static_cast<std::size_t>(dim * attribute_count), "attribute value", nullptr,
+                  nullptr);
     } else if (keyword == "METADATA") {
       while (!c.at_end() && !c.rest_of_line().empty()) c.skip_line_end();
     } else if (attributes != 0) {
-      mesh.warnings.push_back(c.where() + ": ignored the rest of the file from attribute keyword '" +
+      mesh.warnings.push_back(c.where() +
+                              ": ignored the rest of the file from attribute keyword '" +
                               printable(keyword) + "' (not needed for the mesh)");
       break;
     } else {
@@ -281,15 +314,18 @@ RawMesh read_vtk_legacy(std::string_view text, const std::string& source, std::s
   }
   if (num_points < 0) c.fail("truncated file: no POINTS section");
   if (num_cells < 0) c.fail("truncated file: no CELLS section");
-  if (static_cast<long long>(cells.types.size()) != num_cells) c.fail("truncated file: no CELL_TYPES section");
+  if (static_cast<long long>(cells.types.size()) != num_cells)
+    c.fail("truncated file: no CELL_TYPES section");
   for (const auto& [name, v] : cells.labels) {
-    if (static_cast<long long>(v.size()) != num_cells) c.fail("cell data array '" + name + "' has the wrong size");
+    if (static_cast<long long>(v.size()) != num_cells)
+      c.fail("cell data array '" + name + "' has the wrong size");
   }
   const auto where = [&](std::size_t cell) {
     const long long first = cells.offsets[cell];
-    const int line = first < static_cast<long long>(conn_lines.size()) && cells.offsets[cell + 1] > first
-                         ? conn_lines[static_cast<std::size_t>(first)]
-                         : (types_line > 0 ? types_line : cells_line);
+    const int line =
+        first < static_cast<long long>(conn_lines.size()) && cells.offsets[cell + 1] > first
+            ? conn_lines[static_cast<std::size_t>(first)]
+            : (types_line > 0 ? types_line : cells_line);
     return c.where(line);
   };
   add_vtk_cells(cells, 0, static_cast<int>(num_points), where, &mesh);

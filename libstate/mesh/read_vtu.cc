@@ -27,10 +27,12 @@ class VtuReader {
   RawMesh read(std::string* format) {
     doc_ = parse_xml(text_, source_);
     const XmlElement& root = doc_.root;
-    if (root.name != "VTKFile") fail(root, "expected <VTKFile> as the root element, got <" + root.name + ">");
+    if (root.name != "VTKFile")
+      fail(root, "expected <VTKFile> as the root element, got <" + root.name + ">");
     const std::string* type = root.attribute("type");
     if (type == nullptr || *type != "UnstructuredGrid") {
-      fail(root, "expected VTKFile type=\"UnstructuredGrid\", got \"" + (type != nullptr ? *type : std::string()) + "\"");
+      fail(root, "expected VTKFile type=\"UnstructuredGrid\", got \"" +
+                     (type != nullptr ? *type : std::string()) + "\"");
     }
     const std::string* order = root.attribute("byte_order");
     const bool big = order != nullptr && *order == "BigEndian";
@@ -47,7 +49,8 @@ class VtuReader {
     const std::string* compressor = root.attribute("compressor");
     if (compressor != nullptr && !compressor->empty()) {
       if (*compressor != "vtkZLibDataCompressor") {
-        fail(root, "unsupported compressor \"" + *compressor + "\" (only vtkZLibDataCompressor; re-save uncompressed)");
+        fail(root, "unsupported compressor \"" + *compressor +
+                       "\" (only vtkZLibDataCompressor; re-save uncompressed)");
       }
       zlib_ = true;
     }
@@ -68,7 +71,9 @@ class VtuReader {
   }
 
  private:
-  [[noreturn]] void fail(const XmlElement& e, const std::string& message) const { fail_at(e.offset, message); }
+  [[noreturn]] void fail(const XmlElement& e, const std::string& message) const {
+    fail_at(e.offset, message);
+  }
   [[noreturn]] void fail_at(std::size_t offset, const std::string& message) const {
     throw InputError(source_ + ":" + std::to_string(doc_.line_at(offset)) + ": " + message);
   }
@@ -77,7 +82,8 @@ class VtuReader {
     const std::string* v = e.attribute(key);
     long long n = 0;
     if (v == nullptr || !parse_int(*v, &n) || n < 0) {
-      fail(e, "expected a non-negative integer attribute " + std::string(key) + " on <" + e.name + ">");
+      fail(e, "expected a non-negative integer attribute " + std::string(key) + " on <" + e.name +
+                  ">");
     }
     return n;
   }
@@ -95,11 +101,13 @@ class VtuReader {
     if (name == "UInt32") return {4, true, false};
     if (name == "Int64") return {8, true, true};
     if (name == "UInt64") return {8, true, false};
-    fail(e, "expected a DataArray type (Float32, Float64, Int8..Int64, UInt8..UInt64), got \"" + name + "\"");
+    fail(e, "expected a DataArray type (Float32, Float64, Int8..Int64, UInt8..UInt64), got \"" +
+                name + "\"");
   }
 
   // Reads `count` values of DataArray `e` into ints and/or reals.
-  void read_array(const XmlElement& e, std::size_t count, std::vector<long long>* ints, std::vector<double>* reals) {
+  void read_array(const XmlElement& e, std::size_t count, std::vector<long long>* ints,
+                  std::vector<double>* reals) {
     const ArrayType type = array_type(e);
     const std::string* f = e.attribute("format");
     const std::string format = f != nullptr ? *f : "ascii";
@@ -107,8 +115,8 @@ class VtuReader {
       TextCursor c(e.text, source_, '\0', doc_.line_at(e.text_offset));
       for (std::size_t i = 0; i < count; ++i) {
         if (c.at_end()) {
-          c.fail("DataArray holds only " + std::to_string(i) + " values, expected " + std::to_string(count) +
-                 " (wrong count?)");
+          c.fail("DataArray holds only " + std::to_string(i) + " values, expected " +
+                 std::to_string(count) + " (wrong count?)");
         }
         if (type.integral) {
           const long long v = c.read_int("integer value of DataArray");
@@ -119,7 +127,9 @@ class VtuReader {
           if (reals != nullptr) reals->push_back(v);
         }
       }
-      if (!c.at_end()) c.fail_expected("end of DataArray after " + std::to_string(count) + " values (wrong count?)", c.peek());
+      if (!c.at_end())
+        c.fail_expected(
+            "end of DataArray after " + std::to_string(count) + " values (wrong count?)", c.peek());
       return;
     }
     std::string payload;
@@ -128,23 +138,29 @@ class VtuReader {
     if (format == "binary") {
       ByteStream stream(e.text, true);
       where = e.text_offset;
-      if (!read_vtk_block(stream, header_size_, swap_, zlib_, &payload, &error)) fail_at(where, error);
+      if (!read_vtk_block(stream, header_size_, swap_, zlib_, &payload, &error))
+        fail_at(where, error);
     } else if (format == "appended") {
       const long long offset = count_attribute(e, "offset");
-      if (doc_.appended.data() == nullptr) fail(e, "format=\"appended\" but the file has no <AppendedData>");
+      if (doc_.appended.data() == nullptr)
+        fail(e, "format=\"appended\" but the file has no <AppendedData>");
       const bool base64 = doc_.appended_encoding == "base64";
       if (!base64 && doc_.appended_encoding != "raw") {
-        fail(e, "expected AppendedData encoding raw or base64, got \"" + doc_.appended_encoding + "\"");
+        fail(e, "expected AppendedData encoding raw or base64, got \"" + doc_.appended_encoding +
+                    "\"");
       }
-      if (static_cast<std::size_t>(offset) > doc_.appended.size()) fail(e, "appended data offset beyond the end of the file (truncated?)");
+      if (static_cast<std::size_t>(offset) > doc_.appended.size())
+        fail(e, "appended data offset beyond the end of the file (truncated?)");
       ByteStream stream(doc_.appended.substr(static_cast<std::size_t>(offset)), base64);
-      if (!read_vtk_block(stream, header_size_, swap_, zlib_, &payload, &error)) fail(e, error + " (appended data)");
+      if (!read_vtk_block(stream, header_size_, swap_, zlib_, &payload, &error))
+        fail(e, error + " (appended data)");
     } else {
       fail(e, "expected DataArray format ascii, binary or appended, got \"" + format + "\"");
     }
     if (payload.size() != count * static_cast<std::size_t>(type.size)) {
-      fail_at(where, "expected " + std::to_string(count) + " values (" + std::to_string(count * type.size) +
-                         " bytes) in binary DataArray, got " + std::to_string(payload.size()) + " bytes (wrong count?)");
+      fail_at(where, "expected " + std::to_string(count) + " values (" +
+                         std::to_string(count * type.size) + " bytes) in binary DataArray, got " +
+                         std::to_string(payload.size()) + " bytes (wrong count?)");
     }
     const char* p = payload.data();
     for (std::size_t i = 0; i < count; ++i, p += type.size) {
@@ -152,16 +168,27 @@ class VtuReader {
       double real = 0;
       if (type.integral) {
         switch (type.size) {
-          case 1: integer = type.is_signed ? static_cast<long long>(static_cast<signed char>(*p))
-                                           : static_cast<long long>(static_cast<unsigned char>(*p)); break;
-          case 2: integer = type.is_signed ? load_binary<std::int16_t>(p, swap_) : load_binary<std::uint16_t>(p, swap_); break;
-          case 4: integer = type.is_signed ? load_binary<std::int32_t>(p, swap_) : load_binary<std::uint32_t>(p, swap_); break;
-          default: integer = type.is_signed ? load_binary<std::int64_t>(p, swap_)
-                                            : static_cast<long long>(load_binary<std::uint64_t>(p, swap_)); break;
+          case 1:
+            integer = type.is_signed ? static_cast<long long>(static_cast<signed char>(*p))
+                                     : static_cast<long long>(static_cast<unsigned char>(*p));
+            break;
+          case 2:
+            integer = type.is_signed ? load_binary<std::int16_t>(p, swap_)
+                                     : load_binary<std::uint16_t>(p, swap_);
+            break;
+          case 4:
+            integer = type.is_signed ? load_binary<std::int32_t>(p, swap_)
+                                     : load_binary<std::uint32_t>(p, swap_);
+            break;
+          default:
+            integer = type.is_signed ? load_binary<std::int64_t>(p, swap_)
+                                     : static_cast<long long>(load_binary<std::uint64_t>(p, swap_));
+            break;
         }
         real = static_cast<double>(integer);
       } else {
-        real = type.size == 4 ? static_cast<double>(load_binary<float>(p, swap_)) : load_binary<double>(p, swap_);
+        real = type.size == 4 ? static_cast<double>(load_binary<float>(p, swap_))
+                              : load_binary<double>(p, swap_);
       }
       if (ints != nullptr) ints->push_back(integer);
       if (reals != nullptr) reals->push_back(real);
@@ -173,7 +200,8 @@ class VtuReader {
       const std::string* n = a.attribute("Name");
       if (a.name == "DataArray" && n != nullptr && *n == name) return a;
     }
-    fail(parent, "expected a DataArray Name=\"" + std::string(name) + "\" in <" + parent.name + ">");
+    fail(parent,
+         "expected a DataArray Name=\"" + std::string(name) + "\" in <" + parent.name + ">");
   }
 
   void read_piece(const XmlElement& piece, RawMesh* mesh) {
@@ -187,8 +215,10 @@ class VtuReader {
     const XmlElement* coords = points->child("DataArray");
     if (coords == nullptr) fail(*points, "expected a DataArray in <Points>");
     const std::string* components = coords->attribute("NumberOfComponents");
-    if (components == nullptr || *components != "3") fail(*coords, "expected NumberOfComponents=\"3\" for Points");
-    if (num_points > 0) read_array(*coords, 3 * static_cast<std::size_t>(num_points), nullptr, &mesh->xyz);
+    if (components == nullptr || *components != "3")
+      fail(*coords, "expected NumberOfComponents=\"3\" for Points");
+    if (num_points > 0)
+      read_array(*coords, 3 * static_cast<std::size_t>(num_points), nullptr, &mesh->xyz);
 
     const XmlElement* cells_element = piece.child("Cells");
     if (cells_element == nullptr) fail(piece, "expected <Cells> in <Piece>");
@@ -199,7 +229,8 @@ class VtuReader {
     read_array(offs, static_cast<std::size_t>(num_cells), &cells.offsets, nullptr);
     cells.offsets.insert(cells.offsets.begin(), 0);
     for (long long i = 0; i < num_cells; ++i) {
-      if (cells.offsets[static_cast<std::size_t>(i + 1)] < cells.offsets[static_cast<std::size_t>(i)]) {
+      if (cells.offsets[static_cast<std::size_t>(i + 1)] <
+          cells.offsets[static_cast<std::size_t>(i)]) {
         fail(offs, "cell offsets decrease at cell " + std::to_string(i));
       }
     }
@@ -210,7 +241,8 @@ class VtuReader {
       for (const XmlElement& a : cell_data->children) {
         const std::string* name = a.attribute("Name");
         const std::string* comps = a.attribute("NumberOfComponents");
-        if (a.name != "DataArray" || name == nullptr || (comps != nullptr && *comps != "1")) continue;
+        if (a.name != "DataArray" || name == nullptr || (comps != nullptr && *comps != "1"))
+          continue;
         if (!array_type(a).integral) continue;
         std::vector<long long> values;
         read_array(a, static_cast<std::size_t>(num_cells), &values, nullptr);
@@ -218,8 +250,9 @@ class VtuReader {
       }
     }
     const int conn_line = doc_.line_at(conn.offset);
-    add_vtk_cells(cells, first_point, static_cast<int>(num_points),
-                  [&](std::size_t) { return source_ + ":" + std::to_string(conn_line); }, mesh);
+    add_vtk_cells(
+        cells, first_point, static_cast<int>(num_points),
+        [&](std::size_t) { return source_ + ":" + std::to_string(conn_line); }, mesh);
   }
 
   std::string_view text_;

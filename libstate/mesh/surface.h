@@ -15,9 +15,9 @@ namespace hapstate {
 
 struct TriangleSurface {
   std::string source;
-  std::vector<double> xyz;                  // 3 per vertex
-  std::vector<std::array<int, 3>> faces;    // 0-based vertex ids
-  std::vector<int> face_lines;              // line of each face in the file (0 for binary STL)
+  std::vector<double> xyz;                // 3 per vertex
+  std::vector<std::array<int, 3>> faces;  // 0-based vertex ids
+  std::vector<int> face_lines;            // line of each face in the file (0 for binary STL)
 };
 
 // Parses a Wavefront OBJ (v and f lines; polygons are fan-triangulated; other lines ignored).
@@ -32,11 +32,11 @@ void check_surface_topology(const TriangleSurface& s);
 
 // Where a surface crosses itself: an edge crossing a face that shares none of its vertices.
 struct SelfIntersection {
-  Eigen::Vector3d point;       // where the edge meets the face
-  std::string face;            // file:line of the crossed face
-  std::array<int, 2> edge{};   // 0-based vertex ids of the crossing edge
-  std::string edge_face;       // file:line of a face using that edge
-  std::string near() const;    // "(x, y, z)"
+  Eigen::Vector3d point;      // where the edge meets the face
+  std::string face;           // file:line of the crossed face
+  std::array<int, 2> edge{};  // 0-based vertex ids of the crossing edge
+  std::string edge_face;      // file:line of a face using that edge
+  std::string near() const;   // "(x, y, z)"
   // "file:line: self-intersecting surface: this face is crossed by the edge (...) near (...)".
   std::string message() const;
 };

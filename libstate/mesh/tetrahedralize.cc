@@ -21,12 +21,25 @@
 namespace hapstate {
 namespace {
 
-#define HAPSTATE_GMSH_FUNCTIONS(X)                                                             \
-  X(gmshInitialize) X(gmshFinalize) X(gmshOptionSetNumber) X(gmshModelAdd)                     \
-  X(gmshModelAddDiscreteEntity) X(gmshModelMeshAddNodes) X(gmshModelMeshAddElementsByType)     \
-  X(gmshModelGeoAddSurfaceLoop) X(gmshModelGeoAddVolume) X(gmshModelGeoSynchronize)            \
-  X(gmshModelMeshGenerate) X(gmshModelMeshGetNodes) X(gmshModelMeshGetElementsByType)          \
-  X(gmshLoggerGetLastError) X(gmshFree)
+// One function a line (clang-format would indent the X-macro list unevenly).
+// clang-format off
+#define HAPSTATE_GMSH_FUNCTIONS(X) \
+  X(gmshInitialize) \
+  X(gmshFinalize) \
+  X(gmshOptionSetNumber) \
+  X(gmshModelAdd) \
+  X(gmshModelAddDiscreteEntity) \
+  X(gmshModelMeshAddNodes) \
+  X(gmshModelMeshAddElementsByType) \
+  X(gmshModelGeoAddSurfaceLoop) \
+  X(gmshModelGeoAddVolume) \
+  X(gmshModelGeoSynchronize) \
+  X(gmshModelMeshGenerate) \
+  X(gmshModelMeshGetNodes) \
+  X(gmshModelMeshGetElementsByType) \
+  X(gmshLoggerGetLastError) \
+  X(gmshFree)
+// clang-format on
 
 // The Gmsh C API, loaded once (HAPSTATE_GMSH_LIBRARY: the library the build found).
 struct GmshApi {
@@ -46,9 +59,9 @@ const GmshApi& gmsh_api() {
       g.error = std::string("cannot load the Gmsh library: ") + (why ? why : HAPSTATE_GMSH_LIBRARY);
       return g;
     }
-#define HAPSTATE_GMSH_LOAD(f)                                                        \
-  g.f = reinterpret_cast<decltype(&::f)>(dlsym(library, #f));                        \
-  if (g.f == nullptr && g.error.empty())                                             \
+#define HAPSTATE_GMSH_LOAD(f)                                 \
+  g.f = reinterpret_cast<decltype(&::f)>(dlsym(library, #f)); \
+  if (g.f == nullptr && g.error.empty())                      \
     g.error = std::string("the Gmsh library " HAPSTATE_GMSH_LIBRARY " has no ") + #f;
     HAPSTATE_GMSH_FUNCTIONS(HAPSTATE_GMSH_LOAD)
 #undef HAPSTATE_GMSH_LOAD
@@ -164,8 +177,8 @@ RawMesh tetrahedralize_surface(const TriangleSurface& s) {
     std::size_t* tet_tags = nullptr;
     std::size_t* tet_nodes = nullptr;
     std::size_t num_tets = 0, num_tet_nodes = 0;
-    g.gmshModelMeshGetElementsByType(4, &tet_tags, &num_tets, &tet_nodes, &num_tet_nodes, -1, 0,
-                                     1, &ierr);
+    g.gmshModelMeshGetElementsByType(4, &tet_tags, &num_tets, &tet_nodes, &num_tet_nodes, -1, 0, 1,
+                                     &ierr);
     const GmshArray<std::size_t> own_tet_tags(g, tet_tags), own_tet_nodes(g, tet_nodes);
     check(g, ierr, "tetrahedra");
     for (std::size_t t = 0; t < num_tets && 4 * t + 3 < num_tet_nodes; ++t) {
@@ -188,11 +201,13 @@ RawMesh tetrahedralize_surface(const TriangleSurface& s) {
 }
 
 RawMesh fill_closed_surface(const TriangleSurface& s) {
-  check_surface_topology(s);  // holes and non-manifold edges stay errors: carving needs a closed surface
+  check_surface_topology(
+      s);  // holes and non-manifold edges stay errors: carving needs a closed surface
   std::string why;
   if (const auto hit = find_self_intersection(s)) {
-    why = "the surface self-intersects near " + hit->near() + " (" + hit->face + " is crossed by the edge (" +
-          std::to_string(hit->edge[0] + 1) + ", " + std::to_string(hit->edge[1] + 1) + "))";
+    why = "the surface self-intersects near " + hit->near() + " (" + hit->face +
+          " is crossed by the edge (" + std::to_string(hit->edge[0] + 1) + ", " +
+          std::to_string(hit->edge[1] + 1) + "))";
   } else {
     try {
       return tetrahedralize_surface(s);
@@ -203,9 +218,11 @@ RawMesh fill_closed_surface(const TriangleSurface& s) {
   CarveResult carved = carve_surface(s);
   std::ostringstream w;
   w.precision(4);
-  w << s.source << ": " << why << "; the volume was carved on a grid of cell size h = " << carved.cell_size << " ("
-    << carved.tets << " tets, enclosed-volume ratio carved/surface = " << carved.carved_volume / carved.surface_volume
-    << "); " << carved.snapped_nodes << " of its " << carved.boundary_nodes
+  w << s.source << ": " << why
+    << "; the volume was carved on a grid of cell size h = " << carved.cell_size << " ("
+    << carved.tets << " tets, enclosed-volume ratio carved/surface = "
+    << carved.carved_volume / carved.surface_volume << "); " << carved.snapped_nodes << " of its "
+    << carved.boundary_nodes
     << " boundary nodes were moved onto the surface, the rest keep the grid's stair steps";
   carved.mesh.warnings.insert(carved.mesh.warnings.begin(), w.str());
   return std::move(carved.mesh);

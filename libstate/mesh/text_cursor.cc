@@ -9,7 +9,11 @@
 namespace hapstate {
 
 TextCursor::TextCursor(std::string_view text, std::string source, char comment, int first_line)
-    : text_(text), source_(std::move(source)), comment_(comment), line_(first_line), token_line_(first_line) {}
+    : text_(text),
+      source_(std::move(source)),
+      comment_(comment),
+      line_(first_line),
+      token_line_(first_line) {}
 
 void TextCursor::skip_space() {
   const std::size_t n = text_.size();
@@ -99,7 +103,8 @@ std::string_view TextCursor::rest_of_line() {
 }
 
 void TextCursor::skip_line_end() {
-  while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t' || text_[pos_] == '\r')) ++pos_;
+  while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t' || text_[pos_] == '\r'))
+    ++pos_;
   if (pos_ < text_.size() && text_[pos_] == '\n') {
     ++pos_;
     ++line_;
@@ -120,7 +125,8 @@ const char* TextCursor::take_bytes(std::size_t n, std::string_view what) {
 
 void TextCursor::skip_past(std::string_view marker) {
   const std::size_t found = text_.find(marker, pos_);
-  if (found == std::string_view::npos) fail("truncated file: missing '" + std::string(marker) + "'");
+  if (found == std::string_view::npos)
+    fail("truncated file: missing '" + std::string(marker) + "'");
   take_bytes(found + marker.size() - pos_, marker);
 }
 

@@ -41,12 +41,14 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
     for (int k = 0; k < 3; ++k) {
       const double v = raw.xyz[3 * static_cast<std::size_t>(i) + k];
       if (!std::isfinite(v)) {
-        throw InputError(src + ": node " + std::to_string(i) + " (0-based, file order) has a non-finite coordinate");
+        throw InputError(src + ": node " + std::to_string(i) +
+                         " (0-based, file order) has a non-finite coordinate");
       }
       mesh.nodes(k, i) = v;
     }
   }
-  if (raw.tets.empty()) throw InputError(src + ": no linear tetrahedra (4-node tets) found; a volume mesh is required");
+  if (raw.tets.empty())
+    throw InputError(src + ": no linear tetrahedra (4-node tets) found; a volume mesh is required");
 
   // Orientation and degeneracy.
   std::vector<std::array<int, 4>> kept;
@@ -59,18 +61,21 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
     std::array<int, 4> tet = raw.tets[t];
     for (int k = 0; k < 4; ++k) {
       if (tet[k] < 0 || tet[k] >= n) {
-        throw InputError(src + ": tet " + std::to_string(t) + " references node " + std::to_string(tet[k]) +
-                         ", but the file has only " + std::to_string(n) + " nodes");
+        throw InputError(src + ": tet " + std::to_string(t) + " references node " +
+                         std::to_string(tet[k]) + ", but the file has only " + std::to_string(n) +
+                         " nodes");
       }
     }
     const Eigen::Vector3d a = mesh.nodes.col(tet[0]);
-    const Eigen::Matrix3d e = (Eigen::Matrix3d() << mesh.nodes.col(tet[1]) - a, mesh.nodes.col(tet[2]) - a,
-                               mesh.nodes.col(tet[3]) - a).finished();
+    const Eigen::Matrix3d e = (Eigen::Matrix3d() << mesh.nodes.col(tet[1]) - a,
+                               mesh.nodes.col(tet[2]) - a, mesh.nodes.col(tet[3]) - a)
+                                  .finished();
     const double det = e.determinant();
     double longest = 0;
     for (int i = 0; i < 4; ++i) {
       for (int j = i + 1; j < 4; ++j) {
-        longest = std::max(longest, (mesh.nodes.col(tet[i]) - mesh.nodes.col(tet[j])).squaredNorm());
+        longest =
+            std::max(longest, (mesh.nodes.col(tet[i]) - mesh.nodes.col(tet[j])).squaredNorm());
       }
     }
     longest = std::sqrt(longest);
@@ -78,7 +83,8 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
     if (!(relative > kDegenerateRelativeVolume)) {
       rep.degenerate_tets.push_back(static_cast<int>(t));
       std::ostringstream msg;
-      msg << src << ": tet " << t << " (0-based, file order) is degenerate (|det|/l^3 = " << relative
+      msg << src << ": tet " << t
+          << " (0-based, file order) is degenerate (|det|/l^3 = " << relative
           << " <= " << kDegenerateRelativeVolume << "), removed";
       if (listed_degenerate++ < kMaxListed) rep.warnings.push_back(msg.str());
       continue;
@@ -87,7 +93,8 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
       std::swap(tet[2], tet[3]);
       ++rep.reoriented;
       if (listed_reoriented < kMaxListed) {
-        rep.warnings.push_back(src + ": tet " + std::to_string(t) + " was negatively oriented, re-oriented");
+        rep.warnings.push_back(src + ": tet " + std::to_string(t) +
+                               " was negatively oriented, re-oriented");
         ++listed_reoriented;
       }
     }
@@ -104,7 +111,8 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
     std::sort(keys[t].begin(), keys[t].end());
     order[t] = static_cast<int>(t);
   }
-  std::sort(order.begin(), order.end(), [&](int x, int y) { return keys[x] != keys[y] ? keys[x] < keys[y] : x < y; });
+  std::sort(order.begin(), order.end(),
+            [&](int x, int y) { return keys[x] != keys[y] ? keys[x] < keys[y] : x < y; });
   std::vector<char> drop(kept.size(), 0);
   int listed_duplicate = 0;
   for (std::size_t i = 1; i < order.size(); ++i) {
@@ -114,8 +122,8 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
       const int dup = kept_index[order[i]];
       rep.duplicate_tets.push_back(dup);
       if (listed_duplicate < kMaxListed) {
-        rep.warnings.push_back(src + ": tet " + std::to_string(dup) + " duplicates tet " + std::to_string(first) +
-                               " (same nodes), removed");
+        rep.warnings.push_back(src + ": tet " + std::to_string(dup) + " duplicates tet " +
+                               std::to_string(first) + " (same nodes), removed");
         ++listed_duplicate;
       }
       order[i] = order[i - 1];  // later copies compare against the first
@@ -126,7 +134,9 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
 
   int m = 0;
   for (std::size_t t = 0; t < kept.size(); ++t) m += drop[t] == 0;
-  if (m == 0) throw InputError(src + ": no valid tetrahedra left after removing degenerate and duplicate ones");
+  if (m == 0)
+    throw InputError(src +
+                     ": no valid tetrahedra left after removing degenerate and duplicate ones");
   mesh.tets.resize(4, m);
   {
     int j = 0;
@@ -152,7 +162,8 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
   }
   const auto summarize = [&](int total, const char* what) {
     if (total > kMaxListed) {
-      rep.warnings.push_back(src + ": ... " + std::to_string(total - kMaxListed) + " more " + what + " not listed");
+      rep.warnings.push_back(src + ": ... " + std::to_string(total - kMaxListed) + " more " + what +
+                             " not listed");
     }
   };
   summarize(rep.degenerate, "degenerate tets");
@@ -165,8 +176,10 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
   faces.reserve(4 * static_cast<std::size_t>(m));
   for (int t = 0; t < m; ++t) {
     for (int f = 0; f < 4; ++f) {
-      FaceRecord r{{mesh.tets(kFaceNodes[f][0], t), mesh.tets(kFaceNodes[f][1], t), mesh.tets(kFaceNodes[f][2], t)},
-                   t, f};
+      FaceRecord r{{mesh.tets(kFaceNodes[f][0], t), mesh.tets(kFaceNodes[f][1], t),
+                    mesh.tets(kFaceNodes[f][2], t)},
+                   t,
+                   f};
       std::sort(r.key.begin(), r.key.end());
       faces.push_back(r);
     }
@@ -182,10 +195,12 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
       boundary.emplace_back(faces[i].tet, faces[i].local);
     } else if (j - i > 2) {
       std::string tets;
-      for (std::size_t k = i; k < j; ++k) tets += (k > i ? ", " : "") + std::to_string(faces[k].tet);
-      throw InputError(src + ": face (" + std::to_string(faces[i].key[0]) + ", " + std::to_string(faces[i].key[1]) +
-                       ", " + std::to_string(faces[i].key[2]) + ") is shared by " + std::to_string(j - i) +
-                       " tets (" + tets + "; ids after removing bad tets); tets overlap (non-manifold mesh)");
+      for (std::size_t k = i; k < j; ++k)
+        tets += (k > i ? ", " : "") + std::to_string(faces[k].tet);
+      throw InputError(src + ": face (" + std::to_string(faces[i].key[0]) + ", " +
+                       std::to_string(faces[i].key[1]) + ", " + std::to_string(faces[i].key[2]) +
+                       ") is shared by " + std::to_string(j - i) + " tets (" + tets +
+                       "; ids after removing bad tets); tets overlap (non-manifold mesh)");
     }
     i = j;
   }
@@ -193,7 +208,8 @@ Mesh validate_mesh(RawMesh raw, MeshReport* report) {
   mesh.surface.resize(3, static_cast<int>(boundary.size()));
   for (std::size_t i = 0; i < boundary.size(); ++i) {
     const auto [t, f] = boundary[i];
-    for (int k = 0; k < 3; ++k) mesh.surface(k, static_cast<int>(i)) = mesh.tets(kFaceNodes[f][k], t);
+    for (int k = 0; k < 3; ++k)
+      mesh.surface(k, static_cast<int>(i)) = mesh.tets(kFaceNodes[f][k], t);
   }
 
   for (auto& [name, ids] : raw.groups) {

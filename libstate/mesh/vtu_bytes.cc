@@ -51,8 +51,10 @@ bool ByteStream::read(std::size_t n, std::string* out, bool* bad_char) {
         }
       }
     }
-    const std::uint32_t bits = (static_cast<std::uint32_t>(values[0]) << 18) | (static_cast<std::uint32_t>(values[1]) << 12) |
-                               (static_cast<std::uint32_t>(values[2]) << 6) | static_cast<std::uint32_t>(values[3]);
+    const std::uint32_t bits = (static_cast<std::uint32_t>(values[0]) << 18) |
+                               (static_cast<std::uint32_t>(values[1]) << 12) |
+                               (static_cast<std::uint32_t>(values[2]) << 6) |
+                               static_cast<std::uint32_t>(values[3]);
     const char bytes[3] = {static_cast<char>(bits >> 16), static_cast<char>((bits >> 8) & 0xff),
                            static_cast<char>(bits & 0xff)};
     pending_.append(bytes, static_cast<std::size_t>(3 - pad));
@@ -68,34 +70,41 @@ bool read_vtk_block(ByteStream& stream, int header_size, bool swap, bool zlib, s
   std::string header;
   const auto header_value = [&](std::size_t index) -> std::uint64_t {
     const char* p = header.data() + index * static_cast<std::size_t>(header_size);
-    return header_size == 4 ? load_binary<std::uint32_t>(p, swap) : load_binary<std::uint64_t>(p, swap);
+    return header_size == 4 ? load_binary<std::uint32_t>(p, swap)
+                            : load_binary<std::uint64_t>(p, swap);
   };
   const auto fail = [&](const std::string& what) {
     *error = bad_char ? "invalid base64 character in binary data" : what;
     return false;
   };
   if (!zlib) {
-    if (!stream.read(static_cast<std::size_t>(header_size), &header, &bad_char)) return fail("truncated binary data (no block header)");
+    if (!stream.read(static_cast<std::size_t>(header_size), &header, &bad_char))
+      return fail("truncated binary data (no block header)");
     const std::uint64_t bytes = header_value(0);
-    if (bytes > (std::uint64_t{1} << 40)) return fail("corrupt block header (" + std::to_string(bytes) + " bytes)");
+    if (bytes > (std::uint64_t{1} << 40))
+      return fail("corrupt block header (" + std::to_string(bytes) + " bytes)");
     if (!stream.read(static_cast<std::size_t>(bytes), payload, &bad_char)) {
       return fail("truncated binary data: header announces " + std::to_string(bytes) + " bytes");
     }
     return true;
   }
-  if (!stream.read(3 * static_cast<std::size_t>(header_size), &header, &bad_char)) return fail("truncated compressed block header");
+  if (!stream.read(3 * static_cast<std::size_t>(header_size), &header, &bad_char))
+    return fail("truncated compressed block header");
   const std::uint64_t blocks = header_value(0);
   const std::uint64_t block_size = header_value(1);
   const std::uint64_t last_size = header_value(2);
-  if (blocks > (1u << 24) || block_size > (std::uint64_t{1} << 32)) return fail("corrupt compressed block header");
-  if (!stream.read(static_cast<std::size_t>(blocks * static_cast<std::uint64_t>(header_size)), &header, &bad_char)) {
+  if (blocks > (1u << 24) || block_size > (std::uint64_t{1} << 32))
+    return fail("corrupt compressed block header");
+  if (!stream.read(static_cast<std::size_t>(blocks * static_cast<std::uint64_t>(header_size)),
+                   &header, &bad_char)) {
     return fail("truncated compressed block table");
   }
   std::string compressed;
   for (std::uint64_t b = 0; b < blocks; ++b) {
     const std::uint64_t csize = header_value(static_cast<std::size_t>(3 + b));
     compressed.clear();
-    if (csize > (std::uint64_t{1} << 34) || !stream.read(static_cast<std::size_t>(csize), &compressed, &bad_char)) {
+    if (csize > (std::uint64_t{1} << 34) ||
+        !stream.read(static_cast<std::size_t>(csize), &compressed, &bad_char)) {
       return fail("truncated compressed block " + std::to_string(b));
     }
     const std::uint64_t usize = (b + 1 == blocks && last_size != 0) ? last_size : block_size;
@@ -103,14 +112,17 @@ bool read_vtk_block(ByteStream& stream, int header_size, bool swap, bool zlib, s
     // reason to allocate it.
     if (usize > 1040 * csize + 64) {
       return fail("compressed block " + std::to_string(b) + " announces " + std::to_string(usize) +
-                  " bytes from " + std::to_string(csize) + " compressed (more than zlib can inflate)");
+                  " bytes from " + std::to_string(csize) +
+                  " compressed (more than zlib can inflate)");
     }
     const std::size_t old = payload->size();
     payload->resize(old + static_cast<std::size_t>(usize));
     uLongf out_size = static_cast<uLongf>(usize);
-    const int rc = uncompress(reinterpret_cast<Bytef*>(payload->data() + old), &out_size,
-                              reinterpret_cast<const Bytef*>(compressed.data()), static_cast<uLong>(csize));
-    if (rc != Z_OK || out_size != usize) return fail("zlib could not inflate block " + std::to_string(b) + " (corrupt data)");
+    const int rc =
+        uncompress(reinterpret_cast<Bytef*>(payload->data() + old), &out_size,
+                   reinterpret_cast<const Bytef*>(compressed.data()), static_cast<uLong>(csize));
+    if (rc != Z_OK || out_size != usize)
+      return fail("zlib could not inflate block " + std::to_string(b) + " (corrupt data)");
   }
   return true;
 }

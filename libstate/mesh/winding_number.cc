@@ -11,7 +11,8 @@ WindingNumber::WindingNumber(const TriangleSurface& s) {
   corners_.reserve(9 * s.faces.size());
   for (const auto& f : s.faces) {
     for (int v : f) {
-      for (int k = 0; k < 3; ++k) corners_.push_back(s.xyz[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(k)]);
+      for (int k = 0; k < 3; ++k)
+        corners_.push_back(s.xyz[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(k)]);
     }
     const double* c = corners_.data() + corners_.size() - 9;
     const Eigen::Vector3d a(c[0], c[1], c[2]);
@@ -34,7 +35,8 @@ double WindingNumber::operator()(const Eigen::Vector3d& p) const {
     const double la = std::sqrt(ax * ax + ay * ay + az * az);
     const double lb = std::sqrt(bx * bx + by * by + bz * bz);
     const double lc = std::sqrt(cx * cx + cy * cy + cz * cz);
-    const double det = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    const double det =
+        ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
     const double ab = ax * bx + ay * by + az * bz;
     const double bc = bx * cx + by * cy + bz * cz;
     const double ca = cx * ax + cy * ay + cz * az;

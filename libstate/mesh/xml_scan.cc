@@ -11,7 +11,8 @@ namespace {
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 bool is_name_char(char c) {
-  return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-' || c == '.' || c == ':';
+  return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-' || c == '.' ||
+         c == ':';
 }
 
 std::string decode_entities(std::string_view v) {
@@ -71,7 +72,8 @@ class Scanner {
         while (p < text_.size() && is_name_char(text_[p])) ++p;
         const std::string_view name = text_.substr(name_begin, p - name_begin);
         while (p < text_.size() && is_space(text_[p])) ++p;
-        if (p >= text_.size() || text_[p] != '>') fail(pos, "truncated file: unterminated end tag </" + std::string(name));
+        if (p >= text_.size() || text_[p] != '>')
+          fail(pos, "truncated file: unterminated end tag </" + std::string(name));
         if (stack.empty()) fail(pos, "unexpected end tag </" + std::string(name) + ">");
         if (stack.back()->name != name) {
           fail(pos, "expected </" + stack.back()->name + ">, got </" + printable(name) + ">");
@@ -96,7 +98,8 @@ class Scanner {
       fail(text_.size(), "truncated file: missing </" + stack.back()->name + "> (opened at line " +
                              std::to_string(doc_->line_at(stack.back()->offset)) + ")");
     }
-    if (top.size() != 1) fail(0, "expected exactly one top-level XML element, found " + std::to_string(top.size()));
+    if (top.size() != 1)
+      fail(0, "expected exactly one top-level XML element, found " + std::to_string(top.size()));
     doc_->root = std::move(top.front());
   }
 
@@ -108,14 +111,17 @@ class Scanner {
     if (lead == t.size()) return;
     if (stack.empty()) fail(begin + lead, "text outside of the XML root element");
     XmlElement& e = *stack.back();
-    if (!e.text.empty()) fail(begin + lead, "element <" + e.name + "> has text in several places (expected one block)");
+    if (!e.text.empty())
+      fail(begin + lead,
+           "element <" + e.name + "> has text in several places (expected one block)");
     e.text = t;
     e.text_offset = begin;
   }
 
   std::size_t skip_to(std::size_t pos, std::string_view end, const char* what) {
     const std::size_t found = text_.find(end, pos);
-    if (found == std::string_view::npos) fail(pos, std::string("truncated file: unterminated ") + what);
+    if (found == std::string_view::npos)
+      fail(pos, std::string("truncated file: unterminated ") + what);
     return found + end.size();
   }
 
@@ -131,16 +137,20 @@ class Scanner {
       if (p >= text_.size()) fail(pos, "truncated file: unterminated start tag <" + e->name);
       if (text_[p] == '>') return p + 1;
       if (text_[p] == '/') {
-        if (p + 1 >= text_.size() || text_[p + 1] != '>') fail(p, "expected '/>' in <" + e->name + ">");
+        if (p + 1 >= text_.size() || text_[p + 1] != '>')
+          fail(p, "expected '/>' in <" + e->name + ">");
         *self_closing = true;
         return p + 2;
       }
       const std::size_t key_begin = p;
       while (p < text_.size() && is_name_char(text_[p])) ++p;
-      if (p == key_begin) fail(p, "expected an attribute name in <" + e->name + ">, got '" + printable(text_.substr(p, 1)) + "'");
+      if (p == key_begin)
+        fail(p, "expected an attribute name in <" + e->name + ">, got '" +
+                    printable(text_.substr(p, 1)) + "'");
       const std::string key(text_.substr(key_begin, p - key_begin));
       while (p < text_.size() && is_space(text_[p])) ++p;
-      if (p >= text_.size() || text_[p] != '=') fail(p, "expected '=' after attribute " + key + " in <" + e->name + ">");
+      if (p >= text_.size() || text_[p] != '=')
+        fail(p, "expected '=' after attribute " + key + " in <" + e->name + ">");
       ++p;
       while (p < text_.size() && is_space(text_[p])) ++p;
       if (p >= text_.size() || (text_[p] != '"' && text_[p] != '\'')) {
@@ -148,7 +158,8 @@ class Scanner {
       }
       const char quote = text_[p];
       const std::size_t value_end = text_.find(quote, p + 1);
-      if (value_end == std::string_view::npos) fail(p, "truncated file: unterminated attribute value of " + key);
+      if (value_end == std::string_view::npos)
+        fail(p, "truncated file: unterminated attribute value of " + key);
       e->attributes.emplace_back(key, decode_entities(text_.substr(p + 1, value_end - p - 1)));
       p = value_end + 1;
     }
@@ -160,9 +171,11 @@ class Scanner {
     doc_->appended_encoding = encoding != nullptr ? *encoding : "raw";
     std::size_t p = pos;
     while (p < text_.size() && is_space(text_[p])) ++p;
-    if (p >= text_.size() || text_[p] != '_') fail(p, "expected '_' at the start of <AppendedData>");
+    if (p >= text_.size() || text_[p] != '_')
+      fail(p, "expected '_' at the start of <AppendedData>");
     const std::size_t end = text_.rfind("</AppendedData>");
-    if (end == std::string_view::npos || end < p) fail(pos, "truncated file: missing </AppendedData>");
+    if (end == std::string_view::npos || end < p)
+      fail(pos, "truncated file: missing </AppendedData>");
     doc_->appended = text_.substr(p + 1, end - p - 1);
     doc_->appended_offset = p + 1;
     return end + std::string_view("</AppendedData>").size();
@@ -190,12 +203,14 @@ const XmlElement* XmlElement::child(std::string_view child_name) const {
 }
 
 int XmlDocument::line_at(std::size_t offset) const {
-  return 1 + static_cast<int>(std::lower_bound(newlines.begin(), newlines.end(), offset) - newlines.begin());
+  return 1 + static_cast<int>(std::lower_bound(newlines.begin(), newlines.end(), offset) -
+                              newlines.begin());
 }
 
 XmlDocument parse_xml(std::string_view text, const std::string& source) {
   XmlDocument doc;
-  for (std::size_t i = text.find('\n'); i != std::string_view::npos; i = text.find('\n', i + 1)) doc.newlines.push_back(i);
+  for (std::size_t i = text.find('\n'); i != std::string_view::npos; i = text.find('\n', i + 1))
+    doc.newlines.push_back(i);
   Scanner(text, source, &doc).run();
   return doc;
 }

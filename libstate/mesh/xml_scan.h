@@ -27,10 +27,10 @@ struct XmlElement {
 };
 
 struct XmlDocument {
-  XmlElement root;                 // the single top-level element
-  std::string_view appended;       // bytes after '_' in <AppendedData>, if any
+  XmlElement root;            // the single top-level element
+  std::string_view appended;  // bytes after '_' in <AppendedData>, if any
   std::size_t appended_offset = 0;
-  std::string appended_encoding;   // "raw" or "base64" (attribute of <AppendedData>)
+  std::string appended_encoding;      // "raw" or "base64" (attribute of <AppendedData>)
   std::vector<std::size_t> newlines;  // offsets of every '\n', for line numbers
 
   // 1-based line of byte `offset`.

@@ -85,7 +85,9 @@ hs_cursor* hs_cursor_create(const hs_playback* file, int scheme) {
 }
 void hs_cursor_destroy(hs_cursor* cursor) { delete cursor; }
 void hs_cursor_reset(hs_cursor* cursor) { cursor->cursor.reset(); }
-void hs_cursor_reset_at(hs_cursor* cursor, const double p[3]) { cursor->cursor.reset({p[0], p[1], p[2]}); }
+void hs_cursor_reset_at(hs_cursor* cursor, const double p[3]) {
+  cursor->cursor.reset({p[0], p[1], p[2]});
+}
 
 int hs_cursor_force(hs_cursor* cursor, const double p[3], double force[3]) {
   const hapstate::Force f = cursor->cursor.force({p[0], p[1], p[2]});

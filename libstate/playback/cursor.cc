@@ -149,7 +149,8 @@ void HapticCursor::resolve_corner(int c, const std::array<Corner, 8>& old,
   e.stiffness = src.stiffness;
   for (int r = 0; r < 3; ++r) {
     double v = src.force[r];
-    for (int a = 0; a < 3; ++a) v += src.stiffness[3 * r + a] * (target[a] - old_base[a] - ok[a]) * h[a];
+    for (int a = 0; a < 3; ++a)
+      v += src.stiffness[3 * r + a] * (target[a] - old_base[a] - ok[a]) * h[a];
     e.force[r] = v;
   }
   out = e;
@@ -165,7 +166,9 @@ void HapticCursor::update_coefficients() {
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     const Corner& cc = corners_[c];
-    auto col = [&](int corner, int r, int axis) { return corners_[corner].stiffness[3 * r + axis]; };
+    auto col = [&](int corner, int r, int axis) {
+      return corners_[corner].stiffness[3 * r + axis];
+    };
     auto partner = [&](int axis) { return c ^ (4 >> axis); };
     auto sgn = [&](int axis) { return o[axis] ? 1.0 : -1.0; };
     // The coefficient of the bases with derivative flags (kx, ky, kz) of this corner.
@@ -217,7 +220,8 @@ void HapticCursor::walk_to(const std::array<double, 3>& q) {
   const playback::Meta& m = *file_.impl().meta;
   std::array<std::int32_t, 3> target{};
   for (int a = 0; a < 3; ++a)
-    target[a] = std::clamp(static_cast<std::int32_t>(std::floor(q[a])), m.lo[a], file_.impl().last_cell(a));
+    target[a] =
+        std::clamp(static_cast<std::int32_t>(std::floor(q[a])), m.lo[a], file_.impl().last_cell(a));
   const std::array<double, 3> q0 = last_q_;
   while (base_ != target) {
     int axis = -1;

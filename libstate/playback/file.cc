@@ -22,19 +22,32 @@ using playback::SectionId;
 
 std::string section_name(SectionId id) {
   switch (id) {
-    case SectionId::kMeta: return "meta";
-    case SectionId::kCheckpoints: return "checkpoints";
-    case SectionId::kConfigCheckpoint: return "configuration check-points";
-    case SectionId::kConfigLevel: return "configuration levels";
-    case SectionId::kForce: return "forces";
-    case SectionId::kStiffness: return "stiffness";
-    case SectionId::kTransitions: return "transitions";
-    case SectionId::kViewNodes: return "view nodes";
-    case SectionId::kReference: return "reference positions";
-    case SectionId::kTriangles: return "triangles";
-    case SectionId::kDisplacements: return "displacements";
-    case SectionId::kConfigZero: return "zero configurations";
-    case SectionId::kDisplacementSlopes: return "displacement slopes";
+    case SectionId::kMeta:
+      return "meta";
+    case SectionId::kCheckpoints:
+      return "checkpoints";
+    case SectionId::kConfigCheckpoint:
+      return "configuration check-points";
+    case SectionId::kConfigLevel:
+      return "configuration levels";
+    case SectionId::kForce:
+      return "forces";
+    case SectionId::kStiffness:
+      return "stiffness";
+    case SectionId::kTransitions:
+      return "transitions";
+    case SectionId::kViewNodes:
+      return "view nodes";
+    case SectionId::kReference:
+      return "reference positions";
+    case SectionId::kTriangles:
+      return "triangles";
+    case SectionId::kDisplacements:
+      return "displacements";
+    case SectionId::kConfigZero:
+      return "zero configurations";
+    case SectionId::kDisplacementSlopes:
+      return "displacement slopes";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -79,13 +92,14 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   if (h.version != playback::kVersion)
     fail("format version " + std::to_string(h.version) + ", this build reads version " +
          std::to_string(playback::kVersion) + " (run hapstate-index again)");
-  const auto header_bytes = std::as_bytes(std::span(&h, 1)).first(offsetof(playback::FileHeader, header_checksum));
+  const auto header_bytes =
+      std::as_bytes(std::span(&h, 1)).first(offsetof(playback::FileHeader, header_checksum));
   if (content_hash(header_bytes).value != h.header_checksum) fail("header checksum mismatch");
   if (h.file_size != f.size)
     fail("truncated or extended: the header says " + std::to_string(h.file_size) +
          " bytes, the file has " + std::to_string(f.size));
-  if (h.header_bytes != sizeof(playback::FileHeader) || h.section_entry_bytes != sizeof(SectionEntry) ||
-      h.section_count != playback::kSectionCount)
+  if (h.header_bytes != sizeof(playback::FileHeader) ||
+      h.section_entry_bytes != sizeof(SectionEntry) || h.section_count != playback::kSectionCount)
     fail("unexpected header or section table layout");
   const std::uint64_t table_bytes = std::uint64_t{h.section_count} * sizeof(SectionEntry);
   if (h.section_table_offset % 8 != 0 || h.section_table_offset > f.size ||
@@ -101,7 +115,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   for (std::uint32_t s = 0; s < h.section_count; ++s) {
     const SectionEntry& e = f.table[s];
     if (e.id < 1 || e.id > playback::kSectionCount || data[e.id])
-      fail("section table entry " + std::to_string(s) + " has a bad or repeated id " + std::to_string(e.id));
+      fail("section table entry " + std::to_string(s) + " has a bad or repeated id " +
+           std::to_string(e.id));
     const std::string name = section_name(static_cast<SectionId>(e.id));
     if (e.offset % playback::kAlignment != 0) fail("section '" + name + "' is not 64-byte aligned");
     if (e.offset > f.size || e.bytes > f.size - e.offset)
@@ -111,19 +126,23 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     bytes[e.id] = e.bytes;
   }
   auto section = [&](SectionId id) { return data[static_cast<int>(id)]; };
-  if (bytes[static_cast<int>(SectionId::kMeta)] != sizeof(playback::Meta)) fail("meta section size");
+  if (bytes[static_cast<int>(SectionId::kMeta)] != sizeof(playback::Meta))
+    fail("meta section size");
   f.meta = reinterpret_cast<const playback::Meta*>(section(SectionId::kMeta));
   const SectionEntry* meta_entry = nullptr;
   for (std::uint32_t s = 0; s < h.section_count; ++s)
     if (f.table[s].id == static_cast<std::uint32_t>(SectionId::kMeta)) meta_entry = &f.table[s];
-  if (content_hash(std::span(section(SectionId::kMeta), sizeof(playback::Meta))).value != meta_entry->checksum)
+  if (content_hash(std::span(section(SectionId::kMeta), sizeof(playback::Meta))).value !=
+      meta_entry->checksum)
     fail("meta section checksum mismatch");
   const playback::Meta& m2 = *f.meta;
   for (int a = 0; a < 3; ++a)
-    if (m2.dims[a] < 1 || m2.dims[a] > (1 << 20) || !(m2.spacing[a] > 0) || !std::isfinite(m2.origin[a]))
+    if (m2.dims[a] < 1 || m2.dims[a] > (1 << 20) || !(m2.spacing[a] > 0) ||
+        !std::isfinite(m2.origin[a]))
       fail("meta: bad grid (dims, spacing or origin) on axis " + std::to_string(a));
   if (m2.has_displacement_slopes != 0 && m2.has_displacement_slopes != 1)
-    fail("meta: has_displacement_slopes is " + std::to_string(m2.has_displacement_slopes) + ", not 0 or 1");
+    fail("meta: has_displacement_slopes is " + std::to_string(m2.has_displacement_slopes) +
+         ", not 0 or 1");
   if (m2.num_configurations < 1 || m2.num_view_nodes < 0 || m2.num_triangles < 0 ||
       m2.rest_configuration < 0 || m2.rest_configuration >= m2.num_configurations)
     fail("meta: bad counts");
@@ -131,11 +150,15 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   const std::uint64_t v = static_cast<std::uint64_t>(m2.num_view_nodes);
   const std::uint64_t points = std::uint64_t(m2.dims[0]) * m2.dims[1] * m2.dims[2];
   const std::pair<SectionId, std::uint64_t> expected[] = {
-      {SectionId::kCheckpoints, 8 * points},      {SectionId::kConfigCheckpoint, 4 * n},
-      {SectionId::kConfigLevel, 4 * n},           {SectionId::kConfigZero, 4 * n},
+      {SectionId::kCheckpoints, 8 * points},
+      {SectionId::kConfigCheckpoint, 4 * n},
+      {SectionId::kConfigLevel, 4 * n},
+      {SectionId::kConfigZero, 4 * n},
       {SectionId::kForce, 24 * n},
-      {SectionId::kStiffness, 72 * n},            {SectionId::kTransitions, 104 * n},
-      {SectionId::kViewNodes, 4 * v},             {SectionId::kReference, 12 * v},
+      {SectionId::kStiffness, 72 * n},
+      {SectionId::kTransitions, 104 * n},
+      {SectionId::kViewNodes, 4 * v},
+      {SectionId::kReference, 12 * v},
       {SectionId::kTriangles, 12 * std::uint64_t(m2.num_triangles)},
       {SectionId::kDisplacements, 12 * v * n},
       {SectionId::kDisplacementSlopes, m2.has_displacement_slopes ? 36 * v * n : 0}};
@@ -144,7 +167,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
       fail("section '" + section_name(id) + "' has " + std::to_string(bytes[static_cast<int>(id)]) +
            " bytes, the header implies " + std::to_string(size));
   f.checkpoints = reinterpret_cast<const std::int32_t*>(section(SectionId::kCheckpoints));
-  f.config_checkpoint = reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigCheckpoint));
+  f.config_checkpoint =
+      reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigCheckpoint));
   f.config_level = reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigLevel));
   f.config_zero = reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigZero));
   f.force = reinterpret_cast<const double*>(section(SectionId::kForce));
@@ -154,7 +178,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   f.reference = reinterpret_cast<const float*>(section(SectionId::kReference));
   f.triangles = reinterpret_cast<const std::int32_t*>(section(SectionId::kTriangles));
   f.displacements = reinterpret_cast<const float*>(section(SectionId::kDisplacements));
-  if (m2.has_displacement_slopes) f.slopes = reinterpret_cast<const float*>(section(SectionId::kDisplacementSlopes));
+  if (m2.has_displacement_slopes)
+    f.slopes = reinterpret_cast<const float*>(section(SectionId::kDisplacementSlopes));
 }
 
 PlaybackFile::~PlaybackFile() {
@@ -170,8 +195,8 @@ void PlaybackFile::verify() const {
   for (std::uint32_t s = 0; s < f.header->section_count; ++s) {
     const playback::SectionEntry& e = f.table[s];
     if (content_hash(std::span(f.base + e.offset, e.bytes)).value != e.checksum)
-      fail("section '" + section_name(static_cast<SectionId>(e.id)) + "' checksum mismatch (offset " +
-           std::to_string(e.offset) + ")");
+      fail("section '" + section_name(static_cast<SectionId>(e.id)) +
+           "' checksum mismatch (offset " + std::to_string(e.offset) + ")");
   }
   const playback::Meta& m = *f.meta;
   const std::int64_t n = m.num_configurations;
@@ -181,16 +206,19 @@ void PlaybackFile::verify() const {
     if (count < 0 || (count > 0 && (first < 0 || first + std::int64_t(count) > n)))
       fail("check-point " + std::to_string(g) + ": configuration range out of bounds");
     for (std::int32_t c = first; count > 0 && c < first + count; ++c)
-      if (f.config_checkpoint[c] != g) fail("configuration " + std::to_string(c) + ": wrong check-point");
+      if (f.config_checkpoint[c] != g)
+        fail("configuration " + std::to_string(c) + ": wrong check-point");
   }
   for (std::int64_t c = 0; c < n; ++c) {
     for (int r = 0; r < 3; ++r)
-      if (!std::isfinite(f.force[3 * c + r])) fail("configuration " + std::to_string(c) + ": force not finite");
+      if (!std::isfinite(f.force[3 * c + r]))
+        fail("configuration " + std::to_string(c) + ": force not finite");
     for (int r = 0; r < 9; ++r)
       if (!std::isfinite(f.stiffness[9 * c + r]))
         fail("configuration " + std::to_string(c) + ": stiffness not finite");
     if (f.config_zero[c] != 0 && f.config_zero[c] != 1)
-      fail("configuration " + std::to_string(c) + ": zero flag " + std::to_string(f.config_zero[c]) + " is not 0 or 1");
+      fail("configuration " + std::to_string(c) + ": zero flag " +
+           std::to_string(f.config_zero[c]) + " is not 0 or 1");
     for (int d = 0; d < 26; ++d) {
       const std::int32_t t = f.transitions[26 * c + d];
       if (t < playback::kFailed || t >= n)
@@ -213,7 +241,9 @@ bool PlaybackFile::view_is_all_nodes() const { return impl_->meta->view_all_node
 bool PlaybackFile::is_contact() const {
   return impl_->meta->probe_mode == static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
 }
-bool PlaybackFile::is_zero_configuration(std::int32_t c) const { return impl_->config_zero[c] == 1; }
+bool PlaybackFile::is_zero_configuration(std::int32_t c) const {
+  return impl_->config_zero[c] == 1;
+}
 std::span<const std::int32_t> PlaybackFile::view_nodes() const {
   return {impl_->view_nodes, static_cast<std::size_t>(impl_->meta->num_view_nodes)};
 }
@@ -224,7 +254,9 @@ std::span<const std::int32_t> PlaybackFile::triangles() const {
   return {impl_->triangles, 3 * static_cast<std::size_t>(impl_->meta->num_triangles)};
 }
 static std::array<double, 3> vec3(const double* v) { return {v[0], v[1], v[2]}; }
-std::array<double, 3> PlaybackFile::rest_position() const { return vec3(impl_->meta->rest_position); }
+std::array<double, 3> PlaybackFile::rest_position() const {
+  return vec3(impl_->meta->rest_position);
+}
 std::array<double, 3> PlaybackFile::grid_origin() const { return vec3(impl_->meta->origin); }
 std::array<double, 3> PlaybackFile::grid_spacing() const { return vec3(impl_->meta->spacing); }
 std::array<std::int32_t, 3> PlaybackFile::grid_lo() const {
@@ -235,7 +267,9 @@ std::array<std::int32_t, 3> PlaybackFile::grid_dims() const {
 }
 double PlaybackFile::max_force() const { return impl_->meta->max_force; }
 double PlaybackFile::force_change_bound() const { return impl_->meta->force_change_bound; }
-std::array<double, 3> PlaybackFile::force(std::int32_t c) const { return vec3(impl_->force + 3 * std::int64_t(c)); }
+std::array<double, 3> PlaybackFile::force(std::int32_t c) const {
+  return vec3(impl_->force + 3 * std::int64_t(c));
+}
 std::array<double, 9> PlaybackFile::stiffness(std::int32_t c) const {
   std::array<double, 9> k;
   std::memcpy(k.data(), impl_->stiffness + 9 * std::int64_t(c), sizeof(k));

@@ -16,10 +16,10 @@ struct PlaybackFile::Impl {
   const playback::FileHeader* header = nullptr;
   const playback::SectionEntry* table = nullptr;
   const playback::Meta* meta = nullptr;
-  const std::int32_t* checkpoints = nullptr;       // [first, count] per grid point
+  const std::int32_t* checkpoints = nullptr;  // [first, count] per grid point
   const std::int32_t* config_checkpoint = nullptr;
   const std::int32_t* config_level = nullptr;
-  const std::int32_t* config_zero = nullptr;       // 1: a zero configuration
+  const std::int32_t* config_zero = nullptr;  // 1: a zero configuration
   const double* force = nullptr;
   const double* stiffness = nullptr;
   const std::int32_t* transitions = nullptr;
@@ -27,7 +27,7 @@ struct PlaybackFile::Impl {
   const float* reference = nullptr;
   const std::int32_t* triangles = nullptr;
   const float* displacements = nullptr;
-  const float* slopes = nullptr;                   // nullptr: the file has none
+  const float* slopes = nullptr;  // nullptr: the file has none
 
   // Linear index of grid point ijk (absolute grid indices), or -1 outside the grid.
   std::int32_t point_index(const std::array<std::int32_t, 3>& ijk) const {
@@ -51,7 +51,9 @@ struct PlaybackFile::Impl {
   }
   // Grid index of the last cell's first corner along axis a: a cell spans [base, base + 1];
   // with a single check-point along an axis the cell is degenerate there (s = 0 always).
-  std::int32_t last_cell(int a) const { return meta->lo[a] + (meta->dims[a] > 1 ? meta->dims[a] - 2 : 0); }
+  std::int32_t last_cell(int a) const {
+    return meta->lo[a] + (meta->dims[a] > 1 ? meta->dims[a] - 2 : 0);
+  }
   // The target of configuration c's transition in direction d, or -1 if there is none
   // (undecided, outside, failed, or an index out of range in a damaged file).
   std::int32_t transition(std::int32_t c, int d) const {

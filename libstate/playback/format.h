@@ -23,30 +23,30 @@ inline constexpr std::uint64_t kAlignment = 64;
 struct FileHeader {
   char magic[8];
   std::uint32_t version;
-  std::uint32_t header_bytes;          // sizeof(FileHeader)
-  std::uint64_t file_size;             // bytes of the whole file
+  std::uint32_t header_bytes;  // sizeof(FileHeader)
+  std::uint64_t file_size;     // bytes of the whole file
   std::uint64_t section_table_offset;
   std::uint32_t section_count;
-  std::uint32_t section_entry_bytes;   // sizeof(SectionEntry)
+  std::uint32_t section_entry_bytes;     // sizeof(SectionEntry)
   std::uint64_t section_table_checksum;  // XXH64 of the section table
-  std::uint64_t header_checksum;       // XXH64 of the bytes before this field
+  std::uint64_t header_checksum;         // XXH64 of the bytes before this field
   std::uint64_t reserved;
 };
 static_assert(sizeof(FileHeader) == 64);
 
 enum class SectionId : std::uint32_t {
-  kMeta = 1,           // one Meta
-  kCheckpoints = 2,    // int32 [first configuration, count] per grid point (x-major: i, j, k)
+  kMeta = 1,              // one Meta
+  kCheckpoints = 2,       // int32 [first configuration, count] per grid point (x-major: i, j, k)
   kConfigCheckpoint = 3,  // int32 grid point per configuration
-  kConfigLevel = 4,    // int32 level per configuration
-  kForce = 5,          // float64 x 3 per configuration, N
-  kStiffness = 6,      // float64 x 9 per configuration, row-major, N per mesh unit
-  kTransitions = 7,    // int32 x 26 per configuration: target, or a TransitionCode
-  kViewNodes = 8,      // int32 mesh node per view node
-  kReference = 9,      // float32 x 3 per view node, mesh units
-  kTriangles = 10,     // int32 x 3 per surface triangle, view-node indices
-  kDisplacements = 11, // float32 x 3 per view node per configuration, mesh units
-  kConfigZero = 12,    // int32 per configuration: 1 for a zero configuration (the body at rest)
+  kConfigLevel = 4,       // int32 level per configuration
+  kForce = 5,             // float64 x 3 per configuration, N
+  kStiffness = 6,         // float64 x 9 per configuration, row-major, N per mesh unit
+  kTransitions = 7,       // int32 x 26 per configuration: target, or a TransitionCode
+  kViewNodes = 8,         // int32 mesh node per view node
+  kReference = 9,         // float32 x 3 per view node, mesh units
+  kTriangles = 10,        // int32 x 3 per surface triangle, view-node indices
+  kDisplacements = 11,    // float32 x 3 per view node per configuration, mesh units
+  kConfigZero = 12,       // int32 per configuration: 1 for a zero configuration (the body at rest)
   // float32 per configuration: 3 arrays (probe axis x, y, z) of 3 per view node, d u / d p,
   // dimensionless; empty when Meta::has_displacement_slopes is 0.
   kDisplacementSlopes = 13,
@@ -58,7 +58,7 @@ struct SectionEntry {
   std::uint32_t element_bytes;  // size of one element (for readers that skip sections)
   std::uint64_t offset;         // from the start of the file, multiple of kAlignment
   std::uint64_t bytes;
-  std::uint64_t checksum;       // XXH64 of the section's bytes
+  std::uint64_t checksum;  // XXH64 of the section's bytes
 };
 static_assert(sizeof(SectionEntry) == 32);
 
@@ -72,24 +72,24 @@ enum TransitionCode : std::int32_t {
 enum class ProbeModeCode : std::int32_t { kGrab = 0, kContact = 1 };
 
 struct Meta {
-  double origin[3];          // position of grid index (0, 0, 0), mesh units
-  double spacing[3];         // mesh units, > 0
-  double rest_position[3];   // probe at rest, mesh units
-  double max_force;          // N
-  double unit;               // metres per mesh unit
-  double force_change_bound; // N per mesh unit (docs/playback.md)
-  std::int32_t lo[3];        // grid index of the first grid point per axis
-  std::int32_t dims[3];      // grid points per axis, >= 1
-  std::int32_t probe_mode;   // ProbeModeCode
+  double origin[3];           // position of grid index (0, 0, 0), mesh units
+  double spacing[3];          // mesh units, > 0
+  double rest_position[3];    // probe at rest, mesh units
+  double max_force;           // N
+  double unit;                // metres per mesh unit
+  double force_change_bound;  // N per mesh unit (docs/playback.md)
+  std::int32_t lo[3];         // grid index of the first grid point per axis
+  std::int32_t dims[3];       // grid points per axis, >= 1
+  std::int32_t probe_mode;    // ProbeModeCode
   std::int32_t rest_configuration;
   std::int32_t num_configurations;
   std::int32_t num_view_nodes;
   std::int32_t num_mesh_nodes;
   std::int32_t num_triangles;
-  std::int32_t view_all_nodes;  // 1: view nodes are every mesh node in order
+  std::int32_t view_all_nodes;           // 1: view nodes are every mesh node in order
   std::int32_t has_displacement_slopes;  // 1: kDisplacementSlopes holds every configuration's
-  std::uint64_t scene_hash;     // XXH64 of the scene text
-  std::uint64_t source_hash;    // of what the index was built from (hapstate-index skips)
+  std::uint64_t scene_hash;              // XXH64 of the scene text
+  std::uint64_t source_hash;             // of what the index was built from (hapstate-index skips)
 };
 static_assert(sizeof(Meta) == 168);
 

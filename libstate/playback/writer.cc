@@ -64,7 +64,8 @@ std::span<const std::byte> bytes_of(const std::vector<T>& v) {
 
 void check_content(const Content& c, const std::filesystem::path& file) {
   const std::size_t n = c.config_checkpoint.size();
-  const std::size_t points = static_cast<std::size_t>(c.meta.dims[0]) * c.meta.dims[1] * c.meta.dims[2];
+  const std::size_t points =
+      static_cast<std::size_t>(c.meta.dims[0]) * c.meta.dims[1] * c.meta.dims[2];
   auto bad = [&](const std::string& what) {
     throw InputError(file.string() + ": cannot write a playback file: " + what);
   };
@@ -73,8 +74,8 @@ void check_content(const Content& c, const std::filesystem::path& file) {
     if (!(c.meta.spacing[a] > 0)) bad("grid spacing must be positive");
   }
   if (c.checkpoints.size() != 2 * points) bad("check-point table size");
-  if (c.config_level.size() != n || c.config_zero.size() != n || c.force.size() != 3 * n || c.stiffness.size() != 9 * n ||
-      c.transitions.size() != 26 * n)
+  if (c.config_level.size() != n || c.config_zero.size() != n || c.force.size() != 3 * n ||
+      c.stiffness.size() != 9 * n || c.transitions.size() != 26 * n)
     bad("configuration table sizes");
   if (c.reference.size() != 3 * c.view_nodes.size() || c.triangles.size() % 3 != 0)
     bad("view node table sizes");
@@ -106,10 +107,11 @@ double force_change_bound(const Content& c) {
               ib[0] >= c.meta.dims[0] || ib[1] >= ny || ib[2] >= nz)
             continue;
           const std::int32_t g = (ib[0] * ny + ib[1]) * nz + ib[2];
-          const double dist = std::sqrt(std::pow(di * c.meta.spacing[0], 2) +
-                                        std::pow(dj * c.meta.spacing[1], 2) +
-                                        std::pow(dk * c.meta.spacing[2], 2));
-          for (int b = c.checkpoints[2 * g]; b < c.checkpoints[2 * g] + c.checkpoints[2 * g + 1]; ++b) {
+          const double dist =
+              std::sqrt(std::pow(di * c.meta.spacing[0], 2) + std::pow(dj * c.meta.spacing[1], 2) +
+                        std::pow(dk * c.meta.spacing[2], 2));
+          for (int b = c.checkpoints[2 * g]; b < c.checkpoints[2 * g] + c.checkpoints[2 * g + 1];
+               ++b) {
             double d2 = 0;
             for (int r = 0; r < 3; ++r) d2 += std::pow(c.force[3 * b + r] - c.force[3 * a + r], 2);
             slope = std::max(slope, std::sqrt(d2) / dist);
@@ -155,7 +157,12 @@ void write_file(Content c, const std::filesystem::path& file) {
       {SectionId::kReference, 12, bytes_of(c.reference), 12 * v},
       {SectionId::kTriangles, 12, bytes_of(c.triangles), 4 * c.triangles.size()},
       {SectionId::kDisplacements, 12, {}, 12 * v * n, &c.displacements, 3 * v},
-      {SectionId::kDisplacementSlopes, 36, {}, 4 * slope_floats * n, &c.displacement_slopes, slope_floats},
+      {SectionId::kDisplacementSlopes,
+       36,
+       {},
+       4 * slope_floats * n,
+       &c.displacement_slopes,
+       slope_floats},
   };
 
   std::filesystem::path tmp = file;
@@ -195,7 +202,8 @@ void write_file(Content c, const std::filesystem::path& file) {
     header.section_table_checksum =
         content_hash(std::as_bytes(std::span<const SectionEntry>(table))).value;
     header.header_checksum =
-        content_hash(std::as_bytes(std::span(&header, 1)).first(offsetof(FileHeader, header_checksum)))
+        content_hash(
+            std::as_bytes(std::span(&header, 1)).first(offsetof(FileHeader, header_checksum)))
             .value;
     out.write_at(table_offset, table, sizeof(table));
     out.write_at(0, &header, sizeof(header));

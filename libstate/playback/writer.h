@@ -17,13 +17,13 @@ struct Content {
   std::vector<std::int32_t> checkpoints;        // 2 per grid point
   std::vector<std::int32_t> config_checkpoint;  // per configuration
   std::vector<std::int32_t> config_level;
-  std::vector<std::int32_t> config_zero;        // 1: a zero configuration (body at rest)
-  std::vector<double> force;                    // 3 per configuration
-  std::vector<double> stiffness;                // 9 per configuration
-  std::vector<std::int32_t> transitions;        // 26 per configuration
+  std::vector<std::int32_t> config_zero;  // 1: a zero configuration (body at rest)
+  std::vector<double> force;              // 3 per configuration
+  std::vector<double> stiffness;          // 9 per configuration
+  std::vector<std::int32_t> transitions;  // 26 per configuration
   std::vector<std::int32_t> view_nodes;
-  std::vector<float> reference;                 // 3 per view node
-  std::vector<std::int32_t> triangles;          // 3 per triangle, view-node indices
+  std::vector<float> reference;         // 3 per view node
+  std::vector<std::int32_t> triangles;  // 3 per triangle, view-node indices
   // Fills `out` (3 per view node) with the displacements of configuration c.
   std::function<void(std::int32_t c, std::span<float> out)> displacements;
   // Fills `out` (9 per view node: the x, y, z arrays of 3 per view node) with the

@@ -17,7 +17,7 @@ namespace hapstate {
 // The contact probe (scene probe.mode = "contact"): a rigid sphere whose centre at rest is
 // Problem::probe_rest. See docs/contact.md for the model.
 struct ContactSphere {
-  double radius = 0;            // mesh units, > 0
+  double radius = 0;  // mesh units, > 0
   // kNone (default): frictionless sliding against the surface triangles
   // (solver/sliding_contact.h); kStick: surface nodes stick to the sphere where it caught them
   // (solver/contact_set.h).
@@ -27,13 +27,14 @@ struct ContactSphere {
 };
 
 struct Problem {
-  Mesh mesh;                      // as imported, mesh units
-  double unit = 1.0;              // metres per mesh unit (scene mesh.unit)
-  MaterialConstants material;     // resolved constants (from E, nu or given directly)
-  Constraints constraints;        // fixed DOFs (union of selectors) and grabbed probe nodes
-  Eigen::Vector3d probe_rest = Eigen::Vector3d::Zero();  // probe position at rest, mesh units:
-                                  // the grabbed node, or the centroid of the grabbed patch
-  double max_force = 0;           // N, device force limit
+  Mesh mesh;                   // as imported, mesh units
+  double unit = 1.0;           // metres per mesh unit (scene mesh.unit)
+  MaterialConstants material;  // resolved constants (from E, nu or given directly)
+  Constraints constraints;     // fixed DOFs (union of selectors) and grabbed probe nodes
+  Eigen::Vector3d probe_rest =
+      Eigen::Vector3d::Zero();  // probe position at rest, mesh units:
+                                // the grabbed node, or the centroid of the grabbed patch
+  double max_force = 0;         // N, device force limit
   SolverOptions solver;
   // Set for a contact probe: then constraints.probe_nodes is empty and no DOF is kProbe; the
   // touched nodes are decided by the solver at each probe position.

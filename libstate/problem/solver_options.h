@@ -19,13 +19,13 @@ enum class SolverAlgorithm { kFast, kReference };
 
 struct SolverOptions {
   SolverAlgorithm algorithm = SolverAlgorithm::kFast;  // not a scene key: tool option
-  int substeps = 4;              // incremental-load steps per move (kReference, sticking
-                                 // contact; kFast's smallest sub-step derives from it)
-  double tolerance = 1e-8;       // Newton: relative residual (w.r.t. the reference force scale)
-  double absolute_tolerance = 1e-12;  // Newton: absolute residual floor [N]
-  int max_iterations = 30;       // Newton iterations per sub-step target (up to 4x as many
-                                 // while the residual still halves every 10; path_solver.cc)
-  int max_cutbacks = 8;          // halvings of a sub-step after a failed Newton solve
+  int substeps = 4;         // incremental-load steps per move (kReference, sticking
+                            // contact; kFast's smallest sub-step derives from it)
+  double tolerance = 1e-8;  // Newton: relative residual (w.r.t. the reference force scale)
+  double absolute_tolerance = 1e-12;   // Newton: absolute residual floor [N]
+  int max_iterations = 30;             // Newton iterations per sub-step target (up to 4x as many
+                                       // while the residual still halves every 10; path_solver.cc)
+  int max_cutbacks = 8;                // halvings of a sub-step after a failed Newton solve
   int max_active_set_iterations = 20;  // contact: touched-set changes (stick) or multiplier
                                        // updates (frictionless) per sub-step
   // Frictionless contact: a converged state has no surface point deeper inside the sphere than

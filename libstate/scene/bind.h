@@ -25,8 +25,8 @@ Problem bind_scene(const Scene& scene, Mesh mesh);
 
 // The contact sphere of radius `radius` with `friction` on `mesh`: candidates (used by the
 // sticking model) are the surface nodes none of whose DOFs is fixed (`role`), ascending.
-ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role,
-                                  double radius, Friction friction);
+ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role, double radius,
+                                  Friction friction);
 
 // load_mesh(scene.mesh.file, report) then bind_scene.
 Problem build_problem(const Scene& scene, MeshReport* report = nullptr);

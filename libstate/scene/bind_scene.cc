@@ -33,9 +33,7 @@ std::string describe(const FixedSelector& selector) {
       return "plane through " + format_point(s.point) + " normal " + format_point(s.normal);
     }
     std::string operator()(const GroupSelector& s) const { return "group '" + s.name + "'"; }
-    std::string operator()(const NodesSelector& s) const {
-      return "nodes file " + s.file.string();
-    }
+    std::string operator()(const NodesSelector& s) const { return "nodes file " + s.file.string(); }
   } visitor;
   return std::visit(visitor, selector.where);
 }
@@ -47,8 +45,8 @@ std::vector<int> group_nodes(const Mesh& mesh, const std::string& name, int line
   if (group != mesh.groups.end()) return group->second;
   std::string known;
   for (const auto& [g, nodes] : mesh.groups) known += (known.empty() ? "" : ", ") + g;
-  diagnostics.add(line, label + ": " + mesh_name(mesh) + " has no physical group '" + name +
-                            "' (" + (known.empty() ? "it has none" : "groups: " + known) + ")");
+  diagnostics.add(line, label + ": " + mesh_name(mesh) + " has no physical group '" + name + "' (" +
+                            (known.empty() ? "it has none" : "groups: " + known) + ")");
   return {};
 }
 
@@ -89,8 +87,8 @@ std::vector<int> select_grabbed(const SceneProbe& probe, const Mesh& mesh,
   } else if (probe.point && probe.radius) {
     ids = surface_nodes_within(mesh, *probe.point, *probe.radius);
     std::ostringstream os;
-    os << "no surface node of " << mesh_name(mesh) << " within radius " << *probe.radius
-       << " of " << format_point(*probe.point);
+    os << "no surface node of " << mesh_name(mesh) << " within radius " << *probe.radius << " of "
+       << format_point(*probe.point);
     what = os.str();
   } else if (probe.point) {
     const int node = nearest_node(mesh, *probe.point);
@@ -113,9 +111,9 @@ ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
                                     " has no surface node without fixed components to touch");
   }
   for (int t = 0; t < mesh.surface.cols(); ++t) {
-    const TrianglePoint tp = closest_point(mesh.nodes.col(mesh.surface(0, t)),
-                                           mesh.nodes.col(mesh.surface(1, t)),
-                                           mesh.nodes.col(mesh.surface(2, t)), *probe.point);
+    const TrianglePoint tp =
+        closest_point(mesh.nodes.col(mesh.surface(0, t)), mesh.nodes.col(mesh.surface(1, t)),
+                      mesh.nodes.col(mesh.surface(2, t)), *probe.point);
     if (tp.distance < sphere.radius) {
       std::ostringstream os;
       os.precision(6);
@@ -132,14 +130,15 @@ ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
 
 }  // namespace
 
-ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role,
-                                  double radius, Friction friction) {
+ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role, double radius,
+                                  Friction friction) {
   ContactSphere sphere;
   sphere.radius = radius;
   sphere.friction = friction;
   for (int n : surface_nodes(mesh)) {
     bool fixed = false;
-    for (int k = 0; k < 3; ++k) fixed = fixed || role[3 * static_cast<size_t>(n) + static_cast<size_t>(k)] != DofRole::kFree;
+    for (int k = 0; k < 3; ++k)
+      fixed = fixed || role[3 * static_cast<size_t>(n) + static_cast<size_t>(k)] != DofRole::kFree;
     if (!fixed) sphere.candidates.push_back(n);
   }
   return sphere;
@@ -208,9 +207,8 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
 
   for (const FreeRigidModes& f : free_rigid_modes(mesh, role)) {
     diagnostics.add(0, "the constraints leave " + std::to_string(f.free_modes) +
-                           " rigid-body mode(s) free in component " +
-                           std::to_string(f.component) + " of " +
-                           std::to_string(f.num_nodes) + " nodes (e.g. " + f.example +
+                           " rigid-body mode(s) free in component " + std::to_string(f.component) +
+                           " of " + std::to_string(f.num_nodes) + " nodes (e.g. " + f.example +
                            "); add fixed nodes");
   }
   diagnostics.throw_if_any();

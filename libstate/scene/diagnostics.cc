@@ -7,9 +7,7 @@
 
 namespace hapstate {
 
-void Diagnostics::add(int line, std::string message) {
-  add_in(file_, line, std::move(message));
-}
+void Diagnostics::add(int line, std::string message) { add_in(file_, line, std::move(message)); }
 
 void Diagnostics::add_in(const std::string& file, int line, std::string message) {
   entries_.push_back({file, line, std::move(message), count()});

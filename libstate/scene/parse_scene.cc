@@ -77,9 +77,12 @@ std::optional<Law> parse_law(std::string_view name) {
 std::vector<std::string_view> own_constants(Law law) {
   switch (law) {
     case Law::kLinear:
-    case Law::kStvk: return {"mu", "lambda"};
-    case Law::kNeoHooke: return {"c10", "d1"};
-    case Law::kMooney: return {"c10", "c01", "d1"};
+    case Law::kStvk:
+      return {"mu", "lambda"};
+    case Law::kNeoHooke:
+      return {"c10", "d1"};
+    case Law::kMooney:
+      return {"c10", "c01", "d1"};
   }
   return {};
 }
@@ -176,32 +179,40 @@ std::optional<FixedSelector> parse_fixed(const TableReader& r, const Context& co
     if (r.has(key)) given.push_back(key);
   }
   if (given.size() != 1) {
-    std::string message = "[[fixed]] table '" + r.name() +
-                          "': give exactly one of box, plane, group, nodes";
+    std::string message =
+        "[[fixed]] table '" + r.name() + "': give exactly one of box, plane, group, nodes";
     if (!given.empty()) message += " (got " + join_and(given) + ")";
     r.diagnostics().add(r.line(), message);
     ok = false;
   }
   if (r.has("box")) {
-    if (auto box = r.box("box")) selector.where = BoxSelector{*box};
-    else ok = false;
+    if (auto box = r.box("box"))
+      selector.where = BoxSelector{*box};
+    else
+      ok = false;
   }
   if (r.has("plane")) {
     const toml::table* t = r.table("plane");
     std::optional<PlaneSelector> plane;
     if (t) plane = parse_plane(TableReader(*t, r.full_name("plane"), r.diagnostics()));
-    if (plane) selector.where = *plane;
-    else ok = false;
+    if (plane)
+      selector.where = *plane;
+    else
+      ok = false;
   }
   if (r.has("group")) {
     const auto name = r.string("group");
     if (name && name->empty()) r.bad("group", "must name a physical group of the mesh");
-    if (name && !name->empty()) selector.where = GroupSelector{*name};
-    else ok = false;
+    if (name && !name->empty())
+      selector.where = GroupSelector{*name};
+    else
+      ok = false;
   }
   if (r.has("nodes")) {
-    if (auto file = read_file_key(r, "nodes", context)) selector.where = NodesSelector{*file};
-    else ok = false;
+    if (auto file = read_file_key(r, "nodes", context))
+      selector.where = NodesSelector{*file};
+    else
+      ok = false;
   }
   if (auto dofs = r.dofs("dofs")) selector.dofs = *dofs;
   if (!ok) return std::nullopt;
@@ -241,7 +252,8 @@ SceneProbe parse_probe(const TableReader& r, const Context& context) {
     const auto name = r.string("friction");
     if (name && *name != "none" && *name != "stick")
       r.bad("friction", "must be one of none (frictionless sliding), stick");
-    else if (name) probe.friction = *name == "none" ? Friction::kNone : Friction::kStick;
+    else if (name)
+      probe.friction = *name == "none" ? Friction::kNone : Friction::kStick;
   }
   probe.point = r.point("point");
   probe.radius = r.number("radius", positive());
@@ -364,8 +376,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& path,
     root_table = toml::parse(text, file);
   } catch (const toml::parse_error& e) {
     const auto& where = e.source().begin;
-    throw InputError(file + ":" + std::to_string(where.line) + ":" +
-                     std::to_string(where.column) + ": " + std::string(e.description()));
+    throw InputError(file + ":" + std::to_string(where.line) + ":" + std::to_string(where.column) +
+                     ": " + std::string(e.description()));
   }
 
   Scene scene;

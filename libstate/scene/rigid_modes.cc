@@ -57,8 +57,7 @@ std::string describe(const Matrix6X& null, const Eigen::Vector3d& centroid, doub
     const Eigen::Vector3d a = v.head<3>();
     const Eigen::Vector3d w = v.tail<3>() / scale;  // actual angular velocity
     const Eigen::Vector3d through = centroid + w.cross(a) / w.squaredNorm();
-    return "rotation about " + axis_name(w) + " through " +
-           format_vector(through, 1e-9 * scale);
+    return "rotation about " + axis_name(w) + " through " + format_vector(through, 1e-9 * scale);
   };
   for (int k = 0; k < 3; ++k) {
     const Eigen::Vector3d e = Eigen::Vector3d::Unit(k);
@@ -145,7 +144,8 @@ std::vector<FreeRigidModes> free_rigid_modes(const Mesh& mesh, const std::vector
     }
     if (free.empty()) continue;
     Matrix6X null(6, static_cast<Eigen::Index>(free.size()));
-    for (size_t i = 0; i < free.size(); ++i) null.col(static_cast<Eigen::Index>(i)) = v.col(free[i]);
+    for (size_t i = 0; i < free.size(); ++i)
+      null.col(static_cast<Eigen::Index>(i)) = v.col(free[i]);
     result.push_back({static_cast<int>(index), static_cast<int>(nodes.size()),
                       static_cast<int>(free.size()), describe(null, centroid, scale)});
   }

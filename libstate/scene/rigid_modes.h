@@ -16,10 +16,10 @@ std::vector<std::vector<int>> connected_components(const Mesh& mesh);
 
 // One component whose constraints leave rigid-body modes free.
 struct FreeRigidModes {
-  int component = 0;   // index into connected_components()
+  int component = 0;  // index into connected_components()
   int num_nodes = 0;
-  int free_modes = 0;  // 1..6
-  std::string example; // one free motion, e.g. "rotation about x through (0, 0.5, 0.5)"
+  int free_modes = 0;   // 1..6
+  std::string example;  // one free motion, e.g. "rotation about x through (0, 0.5, 0.5)"
 };
 
 // For each component: the 3 translations and 3 infinitesimal rotations about its centroid,

@@ -34,20 +34,26 @@ struct SceneMesh {
 // (linear/stvk: mu+lambda; neohooke: c10+d1; mooney: c10+c01+d1). Exactly one set is present.
 struct SceneMaterial {
   Law law = Law::kStvk;
-  std::optional<double> young, poisson;     // Pa, -
-  std::optional<double> mu, lambda;         // Pa
-  std::optional<double> c10, c01, d1;       // Pa, Pa, 1/Pa
+  std::optional<double> young, poisson;  // Pa, -
+  std::optional<double> mu, lambda;      // Pa
+  std::optional<double> c10, c01, d1;    // Pa, Pa, 1/Pa
 };
 
 // [[fixed]] selectors: exactly one per table.
-struct BoxSelector { Box box; };
+struct BoxSelector {
+  Box box;
+};
 struct PlaneSelector {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // non-zero, not necessarily unit
   std::optional<double> tolerance;  // mesh units; default 1e-6 x mesh bounding-box diagonal
 };
-struct GroupSelector { std::string name; };             // a physical group of the mesh
-struct NodesSelector { std::filesystem::path file; };   // resolved against the scene folder
+struct GroupSelector {
+  std::string name;
+};  // a physical group of the mesh
+struct NodesSelector {
+  std::filesystem::path file;
+};  // resolved against the scene folder
 
 struct FixedSelector {
   std::variant<BoxSelector, PlaneSelector, GroupSelector, NodesSelector> where;
@@ -62,13 +68,13 @@ enum class ProbeMode { kGrab, kContact };
 struct SceneProbe {
   ProbeMode mode = ProbeMode::kGrab;
   std::optional<Eigen::Vector3d> point;
-  std::optional<double> radius;                 // > 0
+  std::optional<double> radius;  // > 0
   std::optional<std::filesystem::path> nodes_file;
-  std::optional<std::string> group;             // grab: every node of this physical group
-  DofMask dofs{true, true, true};               // grab: components that follow the probe
-  Friction friction = Friction::kNone;          // contact: probe.friction
-  double max_force = 0;                         // N, > 0
-  int line = 0;                                 // line of the [probe] header
+  std::optional<std::string> group;     // grab: every node of this physical group
+  DofMask dofs{true, true, true};       // grab: components that follow the probe
+  Friction friction = Friction::kNone;  // contact: probe.friction
+  double max_force = 0;                 // N, > 0
+  int line = 0;                         // line of the [probe] header
 };
 
 // [grid]: `spacing` or `dims` (then `box` is required). Without `box` the workspace is

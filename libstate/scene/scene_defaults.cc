@@ -24,8 +24,8 @@ double smallest_grid_spacing(const SceneGrid& grid) {
 
 LevelTolerances level_tolerances(const Scene& scene) {
   LevelTolerances t;
-  t.displacement = scene.levels.displacement_tolerance.value_or(
-      kLevelRelativeTolerance * smallest_grid_spacing(scene.grid));
+  t.displacement = scene.levels.displacement_tolerance.value_or(kLevelRelativeTolerance *
+                                                                smallest_grid_spacing(scene.grid));
   t.force = scene.levels.force_tolerance.value_or(kLevelRelativeTolerance * scene.probe.max_force);
   return t;
 }

@@ -11,7 +11,7 @@ namespace hapstate {
 
 struct SceneSolver::Impl {
   explicit Impl(Problem p) : problem(std::move(p)), solver(problem) {}
-  Problem problem;     // PathSolver keeps a reference to parts of it: declared first
+  Problem problem;  // PathSolver keeps a reference to parts of it: declared first
   PathSolver solver;
 };
 

@@ -21,7 +21,8 @@ std::vector<int> nodes_on_plane(const Mesh& mesh, const PlaneSelector& plane) {
   std::vector<int> ids;
   if (mesh.num_nodes() == 0) return ids;
   const Eigen::Vector3d normal = plane.normal.normalized();
-  const double diagonal = (mesh.nodes.rowwise().maxCoeff() - mesh.nodes.rowwise().minCoeff()).norm();
+  const double diagonal =
+      (mesh.nodes.rowwise().maxCoeff() - mesh.nodes.rowwise().minCoeff()).norm();
   const double tolerance = plane.tolerance.value_or(kPlaneRelativeTolerance * diagonal);
   for (int n = 0; n < mesh.num_nodes(); ++n) {
     if (std::abs((mesh.nodes.col(n) - plane.point).dot(normal)) <= tolerance) ids.push_back(n);

@@ -139,22 +139,30 @@ std::string render(const toml::node& node) {
 
 std::string type_phrase(const toml::node& node) {
   switch (node.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a floating-point number";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::table: return "a table";
-    case toml::node_type::date: return "a date";
-    case toml::node_type::time: return "a time";
-    case toml::node_type::date_time: return "a date-time";
-    default: return "nothing";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a floating-point number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::date:
+      return "a date";
+    case toml::node_type::time:
+      return "a time";
+    case toml::node_type::date_time:
+      return "a date-time";
+    default:
+      return "nothing";
   }
 }
 
-int line_of(const toml::node& node) {
-  return static_cast<int>(node.source().begin.line);
-}
+int line_of(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
 
 TableReader::TableReader(const toml::table& table, std::string name, Diagnostics& diagnostics)
     : table_(table), name_(std::move(name)), diagnostics_(diagnostics) {}
@@ -180,7 +188,8 @@ void TableReader::allow_only(std::initializer_list<std::string_view> allowed) co
       if (d < best_distance) best_distance = d, best = std::string(a);
     }
     const auto* array = node.as_array();
-    const bool is_table = node.is_table() || (array && !array->empty() && array->is_array_of_tables());
+    const bool is_table =
+        node.is_table() || (array && !array->empty() && array->is_array_of_tables());
     std::string message =
         std::string(is_table ? "unknown table '" : "unknown key '") + full_name(k) + "'";
     if (!best.empty()) message += " (did you mean '" + best + "'?)";

@@ -42,9 +42,8 @@ std::vector<int> ContactSet::penetrating(const Eigen::VectorXd& u_m, double unit
   return inside;  // candidates_ is ascending, so is this
 }
 
-ContactChange ContactSet::decide(const Eigen::VectorXd& u_m, double unit,
-                                 const Eigen::VectorXd& f, const Eigen::Vector3d& centre,
-                                 double absolute_tolerance) {
+ContactChange ContactSet::decide(const Eigen::VectorXd& u_m, double unit, const Eigen::VectorXd& f,
+                                 const Eigen::Vector3d& centre, double absolute_tolerance) {
   ContactChange change;
   double largest = 0;
   for (int n : touched_) largest = std::max(largest, f.segment<3>(3 * n).norm());

@@ -64,14 +64,20 @@ class ContactSet {
   // normalised to the radius. Throws InputError for a node that is not a candidate.
   void assign(const std::vector<int>& nodes, const Eigen::VectorXd& u_m, double unit,
               const Eigen::Vector3d& centre);
-  void clear() { touched_.clear(); anchors_.clear(); }
+  void clear() {
+    touched_.clear();
+    anchors_.clear();
+  }
   // Save and restore the touched nodes with their anchors (the solver's cut-back).
   struct Held {
     std::vector<int> nodes;
     std::vector<Eigen::Vector3d> anchors;
   };
   Held held() const { return {touched_, anchors_}; }
-  void restore(const Held& h) { touched_ = h.nodes; anchors_ = h.anchors; }
+  void restore(const Held& h) {
+    touched_ = h.nodes;
+    anchors_ = h.anchors;
+  }
 
   const ContactTimings& timings() const { return timings_; }
 

@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
-#include <limits>
+#include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 namespace hapstate {
 namespace {
@@ -54,17 +54,17 @@ constexpr double kArmijo = 1e-4;
 constexpr int kMaxLineSearch = 12;
 // Frictionless contact: the penalty k of the augmented Lagrangian is
 // SolverOptions::contact_penalty x the median diagonal stiffness of the free surface DOFs at
-// rest (past nu = 0.45, x incompressible_share below). A stiff penalty turns the small linearisation error of a sliding sub-step into a large
-// residual (more Newton iterations, line-search cuts and failed moves); a soft one needs more
-// multiplier updates (nearly redundant gaps of faces wrapped around the sphere contract slowly).
-// Measured: the plate's pressing and sliding moves (factorisations over a 7-move path) 100x 179,
-// 300x 198, 1000x 271; the liver's 3-D expansion 300x 10 failed moves of 14 896, 1000x over 117
-// (and slower); the block's pressing moves need up to 8 updates with 100x, 2-3 with 300x.
-// When a multiplier update shrinks the largest gap violation by less than kSlowContraction,
-// the penalty grows by kPenaltyGrowth for the rest of the sub-step (at most kMaxPenaltyScale x
-// k): the standard augmented-Lagrangian remedy for slow contraction. Measured on the plate of
-// 20 x 20 cells (0.2 cm), 1 558 solved moves: 8 failed with the gaps 1.1-1.3e-6 r from closed
-// after 20 updates, 0 with the growth.
+// rest (past nu = 0.45, x incompressible_share below). A stiff penalty turns the small
+// linearisation error of a sliding sub-step into a large residual (more Newton iterations,
+// line-search cuts and failed moves); a soft one needs more multiplier updates (nearly redundant
+// gaps of faces wrapped around the sphere contract slowly). Measured: the plate's pressing and
+// sliding moves (factorisations over a 7-move path) 100x 179, 300x 198, 1000x 271; the liver's 3-D
+// expansion 300x 10 failed moves of 14 896, 1000x over 117 (and slower); the block's pressing moves
+// need up to 8 updates with 100x, 2-3 with 300x. When a multiplier update shrinks the largest gap
+// violation by less than kSlowContraction, the penalty grows by kPenaltyGrowth for the rest of the
+// sub-step (at most kMaxPenaltyScale x k): the standard augmented-Lagrangian remedy for slow
+// contraction. Measured on the plate of 20 x 20 cells (0.2 cm), 1 558 solved moves: 8 failed with
+// the gaps 1.1-1.3e-6 r from closed after 20 updates, 0 with the growth.
 constexpr double kSlowContraction = 0.5;
 constexpr double kPenaltyGrowth = 4.0;
 constexpr double kMaxPenaltyScale = 64.0;
@@ -90,9 +90,18 @@ double incompressible_share(const MaterialConstants& m) {
   double mu = 0, bulk = 0;
   switch (m.law) {
     case Law::kLinear:
-    case Law::kStvk: mu = m.mu; bulk = m.lambda + 2.0 / 3.0 * m.mu; break;
-    case Law::kNeoHooke: mu = 2 * m.c10; bulk = 2 / m.d1; break;
-    case Law::kMooney: mu = 2 * (m.c10 + m.c01); bulk = 2 / m.d1; break;
+    case Law::kStvk:
+      mu = m.mu;
+      bulk = m.lambda + 2.0 / 3.0 * m.mu;
+      break;
+    case Law::kNeoHooke:
+      mu = 2 * m.c10;
+      bulk = 2 / m.d1;
+      break;
+    case Law::kMooney:
+      mu = 2 * (m.c10 + m.c01);
+      bulk = 2 / m.d1;
+      break;
   }
   const double wave = bulk + 4.0 / 3.0 * mu;
   // (A relative margin keeps nu = 0.45 itself, whose M / mu = 11 up to rounding, at exactly 1.)
@@ -123,14 +132,22 @@ double surface_stiffness(const Assembler& assembler, const Mesh& mesh,
 
 const char* failure_name(SolveFailure f) {
   switch (f) {
-    case SolveFailure::kNone: return "none";
-    case SolveFailure::kMaxIterations: return "max_iterations";
-    case SolveFailure::kInverted: return "inverted_element";
-    case SolveFailure::kNotFinite: return "not_finite";
-    case SolveFailure::kLineSearch: return "line_search";
-    case SolveFailure::kCutbackLimit: return "cutback_limit";
-    case SolveFailure::kContactCycle: return "contact_cycle";
-    case SolveFailure::kContactUnsettled: return "contact_unsettled";
+    case SolveFailure::kNone:
+      return "none";
+    case SolveFailure::kMaxIterations:
+      return "max_iterations";
+    case SolveFailure::kInverted:
+      return "inverted_element";
+    case SolveFailure::kNotFinite:
+      return "not_finite";
+    case SolveFailure::kLineSearch:
+      return "line_search";
+    case SolveFailure::kCutbackLimit:
+      return "cutback_limit";
+    case SolveFailure::kContactCycle:
+      return "contact_cycle";
+    case SolveFailure::kContactUnsettled:
+      return "contact_unsettled";
   }
   return "unknown";
 }
@@ -241,8 +258,7 @@ bool PathSolver::settle_sliding(double rel_tol, bool last, MoveResult* result) {
       result->failure = SolveFailure::kContactUnsettled;
       result->reason = "the contact gaps were still " + sci(violation / sliding_->radius()) +
                        " x radius from closed after " +
-                       std::to_string(options_.max_active_set_iterations) +
-                       " multiplier updates";
+                       std::to_string(options_.max_active_set_iterations) + " multiplier updates";
       return false;
     }
     sliding_->update_multipliers(u_, centre);
@@ -304,7 +320,8 @@ bool PathSolver::settle_contact(const Eigen::Vector3d& t, double rel_tol, MoveRe
     contact_->apply(change, u_, unit_, centre);
     ++result->active_set_iterations;
     const ContactSet::Held now = contact_->held();
-    if (std::any_of(seen.begin(), seen.end(), [&](const ContactSet::Held& h) { return same(h, now); })) {
+    if (std::any_of(seen.begin(), seen.end(),
+                    [&](const ContactSet::Held& h) { return same(h, now); })) {
       std::string nodes;
       for (int n : change.added) nodes += " +" + std::to_string(n);
       for (int n : change.released) nodes += " -" + std::to_string(n);
@@ -331,8 +348,7 @@ Eigen::Matrix3Xd PathSolver::displacements() const {
 
 void PathSolver::set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const {
   for (int d = 0; d < num_dofs(); ++d)
-    if (probe_dof_component_[d] >= 0)
-      (*u)[d] = probe_base_[d] + t[probe_dof_component_[d]] * unit_;
+    if (probe_dof_component_[d] >= 0) (*u)[d] = probe_base_[d] + t[probe_dof_component_[d]] * unit_;
 }
 
 void PathSolver::set_probe_translation(const Eigen::Vector3d& dt, Eigen::VectorXd* v) const {
@@ -476,13 +492,13 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       return false;
     }
     if (rnorm <= options_.absolute_tolerance + rel_tol * reaction_norm(f_)) return true;
-    const bool progressing = it >= kProgressWindow &&
-                             it < kMaxIterationFactor * options_.max_iterations &&
-                             rnorm < kProgressFactor * result->residual_history[it - kProgressWindow];
+    const bool progressing =
+        it >= kProgressWindow && it < kMaxIterationFactor * options_.max_iterations &&
+        rnorm < kProgressFactor * result->residual_history[it - kProgressWindow];
     if (it >= options_.max_iterations && !progressing) {
       result->failure = SolveFailure::kMaxIterations;
-      result->reason = "Newton reached " + std::to_string(it) + " iterations with residual " +
-                       sci(rnorm) + " N";
+      result->reason =
+          "Newton reached " + std::to_string(it) + " iterations with residual " + sci(rnorm) + " N";
       return false;
     }
     if (!tangent_current) {
@@ -498,7 +514,8 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
         constrain_values();
         CgOutcome cg = preconditioned_cg();
         if (cg == CgOutcome::kNegativeCurvature) {
-          // An indefinite tangent: CG with the PSD-projected one (what full Newton would factorise).
+          // An indefinite tangent: CG with the PSD-projected one (what full Newton would
+          // factorise).
           ++timings_.psd_fallbacks;
           assemble(u_, /*project_psd=*/true, &energy);
           constrain_values();
@@ -533,8 +550,14 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
         e_trial = total_energy_and_force(trial_, &f_trial_);
         if (!std::isfinite(e_trial)) continue;
         any_finite = true;
-        if (e_trial <= energy + kArmijo * alpha * slope) { accepted = true; break; }
-        if (free_norm(f_trial_) < (1.0 - kArmijo * alpha) * rnorm) { accepted = true; break; }
+        if (e_trial <= energy + kArmijo * alpha * slope) {
+          accepted = true;
+          break;
+        }
+        if (free_norm(f_trial_) < (1.0 - kArmijo * alpha) * rnorm) {
+          accepted = true;
+          break;
+        }
       }
       if (accepted) break;
       if (inexact && !factor_current) {  // a preconditioned direction: retry with a new factor
@@ -643,8 +666,8 @@ bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::Ve
 }
 
 // One sub-step: tangent predictor from t_from to t_to, then Newton corrections.
-bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t_to,
-                         double rel_tol, bool move_start, MoveResult* result) {
+bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t_to, double rel_tol,
+                         bool move_start, MoveResult* result) {
   // Sticking contact: decisions on reactions need converged reactions at every sub-step.
   if (contact_) rel_tol = options_.tolerance;
   if (sliding_) sliding_->set_penalty_scale(1.0);
@@ -727,10 +750,9 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
   // smallest sub-step (max_cutbacks halvings of 1 / substeps): its ladder of powers of 1/2
   // reaches that size or goes below it.
   const double reference_smallest = 1.0 / options_.substeps / std::pow(2.0, options_.max_cutbacks);
-  const double smallest =
-      nominal < 1.0 || !inexact_newton()
-          ? nominal / std::pow(2.0, options_.max_cutbacks)
-          : std::pow(2.0, std::floor(std::log2(reference_smallest) + 1e-9));
+  const double smallest = nominal < 1.0 || !inexact_newton()
+                              ? nominal / std::pow(2.0, options_.max_cutbacks)
+                              : std::pow(2.0, std::floor(std::log2(reference_smallest) + 1e-9));
   double s = 0, ds = nominal;
   int streak = 0;
   while (s < 1.0) {
@@ -741,13 +763,16 @@ MoveResult PathSolver::move_to(const Eigen::Vector3d& t_target) {
     const ContactSet::Held held_saved = contact_ ? contact_->held() : ContactSet::Held{};
     const std::vector<double> multipliers_saved =
         sliding_ ? sliding_->multipliers() : std::vector<double>{};
-    const double tol = s_next == 1.0 ? options_.tolerance
-                                     : std::max(options_.tolerance, kIntermediateRelTol);
+    const double tol =
+        s_next == 1.0 ? options_.tolerance : std::max(options_.tolerance, kIntermediateRelTol);
     if (substep(t_from, t_to, tol, s == 0, &result)) {
       s = s_next;
       t_ = t_to;
       ++result.substeps;
-      if (++streak >= 2 && ds < nominal) { ds = std::min(nominal, 2 * ds); streak = 0; }
+      if (++streak >= 2 && ds < nominal) {
+        ds = std::min(nominal, 2 * ds);
+        streak = 0;
+      }
       continue;
     }
     u_ = u_saved;
@@ -801,7 +826,8 @@ Eigen::Matrix3d PathSolver::haptic_stiffness(Eigen::MatrixX3d* du_dp) {
     y.col(c) = col;
   }
   Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
-  if (!factorize_with_fallback(u_, cholesky_.get())) return stiffness * std::numeric_limits<double>::quiet_NaN();
+  if (!factorize_with_fallback(u_, cholesky_.get()))
+    return stiffness * std::numeric_limits<double>::quiet_NaN();
   Eigen::Matrix<double, Eigen::Dynamic, 3> y_free = y;
   for (int d = 0; d < num_dofs(); ++d)
     if (role_[d] != DofRole::kFree) y_free.row(d).setZero();
@@ -811,7 +837,9 @@ Eigen::Matrix3d PathSolver::haptic_stiffness(Eigen::MatrixX3d* du_dp) {
     // du/dp_c: the probe DOFs of component c move with the probe, the free ones by -K_FF^-1 K_FP.
     if (du_dp)
       for (int d = 0; d < num_dofs(); ++d)
-        (*du_dp)(d, c) = role_[d] == DofRole::kFree ? -z[d] : probe_dof_component_[d] == c ? 1.0 : 0.0;
+        (*du_dp)(d, c) = role_[d] == DofRole::kFree     ? -z[d]
+                         : probe_dof_component_[d] == c ? 1.0
+                                                        : 0.0;
     for (int c2 = 0; c2 < 3; ++c2) {
       double kpp = 0;
       for (int d = 0; d < num_dofs(); ++d)
@@ -844,12 +872,14 @@ Eigen::Matrix3d PathSolver::sliding_stiffness(Eigen::MatrixX3d* du_dp) {
     if (role_[d] != DofRole::kFree) k_uc.row(d).setZero();
   Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
   if (k_cc.isZero(0.0)) return stiffness;
-  if (!factorize_with_fallback(u_, cholesky_.get())) return stiffness * std::numeric_limits<double>::quiet_NaN();
+  if (!factorize_with_fallback(u_, cholesky_.get()))
+    return stiffness * std::numeric_limits<double>::quiet_NaN();
   for (int c = 0; c < 3; ++c) {
     Eigen::VectorXd z;
     cholesky_->solve(k_uc.col(c), &z);
     if (du_dp)  // du/dc = -K^-1 K_uc on the free DOFs
-      for (int d = 0; d < num_dofs(); ++d) (*du_dp)(d, c) = role_[d] == DofRole::kFree ? -z[d] : 0.0;
+      for (int d = 0; d < num_dofs(); ++d)
+        (*du_dp)(d, c) = role_[d] == DofRole::kFree ? -z[d] : 0.0;
     for (int c2 = 0; c2 < 3; ++c2)
       stiffness(c2, c) = -(k_cc(c2, c) - k_uc.col(c2).dot(z)) * unit_;  // per mesh unit
   }

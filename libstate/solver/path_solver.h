@@ -31,12 +31,12 @@ namespace hapstate {
 
 enum class SolveFailure {
   kNone = 0,
-  kMaxIterations = 1,   // Newton did not reach the tolerance within max_iterations
-  kInverted = 2,        // every trial step inverted an element (J <= 0)
-  kNotFinite = 3,       // NaN or infinity in the residual
-  kLineSearch = 4,      // no step along the Newton direction reduced energy or residual
-  kCutbackLimit = 5,    // the sub-step was halved max_cutbacks times and still failed
-  kContactCycle = 6,    // contact: the touched set came back to an earlier set (oscillates)
+  kMaxIterations = 1,     // Newton did not reach the tolerance within max_iterations
+  kInverted = 2,          // every trial step inverted an element (J <= 0)
+  kNotFinite = 3,         // NaN or infinity in the residual
+  kLineSearch = 4,        // no step along the Newton direction reduced energy or residual
+  kCutbackLimit = 5,      // the sub-step was halved max_cutbacks times and still failed
+  kContactCycle = 6,      // contact: the touched set came back to an earlier set (oscillates)
   kContactUnsettled = 7,  // contact: the touched set still changed after the iteration cap
 };
 const char* failure_name(SolveFailure f);
@@ -44,19 +44,19 @@ const char* failure_name(SolveFailure f);
 struct MoveResult {
   bool ok = true;
   SolveFailure failure = SolveFailure::kNone;
-  std::string reason;            // human-readable failure reason (empty if ok)
-  int substeps = 0;              // accepted sub-steps
-  int cutbacks = 0;              // sub-step halvings
-  int iterations = 0;            // Newton iterations (linear solves, predictors included)
-  int factorisations = 0;        // numeric factorisations, PSD fallbacks included
+  std::string reason;      // human-readable failure reason (empty if ok)
+  int substeps = 0;        // accepted sub-steps
+  int cutbacks = 0;        // sub-step halvings
+  int iterations = 0;      // Newton iterations (linear solves, predictors included)
+  int factorisations = 0;  // numeric factorisations, PSD fallbacks included
   // Of those, the factorisations of the move's start state that the fast algorithm keeps for the
   // next move from the same state (0 when this move reused them): shared by every direction of
   // a configuration's expansion, so the expansion records them apart from the transition's own.
   int start_factorisations = 0;
-  double residual = 0;           // final ||r_free|| [N]
+  double residual = 0;  // final ||r_free|| [N]
   double wall_ms = 0;
-  int active_set_iterations = 0; // contact: touched-set changes (stick) or multiplier updates
-                                 // followed by a re-solve (frictionless) over the whole move
+  int active_set_iterations = 0;  // contact: touched-set changes (stick) or multiplier updates
+                                  // followed by a re-solve (frictionless) over the whole move
   std::vector<double> residual_history;  // ||r_free|| of the last Newton solve, per iteration
 };
 
@@ -64,7 +64,7 @@ struct MoveResult {
 struct SolverTimings {
   double assembly = 0, factorize = 0, solve = 0, analyze = 0;
   long long assemblies = 0, factorizations = 0;
-  long long psd_fallbacks = 0;  // PSD-projected tangents factorised or solved with by CG
+  long long psd_fallbacks = 0;     // PSD-projected tangents factorised or solved with by CG
   long long inner_iterations = 0;  // conjugate-gradient iterations of the inexact Newton
   // Contact probe: collision detection (summed by TransitionSolver::timings from
   // PathSolver::contact_timings; PathSolver::timings leaves them 0).
@@ -110,8 +110,7 @@ class PathSolver {
   // next move then rebuilds the contact forces). Throws InputError for a touched node that is
   // not a candidate or multipliers that do not fit the mesh.
   void set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t,
-                 const std::vector<int>& touched = {},
-                 const std::vector<double>& multipliers = {});
+                 const std::vector<int>& touched = {}, const std::vector<double>& multipliers = {});
   // Frictionless contact: the non-zero multipliers, pairs (surface triangle, N); else empty.
   std::vector<double> contact_multipliers() const {
     return sliding_ ? sliding_->sparse_multipliers() : std::vector<double>{};
@@ -154,11 +153,9 @@ class PathSolver {
   // factor of the tangent there. Inexact Newton keeps the factor of a move's start state in
   // source_cholesky_ and reuses it (and its f and K) when the next move starts from the same
   // state, as every direction of a configuration's expansion does.
-  bool predictor_factor(const Eigen::Vector3d& t_from, const Eigen::VectorXd& dt,
-                        bool move_start, Eigen::VectorXd* k_dt, MoveResult* result);
-  bool inexact_newton() const {
-    return options_.algorithm == SolverAlgorithm::kFast && !contact_;
-  }
+  bool predictor_factor(const Eigen::Vector3d& t_from, const Eigen::VectorXd& dt, bool move_start,
+                        Eigen::VectorXd* k_dt, MoveResult* result);
+  bool inexact_newton() const { return options_.algorithm == SolverAlgorithm::kFast && !contact_; }
   void assemble(const Eigen::VectorXd& u, bool project_psd, double* energy);
   void constrain_values();
   bool factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target);
@@ -179,7 +176,7 @@ class PathSolver {
   std::unique_ptr<Assembler> assembler_;
   std::unique_ptr<SparseCholesky> cholesky_;
   std::unique_ptr<SparseCholesky> source_cholesky_;  // inexact Newton: a move start's factor
-  SparseCholesky* factor_ = nullptr;                  // the factor Newton solves with
+  SparseCholesky* factor_ = nullptr;                 // the factor Newton solves with
   // The state source_cholesky_ factorises, and f and the tangent's values there.
   bool source_valid_ = false;
   Eigen::VectorXd source_u_, source_f_;
@@ -191,10 +188,10 @@ class PathSolver {
   bool state_force_valid_ = false;
   Eigen::VectorXd state_force_;
   std::vector<DofRole> role_;
-  std::vector<int> probe_dof_component_;  // per DOF: component 0..2 if probe DOF, else -1
-  std::vector<DofRole> base_role_;        // roles without touched nodes (contact mode)
-  Eigen::VectorXd probe_base_;            // per probe DOF: u = probe_base_ + t (metres)
-  std::unique_ptr<ContactSet> contact_;   // sticking contact only
+  std::vector<int> probe_dof_component_;     // per DOF: component 0..2 if probe DOF, else -1
+  std::vector<DofRole> base_role_;           // roles without touched nodes (contact mode)
+  Eigen::VectorXd probe_base_;               // per probe DOF: u = probe_base_ + t (metres)
+  std::unique_ptr<ContactSet> contact_;      // sticking contact only
   std::unique_ptr<SlidingContact> sliding_;  // frictionless contact only
   mutable ContactTimings sliding_timings_;
 
@@ -204,8 +201,8 @@ class PathSolver {
   SolverOptions options_;
   SolverTimings timings_;
 
-  Eigen::VectorXd u_;       // metres
-  Eigen::Vector3d t_ = Eigen::Vector3d::Zero();  // mesh units
+  Eigen::VectorXd u_;                                  // metres
+  Eigen::Vector3d t_ = Eigen::Vector3d::Zero();        // mesh units
   Eigen::Vector3d t_solve_ = Eigen::Vector3d::Zero();  // the probe of the solve under way
   // Workspace.
   Eigen::VectorXd f_, r_, du_, trial_, f_trial_;

@@ -179,14 +179,17 @@ std::vector<double> SlidingContact::updated(const Eigen::VectorXd& u_m,
                                             const Eigen::Vector3d& centre_m,
                                             double* worst_change) const {
   std::vector<double> hat(lambda_.size(), 0.0);
-  for (const Active& a : active(u_m, centre_m)) hat[static_cast<std::size_t>(a.triangle)] = a.lambda_hat;
+  for (const Active& a : active(u_m, centre_m))
+    hat[static_cast<std::size_t>(a.triangle)] = a.lambda_hat;
   double worst = 0;
-  for (std::size_t t = 0; t < lambda_.size(); ++t) worst = std::max(worst, std::abs(hat[t] - lambda_[t]));
+  for (std::size_t t = 0; t < lambda_.size(); ++t)
+    worst = std::max(worst, std::abs(hat[t] - lambda_[t]));
   *worst_change = worst / penalty();
   return hat;
 }
 
-double SlidingContact::violation(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const {
+double SlidingContact::violation(const Eigen::VectorXd& u_m,
+                                 const Eigen::Vector3d& centre_m) const {
   double worst = 0;
   updated(u_m, centre_m, &worst);
   return worst;

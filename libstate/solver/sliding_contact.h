@@ -92,7 +92,8 @@ class SlidingContact {
   std::vector<double> updated(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m,
                               double* worst_change) const;
   // The triangles whose lambda^ > 0 at (u, c) (a scan with a bounding-box cull).
-  const std::vector<Active>& active(const Eigen::VectorXd& u_m, const Eigen::Vector3d& centre_m) const;
+  const std::vector<Active>& active(const Eigen::VectorXd& u_m,
+                                    const Eigen::Vector3d& centre_m) const;
 
   Eigen::Matrix3Xd reference_;
   Triangles triangles_;

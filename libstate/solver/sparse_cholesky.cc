@@ -11,7 +11,7 @@ namespace hapstate {
 
 struct SparseCholesky::Impl {
   cholmod_common common;
-  cholmod_sparse matrix;           // views pattern arrays and `values`
+  cholmod_sparse matrix;  // views pattern arrays and `values`
   cholmod_factor* factor = nullptr;
   std::vector<int> col_ptr, row_idx;
   std::vector<double> values;
@@ -98,13 +98,20 @@ const char* SparseCholesky::method() const {
 }
 const char* SparseCholesky::ordering() const {
   switch (impl_->factor->ordering) {
-    case CHOLMOD_NATURAL: return "natural";
-    case CHOLMOD_GIVEN: return "given";
-    case CHOLMOD_AMD: return "AMD";
-    case CHOLMOD_METIS: return "METIS";
-    case CHOLMOD_NESDIS: return "NESDIS";
-    case CHOLMOD_COLAMD: return "COLAMD";
-    case CHOLMOD_POSTORDERED: return "postordered";
+    case CHOLMOD_NATURAL:
+      return "natural";
+    case CHOLMOD_GIVEN:
+      return "given";
+    case CHOLMOD_AMD:
+      return "AMD";
+    case CHOLMOD_METIS:
+      return "METIS";
+    case CHOLMOD_NESDIS:
+      return "NESDIS";
+    case CHOLMOD_COLAMD:
+      return "COLAMD";
+    case CHOLMOD_POSTORDERED:
+      return "postordered";
   }
   return "unknown";
 }

@@ -52,8 +52,8 @@ void SphereQuery::inside(const Eigen::Vector3d& centre, double radius,
   }
   const double r2 = radius * radius;
   // A sphere much larger than the cells would visit many empty cells: scan instead.
-  const double cells = static_cast<double>(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) *
-                       (hi[2] - lo[2] + 1);
+  const double cells =
+      static_cast<double>(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
   if (cells > static_cast<double>(points_.cols())) {
     for (int p = 0; p < points_.cols(); ++p)
       if ((points_.col(p) - centre).squaredNorm() < r2) out->push_back(p);

@@ -27,8 +27,8 @@ class SphereQuery {
   Eigen::Matrix3Xd points_;
   double cell_ = 1;
   std::uint64_t mask_ = 0;
-  std::vector<int> start_;   // bucket b holds order_[start_[b] .. start_[b + 1])
-  std::vector<int> order_;   // point indices sorted by bucket
+  std::vector<int> start_;  // bucket b holds order_[start_[b] .. start_[b + 1])
+  std::vector<int> order_;  // point indices sorted by bucket
 };
 
 // The same answer by scanning every point (the tests' reference).

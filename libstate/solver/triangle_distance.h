@@ -9,7 +9,7 @@
 namespace hapstate {
 
 struct TrianglePoint {
-  double distance = 0;                              // |q - p|
+  double distance = 0;                                // |q - p|
   Eigen::Vector3d weights = Eigen::Vector3d::Zero();  // barycentric coordinates of p
   Eigen::Vector3d closest = Eigen::Vector3d::Zero();  // p, the closest point of the triangle
 };

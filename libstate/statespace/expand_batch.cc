@@ -28,14 +28,15 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
     for (double n : blobs.read(c.blob->segment, c.blob->name + "/touched")) {
       if (n < 0 || n >= num_nodes || n != static_cast<int>(n) ||
           (!v.touched.empty() && n <= v.touched.back())) {
-        throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
-                         ": '" + c.blob->name + "/touched' of configuration " +
+        throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() + ": '" +
+                         c.blob->name + "/touched' of configuration " +
                          std::to_string(c.id.value()) + " is not an ascending list of node ids");
       }
       v.touched.push_back(static_cast<int>(n));
     }
   }
-  if (layout.multipliers) v.multipliers = blobs.read(c.blob->segment, c.blob->name + "/multipliers");
+  if (layout.multipliers)
+    v.multipliers = blobs.read(c.blob->segment, c.blob->name + "/multipliers");
   const int num_reactions = layout.h_size(v.touched.size());
   if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_reactions) {
     throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
@@ -122,7 +123,8 @@ void TransitionSolver::for_each_parallel(std::size_t count, Body&& body) {
       next = count;
     }
   };
-  const int workers = static_cast<int>(std::min<std::size_t>(threads_, std::max<std::size_t>(1, count)));
+  const int workers =
+      static_cast<int>(std::min<std::size_t>(threads_, std::max<std::size_t>(1, count)));
   if (workers <= 1) {
     work(0);
   } else {
@@ -136,9 +138,8 @@ void TransitionSolver::for_each_parallel(std::size_t count, Body&& body) {
 
 std::vector<TransitionSolve> TransitionSolver::solve(std::span<const TransitionTask> tasks) {
   std::vector<TransitionSolve> results(tasks.size());
-  for_each_parallel(tasks.size(), [&](int worker, std::size_t k) {
-    results[k] = solve_one(worker, tasks[k]);
-  });
+  for_each_parallel(tasks.size(),
+                    [&](int worker, std::size_t k) { results[k] = solve_one(worker, tasks[k]); });
   return results;
 }
 
@@ -149,7 +150,8 @@ std::vector<TransitionSolve> TransitionSolver::solve_range(std::size_t begin, st
 StiffnessResult stiffness_result(const Eigen::Matrix3d& stiffness, const Eigen::MatrixX3d& du_dp) {
   StiffnessResult out;
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out.stiffness[3 * r + c] = std::isfinite(stiffness(r, c)) ? stiffness(r, c) : 0.0;
+    for (int c = 0; c < 3; ++c)
+      out.stiffness[3 * r + c] = std::isfinite(stiffness(r, c)) ? stiffness(r, c) : 0.0;
   out.du_dp.resize(static_cast<std::size_t>(du_dp.size()));
   Eigen::Map<Eigen::MatrixX3f>(out.du_dp.data(), du_dp.rows(), 3) =
       du_dp.unaryExpr([](double v) { return std::isfinite(v) ? static_cast<float>(v) : 0.0f; });
@@ -163,7 +165,8 @@ StiffnessResult rest_stiffness(const Problem& problem) {
   return stiffness_result(k, du_dp);
 }
 
-std::vector<StiffnessResult> TransitionSolver::stiffnesses(const std::vector<StiffnessTask>& tasks) {
+std::vector<StiffnessResult> TransitionSolver::stiffnesses(
+    const std::vector<StiffnessTask>& tasks) {
   std::vector<StiffnessResult> results(tasks.size());
   for_each_parallel(tasks.size(), [&](int worker, std::size_t k) {
     PathSolver& solver = *solvers_[worker];

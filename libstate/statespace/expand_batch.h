@@ -16,9 +16,9 @@
 #include <array>
 #include <functional>
 #include <memory>
-#include <string>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace hapstate {
@@ -36,10 +36,10 @@ struct TransitionTask {
 // and solved is false).
 struct TransitionSolve {
   bool solved = false;
-  bool trivial = false;               // contact: free to free at rest, no solve needed
+  bool trivial = false;  // contact: free to free at rest, no solve needed
   MoveResult move;
-  ConfigVectors vectors;              // when move.ok
-  std::array<double, 3> force{};      // felt by the user, N
+  ConfigVectors vectors;          // when move.ok
+  std::array<double, 3> force{};  // felt by the user, N
 };
 
 // The haptic stiffness of a configuration about to be stored (only new configurations need

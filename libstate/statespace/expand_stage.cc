@@ -14,9 +14,9 @@
 #include "util/stop_request.h"
 
 #include <algorithm>
-#include <initializer_list>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -26,7 +26,9 @@ namespace {
 
 using SteadyClock = std::chrono::steady_clock;
 
-double norm3(const std::array<double, 3>& f) { return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); }
+double norm3(const std::array<double, 3>& f) {
+  return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+}
 
 // Check-points configurations are computed at (contact: kFree ones too).
 bool is_workspace(CheckpointClass c) {
@@ -60,7 +62,8 @@ class Expander {
         sketch_(ctx.problem),
         tolerances_(level_tolerances(ctx.scene)),
         max_force_(ctx.scene.probe.max_force) {
-    num_probe_nodes_ = std::max<int>(1, static_cast<int>(ctx.problem.constraints.probe_nodes.size()));
+    num_probe_nodes_ =
+        std::max<int>(1, static_cast<int>(ctx.problem.constraints.probe_nodes.size()));
     num_dofs_ = 3 * ctx.problem.mesh.num_nodes();
     for (const Checkpoint& c : ctx.catalogue.read_all_checkpoints()) {
       grid_.by_ijk.emplace(c.ijk, c);
@@ -90,7 +93,8 @@ class Expander {
         if (!blobs_.contains(c.blob->segment, c.blob->name + v)) {
           throw InputError((blobs_.directory() / segment_file_name(c.blob->segment)).string() +
                            ": vector '" + c.blob->name + v + "' of configuration " +
-                           std::to_string(c.id.value()) + " is missing (the state directory is "
+                           std::to_string(c.id.value()) +
+                           " is missing (the state directory is "
                            "damaged)");
         }
       }
@@ -205,11 +209,13 @@ class Expander {
     // The new configurations' haptic stiffness (the transition that reached one is charged
     // its factorisation).
     std::vector<StiffnessTask> stiffness_tasks;
-    for (const NewConfiguration& n : decision.fresh) stiffness_tasks.push_back({n.vectors, n.position});
+    for (const NewConfiguration& n : decision.fresh)
+      stiffness_tasks.push_back({n.vectors, n.position});
     const std::vector<StiffnessResult> stiffness = solver.stiffnesses(stiffness_tasks);
     for (std::size_t k = 0; k < decision.fresh.size(); ++k) {
       decision.fresh[k].config.stiffness = stiffness[k].stiffness;
-      decision.transitions[decision.fresh[k].transition].factorisations += stiffness[k].factorisations;
+      decision.transitions[decision.fresh[k].transition].factorisations +=
+          stiffness[k].factorisations;
       report->factorisations += stiffness[k].factorisations;
     }
 
@@ -222,7 +228,8 @@ class Expander {
         writer.write(n.config.blob->name + "/u", n.vectors->u);
         writer.write(n.config.blob->name + "/t", n.vectors->t);
         writer.write(n.config.blob->name + "/h", n.vectors->h);
-        if (!stiffness[k].du_dp.empty()) writer.write(n.config.blob->name + "/du_dp", stiffness[k].du_dp);
+        if (!stiffness[k].du_dp.empty())
+          writer.write(n.config.blob->name + "/du_dp", stiffness[k].du_dp);
         if (probe_->layout().multipliers)
           writer.write(n.config.blob->name + "/multipliers", n.vectors->multipliers);
         if (probe_->stores_touched())
@@ -261,8 +268,7 @@ class Expander {
     auto it = cache_.find(c.id);
     if (it != cache_.end()) return it->second;
     if (cache_.size() >= kMaxCached) cache_.clear();
-    return cache_
-        .emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, probe_->layout()))
+    return cache_.emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, probe_->layout()))
         .first->second;
   }
 
@@ -292,7 +298,8 @@ std::string parameters_of(const ExpandOptions& o, const LevelTolerances& tol, do
                 "algorithm=%s threads=%d batch=%d max_transitions=%s max_seconds=%s max_force=%.9g "
                 "displacement_tolerance=%.9g force_tolerance=%.9g",
                 o.algorithm == SolverAlgorithm::kFast ? "fast" : "reference", o.threads,
-                o.batch_size, o.max_transitions ? std::to_string(*o.max_transitions).c_str() : "none",
+                o.batch_size,
+                o.max_transitions ? std::to_string(*o.max_transitions).c_str() : "none",
                 o.max_seconds ? std::to_string(*o.max_seconds).c_str() : "none", max_force,
                 tol.displacement, tol.force);
   return engine.empty() ? std::string(buf) : std::string(buf) + " " + engine;
@@ -315,7 +322,8 @@ void ExpandOptions::check() const {
   if (batch_size < 1)
     throw InputError("--batch must be >= 1 (got " + std::to_string(batch_size) + ")");
   if (max_transitions && *max_transitions < 1)
-    throw InputError("--max-transitions must be >= 1 (got " + std::to_string(*max_transitions) + ")");
+    throw InputError("--max-transitions must be >= 1 (got " + std::to_string(*max_transitions) +
+                     ")");
   if (max_seconds && !(*max_seconds > 0))
     throw InputError("--max-seconds must be > 0 (got " + std::to_string(*max_seconds) + ")");
 }
@@ -328,7 +336,8 @@ ExpandReport run_expand(const ExpandOptions& options) {
   const StageRun grid_run = require_stage_run(cat, ctx.dir, "grid");
   if (run_input(grid_run, "grid") != ctx.grid.hash() ||
       run_input(grid_run, "problem") != ctx.problem_hash) {
-    throw InputError(ctx.dir.root.string() + ": the scene's grid changed since hapstate-grid ran "
+    throw InputError(ctx.dir.root.string() +
+                     ": the scene's grid changed since hapstate-grid ran "
                      "(re-imported with an enlarged workspace?): run hapstate-grid first");
   }
   Expander expander(ctx, options);
@@ -339,9 +348,8 @@ ExpandReport run_expand(const ExpandOptions& options) {
 
   ExpandReport report;
   const auto changes = expander.expandable_changes();
-  const NamedHashes inputs = {{"grid", ctx.grid.hash()},
-                              {"problem", ctx.problem_hash},
-                              {"scene", ctx.scene_record.hash}};
+  const NamedHashes inputs = {
+      {"grid", ctx.grid.hash()}, {"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
   StageRun run = make_stage_run("expand", inputs,
                                 parameters_of(options, expander.tolerances(),
                                               ctx.scene.probe.max_force, solver.parameters()));
@@ -395,8 +403,10 @@ ExpandReport run_expand(const ExpandOptions& options) {
     };
     const long long decided_before = cat.num_transitions();
     if (options.progress && decided_before > 0)
-      std::fprintf(options.progress, "hapstate-expand: resuming: %lld transitions were decided by "
-                   "earlier runs\n", decided_before);
+      std::fprintf(options.progress,
+                   "hapstate-expand: resuming: %lld transitions were decided by "
+                   "earlier runs\n",
+                   decided_before);
     // One line for the whole expansion; its total is re-estimated at each wave.
     Progress progress("hapstate-expand: transitions", 0, options.progress);
     progress.set_resumed(decided_before);

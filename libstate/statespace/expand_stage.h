@@ -27,13 +27,13 @@ using TransitionEngineFactory = std::function<std::unique_ptr<TransitionEngine>(
 
 struct ExpandOptions {
   std::filesystem::path state;
-  int threads = 1;                      // worker threads, one PathSolver each
-  int batch_size = 32;                  // transitions per batch (one segment, one transaction)
+  int threads = 1;                           // worker threads, one PathSolver each
+  int batch_size = 32;                       // transitions per batch (one segment, one transaction)
   std::optional<long long> max_transitions;  // stop at the first batch boundary at or past it
   std::optional<double> max_seconds;         // stop at the first batch boundary past it
-  std::FILE* progress = stderr;         // progress line; nullptr: none
+  std::FILE* progress = stderr;              // progress line; nullptr: none
   SolverAlgorithm algorithm = SolverAlgorithm::kFast;  // kReference: the paper's (comparisons)
-  TransitionEngineFactory engine;       // empty: threads in this process
+  TransitionEngineFactory engine;                      // empty: threads in this process
 
   // Throws InputError naming the first option out of range (run_expand calls it first).
   void check() const;
@@ -41,16 +41,16 @@ struct ExpandOptions {
 
 struct ExpandReport {
   StageOutcome outcome = StageOutcome::kOk;  // kOk (nothing undecided left), kPartial, kUnchanged
-  bool stopped_by_signal = false;  // kPartial because stop_requested() (Ctrl-C, SIGTERM)
-  long long decided = 0;          // transitions decided in this run
-  long long solved = 0;           // of which solved (reached or failed)
-  long long trivial = 0;          // of the solved: contact moves between free check-points at
-                                  // rest, recorded without a solve
+  bool stopped_by_signal = false;            // kPartial because stop_requested() (Ctrl-C, SIGTERM)
+  long long decided = 0;                     // transitions decided in this run
+  long long solved = 0;                      // of which solved (reached or failed)
+  long long trivial = 0;  // of the solved: contact moves between free check-points at
+                          // rest, recorded without a solve
   long long failed = 0;
-  long long factorisations = 0;   // numeric factorisations of this run's solved transitions
+  long long factorisations = 0;  // numeric factorisations of this run's solved transitions
   long long outside = 0;
   long long new_configurations = 0;
-  long long reused_levels = 0;    // reached an existing level
+  long long reused_levels = 0;       // reached an existing level
   long long expandable_changed = 0;  // configurations whose expandable flag changed (F_max)
   std::size_t garbage_segments = 0;  // unreferenced segments removed at start
   int interrupted_runs = 0;          // earlier runs left "running" by a crash, now marked failed

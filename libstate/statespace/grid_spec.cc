@@ -61,8 +61,7 @@ ContentHash GridSpec::hash() const {
 Eigen::Vector3d grid_spacing(const SceneGrid& grid) {
   if (grid.spacing) return *grid.spacing;
   Eigen::Vector3d h;
-  for (int a = 0; a < 3; ++a)
-    h[a] = (grid.box->max[a] - grid.box->min[a]) / ((*grid.dims)[a] - 1);
+  for (int a = 0; a < 3; ++a) h[a] = (grid.box->max[a] - grid.box->min[a]) / ((*grid.dims)[a] - 1);
   return h;
 }
 
@@ -85,7 +84,8 @@ GridSpec resolve_grid(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
   }
   double count = 1;
   for (int a = 0; a < 3; ++a)
-    count *= std::floor((g.workspace.max[a] - g.workspace.min[a]) / g.spacing[a] + kSnapTolerance) + 1;
+    count *=
+        std::floor((g.workspace.max[a] - g.workspace.min[a]) / g.spacing[a] + kSnapTolerance) + 1;
   if (!(count <= kMaxCheckpoints)) {
     char buf[320];
     std::snprintf(buf, sizeof buf,
@@ -97,8 +97,10 @@ GridSpec resolve_grid(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
   }
   for (int a = 0; a < 3; ++a) {
     const double h = g.spacing[a];
-    g.lo[a] = static_cast<int>(std::ceil((g.workspace.min[a] - probe_rest[a]) / h - kSnapTolerance));
-    g.hi[a] = static_cast<int>(std::floor((g.workspace.max[a] - probe_rest[a]) / h + kSnapTolerance));
+    g.lo[a] =
+        static_cast<int>(std::ceil((g.workspace.min[a] - probe_rest[a]) / h - kSnapTolerance));
+    g.hi[a] =
+        static_cast<int>(std::floor((g.workspace.max[a] - probe_rest[a]) / h + kSnapTolerance));
     // Widen only for a snapped check-point beyond the edge (not for a rounding ulp of one on
     // it: that would change the grid's hash for an unchanged scene).
     const double first = probe_rest[a] + g.lo[a] * h, last = probe_rest[a] + g.hi[a] * h;
@@ -124,8 +126,8 @@ std::vector<std::string> grid_short_axes(const SceneGrid& grid, const GridSpec& 
                   "at the probe's rest position %c = %.9g plus multiples of the spacing %.9g, and "
                   "the box's %c edges are %.3g spacings off that lattice (more than the %g "
                   "snapped); shift grid.box by %.9g along %c, or give grid.spacing instead",
-                  scene_label.c_str(), want, axis, have, axis, rest, h, axis,
-                  std::abs(shift) / h, kSnapTolerance, shift, axis);
+                  scene_label.c_str(), want, axis, have, axis, rest, h, axis, std::abs(shift) / h,
+                  kSnapTolerance, shift, axis);
     notes.emplace_back(buf);
   }
   return notes;

@@ -2,11 +2,12 @@
 // with origin = the probe's rest position, so the rest position is check-point (0, 0, 0) and
 // indices may be negative. The check-points are those inside the workspace box (closed, with a
 // tolerance of 1e-9 spacings); a box edge within 1e-3 spacings of the lattice is snapped to it
-// (the workspace grows to include that check-point). Enlarging the workspace keeps every index and position.
+// (the workspace grows to include that check-point). Enlarging the workspace keeps every index and
+// position.
 #pragma once
 
-#include "util/hash.h"
 #include "scene/scene.h"
+#include "util/hash.h"
 
 #include <Eigen/Core>
 

@@ -49,9 +49,8 @@ GridReport run_grid(const GridOptions& options) {
   StageContext ctx = open_stage_context(options.state);
   Catalogue& cat = ctx.catalogue;
   const GridSpec& grid = ctx.grid;
-  const NamedHashes inputs = {{"grid", grid.hash()},
-                              {"problem", ctx.problem_hash},
-                              {"scene", ctx.scene_record.hash}};
+  const NamedHashes inputs = {
+      {"grid", grid.hash()}, {"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
   char params[256];
   std::snprintf(params, sizeof params,
                 "spacing=(%.9g, %.9g, %.9g) workspace=[(%.9g, %.9g, %.9g), (%.9g, %.9g, %.9g)]",
@@ -94,7 +93,8 @@ GridReport run_grid(const GridOptions& options) {
         auto it = existing.find(ijk);
         if (it != existing.end()) {
           if (in_workspace(it->second.classification)) workspace_ids.emplace(ijk, it->second.id);
-          if (it->second.classification == CheckpointClass::kFree) free_ids.push_back(it->second.id);
+          if (it->second.classification == CheckpointClass::kFree)
+            free_ids.push_back(it->second.id);
           continue;
         }
         Checkpoint c;
@@ -113,8 +113,10 @@ GridReport run_grid(const GridOptions& options) {
   report.checkpoints_total = cat.num_checkpoints();
   if (probe->is_contact() && free_ids.size() == workspace_ids.size()) {
     throw InputError(ctx.scene.path.string() + ": grid.box: the sphere (probe.radius " +
-                     std::to_string(ctx.problem.contact->radius) + ") is clear of the body at "
-                     "every one of the " + std::to_string(workspace_ids.size()) +
+                     std::to_string(ctx.problem.contact->radius) +
+                     ") is clear of the body at "
+                     "every one of the " +
+                     std::to_string(workspace_ids.size()) +
                      " workspace check-points, so the probe could never touch it; draw the "
                      "workspace (or move probe.point) over the body's surface");
   }
@@ -122,7 +124,8 @@ GridReport run_grid(const GridOptions& options) {
   // The zero configuration at the rest check-point.
   const auto rest = workspace_ids.find(GridIndex{0, 0, 0});
   if (rest == workspace_ids.end()) {
-    throw InputError(ctx.dir.root.string() + ": the rest check-point (0, 0, 0) is not in the "
+    throw InputError(ctx.dir.root.string() +
+                     ": the rest check-point (0, 0, 0) is not in the "
                      "workspace (internal inconsistency)");
   }
   if (!probe->is_contact() && cat.configurations_at(rest->second).empty()) {
@@ -163,18 +166,18 @@ GridReport run_grid(const GridOptions& options) {
   }
   run.outcome = StageOutcome::kOk;
   run.ended = now_ms();
-  report.message = std::to_string(report.checkpoints_added) + " check-points added (" +
-                   std::to_string(report.checkpoints_total) + " in all)" +
-                   (report.zero_configurations > 0
-                        ? ", " + std::to_string(report.zero_configurations) +
-                              " free check-points (sphere clear of the body) with the zero "
-                              "configuration"
-                    : report.zero_configuration_added ? ", zero configuration at (0, 0, 0)"
-                                                      : "") +
-                   (report.transitions_reopened
-                        ? ", " + std::to_string(report.transitions_reopened) +
-                              " transitions reopened into the enlarged workspace"
-                        : "");
+  report.message =
+      std::to_string(report.checkpoints_added) + " check-points added (" +
+      std::to_string(report.checkpoints_total) + " in all)" +
+      (report.zero_configurations > 0
+           ? ", " + std::to_string(report.zero_configurations) +
+                 " free check-points (sphere clear of the body) with the zero "
+                 "configuration"
+       : report.zero_configuration_added ? ", zero configuration at (0, 0, 0)"
+                                         : "") +
+      (report.transitions_reopened ? ", " + std::to_string(report.transitions_reopened) +
+                                         " transitions reopened into the enlarged workspace"
+                                   : "");
   run.message = report.message;
   cat.insert_stage_run(run);
   tx.commit();

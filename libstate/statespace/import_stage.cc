@@ -33,7 +33,8 @@ SceneRecord make_scene_record(const Scene& scene, const Problem& problem,
   r.mesh_elements = mesh.num_tets();
   r.mesh_surface_triangles = mesh.surface.cols();
   if (mesh.num_nodes() > 0) {
-    const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(), hi = mesh.nodes.rowwise().maxCoeff();
+    const Eigen::Vector3d lo = mesh.nodes.rowwise().minCoeff(),
+                          hi = mesh.nodes.rowwise().maxCoeff();
     for (int a = 0; a < 3; ++a) {
       r.bbox_min[a] = lo[a];
       r.bbox_max[a] = hi[a];
@@ -44,7 +45,8 @@ SceneRecord make_scene_record(const Scene& scene, const Problem& problem,
     const Eigen::Vector3d a = mesh.nodes.col(mesh.tets(0, e));
     volume += (mesh.nodes.col(mesh.tets(1, e)) - a)
                   .cross(mesh.nodes.col(mesh.tets(2, e)) - a)
-                  .dot(mesh.nodes.col(mesh.tets(3, e)) - a) / 6.0;
+                  .dot(mesh.nodes.col(mesh.tets(3, e)) - a) /
+              6.0;
   }
   r.volume = volume;
   return r;
@@ -137,12 +139,14 @@ ImportReport run_import(const ImportOptions& options) {
     Catalogue catalogue(dir.catalogue(), OpenMode::kMigrate);  // refuses future/foreign/corrupt
     if (catalogue.read_scene()) last = catalogue.last_successful_stage_run("import");
     if (catalogue.read_scene() && !last) {
-      throw InputError(dir.catalogue().string() + ": has a scene but no successful import run "
+      throw InputError(dir.catalogue().string() +
+                       ": has a scene but no successful import run "
                        "(damaged?): use --fresh to start over");
     }
   }
   if (!last) {
-    import_new(dir, options, scene, problem, mesh_hash, identity, "new state directory: " + summary);
+    import_new(dir, options, scene, problem, mesh_hash, identity,
+               "new state directory: " + summary);
     report.result = ImportResult::kCreated;
     report.message = "imported: " + summary;
     return report;

@@ -28,9 +28,11 @@ std::vector<double> LevelSketch::summary(const std::vector<double>& u) const {
   return s;
 }
 
-double level_distance_bound(const std::vector<double>& summary_a, const std::array<double, 3>& force_a,
-                            const std::vector<double>& summary_b, const std::array<double, 3>& force_b,
-                            const LevelTolerances& tolerances, int probe_nodes) {
+double level_distance_bound(const std::vector<double>& summary_a,
+                            const std::array<double, 3>& force_a,
+                            const std::vector<double>& summary_b,
+                            const std::array<double, 3>& force_b, const LevelTolerances& tolerances,
+                            int probe_nodes) {
   double du = 0;
   const std::size_t n = std::min(summary_a.size(), summary_b.size());
   for (std::size_t k = 0; k < n; ++k) du = std::max(du, std::abs(summary_a[k] - summary_b[k]));

@@ -30,9 +30,9 @@ struct ConfigVectors {
 // body, and the contact multipliers are stored ("<blob>/multipliers") to warm-start the moves
 // from the configuration (they do not define it: level comparison ignores them).
 struct VectorLayout {
-  bool touched = false;   // "<blob>/touched" is stored; t and h: 3 values per touched node
-  int load_size = 0;      // otherwise: the values of t
-  int reaction_size = 0;  // otherwise: the values of h
+  bool touched = false;      // "<blob>/touched" is stored; t and h: 3 values per touched node
+  int load_size = 0;         // otherwise: the values of t
+  int reaction_size = 0;     // otherwise: the values of h
   bool multipliers = false;  // "<blob>/multipliers" is stored
   int t_size(std::size_t touched_nodes) const {
     return touched ? 3 * static_cast<int>(touched_nodes) : load_size;
@@ -61,9 +61,11 @@ class LevelSketch {
 
 // A lower bound of level_distance from summaries and forces (felt force = -sum of h per
 // component, so |F - F'| <= sqrt(probe_nodes) ||h - h'||). > 1 means: not the same level.
-double level_distance_bound(const std::vector<double>& summary_a, const std::array<double, 3>& force_a,
-                            const std::vector<double>& summary_b, const std::array<double, 3>& force_b,
-                            const LevelTolerances& tolerances, int probe_nodes);
+double level_distance_bound(const std::vector<double>& summary_a,
+                            const std::array<double, 3>& force_a,
+                            const std::vector<double>& summary_b,
+                            const std::array<double, 3>& force_b, const LevelTolerances& tolerances,
+                            int probe_nodes);
 
 // The exact distance; u of a and b must have equal sizes. Configurations holding different
 // touched sets are never the same level (+infinity); with equal sets h have equal sizes.

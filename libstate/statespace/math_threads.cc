@@ -19,7 +19,8 @@ void set_math_threads(int threads) {
   }
   using SetThreads = void (*)(int);
   for (const char* symbol : {"openblas_set_num_threads", "omp_set_num_threads"}) {
-    if (void* f = ::dlsym(RTLD_DEFAULT, symbol)) reinterpret_cast<SetThreads>(f)(threads < 1 ? 1 : threads);
+    if (void* f = ::dlsym(RTLD_DEFAULT, symbol))
+      reinterpret_cast<SetThreads>(f)(threads < 1 ? 1 : threads);
   }
 }
 

@@ -39,9 +39,7 @@ class GrabProbe final : public ProbeModel {
   bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
     return p == problem_.probe_rest;
   }
-  bool trivial_move(const Eigen::Vector3d&, const Eigen::Vector3d&) const override {
-    return false;
-  }
+  bool trivial_move(const Eigen::Vector3d&, const Eigen::Vector3d&) const override { return false; }
   bool is_contact() const override { return false; }
   VectorLayout layout() const override {
     return {false, static_cast<int>(dofs_.size()), static_cast<int>(dofs_.size())};
@@ -57,8 +55,7 @@ class GrabProbe final : public ProbeModel {
 class ContactProbe final : public ProbeModel {
  public:
   explicit ContactProbe(const Problem& problem)
-      : problem_(problem),
-        reach_(problem.contact->radius * (1.0 - kPenetrationTolerance)) {
+      : problem_(problem), reach_(problem.contact->radius * (1.0 - kPenetrationTolerance)) {
     const auto& candidates = problem.contact->candidates;
     rest_.resize(3, static_cast<Eigen::Index>(candidates.size()));
     for (std::size_t k = 0; k < candidates.size(); ++k)
@@ -120,7 +117,8 @@ class ContactProbe final : public ProbeModel {
 // of a corner from its centroid.
 class SlidingProbe final : public ProbeModel {
  public:
-  explicit SlidingProbe(const Problem& problem) : problem_(problem), radius_(problem.contact->radius) {
+  explicit SlidingProbe(const Problem& problem)
+      : problem_(problem), radius_(problem.contact->radius) {
     const Triangles& tri = problem.mesh.surface;
     centroids_.resize(3, tri.cols());
     for (int t = 0; t < tri.cols(); ++t) {
@@ -164,7 +162,7 @@ class SlidingProbe final : public ProbeModel {
  private:
   const Problem& problem_;
   double radius_;
-  double spread_ = 0;          // largest distance of a triangle corner from its centroid
+  double spread_ = 0;           // largest distance of a triangle corner from its centroid
   Eigen::Matrix3Xd centroids_;  // rest centroids of the surface triangles
   SphereQuery index_;
 };

@@ -44,8 +44,11 @@ NamedHashes scene_identity(const Scene& scene, const Problem& problem,
   {
     const SolverOptions& s = scene.solver;
     ContentHasher h;
-    h.update(static_cast<std::int64_t>(s.substeps)).update(s.tolerance).update(s.absolute_tolerance);
-    h.update(static_cast<std::int64_t>(s.max_iterations)).update(static_cast<std::int64_t>(s.max_cutbacks));
+    h.update(static_cast<std::int64_t>(s.substeps))
+        .update(s.tolerance)
+        .update(s.absolute_tolerance);
+    h.update(static_cast<std::int64_t>(s.max_iterations))
+        .update(static_cast<std::int64_t>(s.max_cutbacks));
     parts.emplace_back("solver", h.value());
   }
   {
@@ -68,7 +71,8 @@ NamedHashes scene_identity(const Scene& scene, const Problem& problem,
   {
     const Box w = grid_workspace(scene.grid, problem.probe_rest);
     ContentHasher h;
-    h.update(std::span<const double>(w.min.data(), 3)).update(std::span<const double>(w.max.data(), 3));
+    h.update(std::span<const double>(w.min.data(), 3))
+        .update(std::span<const double>(w.max.data(), 3));
     parts.emplace_back("workspace", h.value());
   }
   std::sort(parts.begin(), parts.end());
@@ -83,7 +87,8 @@ std::string describe_scene_part(const std::string& part) {
   if (part == "mesh") return "the mesh file's content";
   if (part == "problem") return "the mesh geometry or the fixed/grabbed nodes ([[fixed]], [probe])";
   if (part == "material") return "the material ([material] or mesh.unit)";
-  if (part == "probe") return "the probe mode (probe.mode), the contact sphere's radius or its friction";
+  if (part == "probe")
+    return "the probe mode (probe.mode), the contact sphere's radius or its friction";
   if (part == "solver") return "the solver options ([solver])";
   if (part == "levels") return "the level tolerances ([levels])";
   if (part == "grid.spacing") return "the grid spacing (grid.spacing or grid.dims with grid.box)";

@@ -4,9 +4,9 @@
 // every configuration: the import refuses it unless asked for a fresh state directory.
 #pragma once
 
-#include "util/hash.h"
 #include "problem/problem.h"
 #include "scene/scene.h"
+#include "util/hash.h"
 
 #include <string>
 #include <utility>

@@ -14,15 +14,22 @@ StageContext open_stage_context(const std::filesystem::path& state) {
   const StageRun import = require_stage_run(catalogue, dir, "import");
   const std::optional<ContentHash> expected = run_input(import, "problem");
   if (!expected) {
-    throw InputError(dir.catalogue().string() + ": the import run records no problem hash "
+    throw InputError(dir.catalogue().string() +
+                     ": the import run records no problem hash "
                      "(damaged?): re-import with --fresh");
   }
   const std::string label = dir.catalogue().string() + " (stored scene)";
   Scene scene = parse_scene(record.text, dir.catalogue(), SceneParseOptions{false});
   Problem problem = load_stored_problem(dir, scene, *expected);
   GridSpec grid = resolve_grid(scene.grid, problem.probe_rest, label);
-  return StageContext{dir,           std::move(lock),    std::move(catalogue), std::move(record),
-                      std::move(scene), std::move(problem), *expected,            grid};
+  return StageContext{dir,
+                      std::move(lock),
+                      std::move(catalogue),
+                      std::move(record),
+                      std::move(scene),
+                      std::move(problem),
+                      *expected,
+                      grid};
 }
 
 }  // namespace hapstate

@@ -17,8 +17,8 @@ struct StageContext {
   std::unique_ptr<StateDirLock> lock;  // held for the whole stage
   Catalogue catalogue;
   SceneRecord scene_record;
-  Scene scene;            // parsed from the stored text (files not re-read)
-  Problem problem;        // from problem/ (mesh + constraints) and the stored scene
+  Scene scene;      // parsed from the stored text (files not re-read)
+  Problem problem;  // from problem/ (mesh + constraints) and the stored scene
   ContentHash problem_hash;
   GridSpec grid;
 };

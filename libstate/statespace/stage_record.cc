@@ -8,7 +8,8 @@ namespace hapstate {
 
 TimeMs now_ms() { return std::chrono::time_point_cast<std::chrono::milliseconds>(Clock::now()); }
 
-StageRun make_stage_run(const std::string& stage, NamedHashes inputs, const std::string& parameters) {
+StageRun make_stage_run(const std::string& stage, NamedHashes inputs,
+                        const std::string& parameters) {
   std::sort(inputs.begin(), inputs.end());
   StageRun run;
   run.stage = stage;

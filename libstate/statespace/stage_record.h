@@ -15,7 +15,8 @@ TimeMs now_ms();
 
 // A StageRun row with the given inputs (sorted by name) and parameters, started now, outcome
 // kRunning (not inserted).
-StageRun make_stage_run(const std::string& stage, NamedHashes inputs, const std::string& parameters);
+StageRun make_stage_run(const std::string& stage, NamedHashes inputs,
+                        const std::string& parameters);
 
 // The one way a stage records that it had nothing to do: `run` inserted as ended now with
 // outcome kUnchanged and `message`.

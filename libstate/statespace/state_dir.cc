@@ -8,9 +8,9 @@
 
 #include <array>
 #include <cerrno>
-#include <initializer_list>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 
 namespace hapstate {
 
@@ -21,7 +21,8 @@ StateDirLock::StateDirLock(const StateDir& dir) {
     // A missing state directory is the user's; a full disk, a permission, a read-only file
     // system the environment's.
     const int error = errno;
-    const std::string message = file.string() + ": cannot create the state lock: " + os_error_text(error);
+    const std::string message =
+        file.string() + ": cannot create the state lock: " + os_error_text(error);
     if (error == ENOENT || error == ENOTDIR) throw InputError(message);
     throw EnvironmentError(message);
   }
@@ -37,11 +38,12 @@ StateDirLock::StateDirLock(const StateDir& dir) {
     ::close(fd_);
     fd_ = -1;
     if (error == EWOULDBLOCK) {
-      throw InputError(dir.root.string() + ": another hapstate stage is working in this state "
+      throw InputError(dir.root.string() +
+                       ": another hapstate stage is working in this state "
                        "directory; wait until it has finished");
     }
-    throw EnvironmentError(dir.root.string() + ": cannot lock the state directory: " +
-                           os_error_text(error));
+    throw EnvironmentError(dir.root.string() +
+                           ": cannot lock the state directory: " + os_error_text(error));
   }
 }
 

@@ -21,8 +21,8 @@ std::vector<double> flatten(const Matrix& m) {
 
 ContentHash hash_of(const ProblemVectors& v) {
   ContentHasher h;
-  for (const auto* part : {&v.nodes, &v.tets, &v.surface, &v.role, &v.probe_nodes,
-                           &v.probe_components, &v.rest}) {
+  for (const auto* part :
+       {&v.nodes, &v.tets, &v.surface, &v.role, &v.probe_nodes, &v.probe_components, &v.rest}) {
     h.update(static_cast<std::int64_t>(part->size()));
     h.update(std::span<const double>(*part));
   }
@@ -65,7 +65,9 @@ void write_stored_problem(const StateDir& dir, const Problem& problem,
   SegmentWriter writer(dir.problem(), kProblemSegment,
                        SegmentProvenance{scene_hash.hex(), "", "import"});
   // Indices and flags as int32 datasets (read back as float64, the vectors' in-memory type).
-  const auto ints = [](const std::vector<double>& values) { return std::vector<int>(values.begin(), values.end()); };
+  const auto ints = [](const std::vector<double>& values) {
+    return std::vector<int>(values.begin(), values.end());
+  };
   writer.write("mesh/nodes", v.nodes);
   writer.write("mesh/tets", std::span<const int>(ints(v.tets)));
   writer.write("mesh/surface", std::span<const int>(ints(v.surface)));
@@ -93,8 +95,10 @@ Problem load_stored_problem(const StateDir& dir, const Scene& scene, const Conte
 Problem problem_from_vectors(const ProblemVectors& v, const Scene& scene,
                              const ContentHash& expected, const std::string& where) {
   if (hash_of(v) != expected) {
-    throw InputError(where + ": the stored mesh and constraints do not match the catalogue's "
-                     "record (hash " + hash_of(v).hex() + ", expected " + expected.hex() +
+    throw InputError(where +
+                     ": the stored mesh and constraints do not match the catalogue's "
+                     "record (hash " +
+                     hash_of(v).hex() + ", expected " + expected.hex() +
                      "): the file was replaced or damaged; re-import with --fresh");
   }
   const std::size_t num_nodes = v.nodes.size() / 3;
@@ -104,8 +108,8 @@ Problem problem_from_vectors(const ProblemVectors& v, const Scene& scene,
   }
   Problem p;
   p.mesh.source = where;
-  p.mesh.nodes = Eigen::Map<const Eigen::Matrix3Xd>(v.nodes.data(), 3,
-                                                    static_cast<Eigen::Index>(num_nodes));
+  p.mesh.nodes =
+      Eigen::Map<const Eigen::Matrix3Xd>(v.nodes.data(), 3, static_cast<Eigen::Index>(num_nodes));
   const auto tets = to_ids(v.tets, static_cast<double>(num_nodes), where + ": mesh/tets");
   p.mesh.tets = Eigen::Map<const Tets>(tets.data(), 4, static_cast<Eigen::Index>(tets.size() / 4));
   const auto tris = to_ids(v.surface, static_cast<double>(num_nodes), where + ": mesh/surface");
@@ -122,8 +126,8 @@ Problem problem_from_vectors(const ProblemVectors& v, const Scene& scene,
   p.solver = scene.solver;
   p.max_force = scene.probe.max_force;
   if (scene.probe.mode == ProbeMode::kContact)
-    p.contact = make_contact_sphere(p.mesh, p.constraints.role, *scene.probe.radius,
-                                   scene.probe.friction);
+    p.contact =
+        make_contact_sphere(p.mesh, p.constraints.role, *scene.probe.radius, scene.probe.friction);
   return p;
 }
 

@@ -6,10 +6,10 @@
 #pragma once
 
 #include "blobs/segment.h"
-#include "util/hash.h"
 #include "problem/problem.h"
 #include "scene/scene.h"
 #include "statespace/state_dir.h"
+#include "util/hash.h"
 
 #include <string>
 #include <vector>

@@ -12,10 +12,10 @@ namespace hapstate {
 
 // Exit codes used by every executable (documented in docs/exit-codes.md).
 inline constexpr int kExitOk = 0;
-inline constexpr int kExitFailure = 1;     // internal error or a run that could not finish
-inline constexpr int kExitBadInput = 2;    // usage, scene, mesh or state-directory error
-inline constexpr int kExitSolveFailed = 3; // a solve did not converge (reason printed)
-inline constexpr int kExitEnvironment = 4; // I/O or environment failure (disk full, permissions)
+inline constexpr int kExitFailure = 1;      // internal error or a run that could not finish
+inline constexpr int kExitBadInput = 2;     // usage, scene, mesh or state-directory error
+inline constexpr int kExitSolveFailed = 3;  // a solve did not converge (reason printed)
+inline constexpr int kExitEnvironment = 4;  // I/O or environment failure (disk full, permissions)
 
 // The operating system's text for the errno value `errnum` ("No space left on device"). Unlike
 // std::strerror it is safe to call from several threads at once.

@@ -160,7 +160,9 @@ ContentHash content_hash_file(const std::filesystem::path& file) {
   while (in) {
     in.read(block.data(), static_cast<std::streamsize>(block.size()));
     const auto got = in.gcount();
-    if (got > 0) hasher.update(std::as_bytes(std::span<const char>(block.data(), static_cast<std::size_t>(got))));
+    if (got > 0)
+      hasher.update(
+          std::as_bytes(std::span<const char>(block.data(), static_cast<std::size_t>(got))));
   }
   if (in.bad()) throw InputError(file.string() + ": read error while hashing");
   return hasher.value();

@@ -34,7 +34,7 @@ class ContentHasher {
   ContentHasher& update(std::string_view text);
   ContentHasher& update(std::span<const double> values);  // little-endian IEEE-754
   ContentHasher& update(double value);
-  ContentHasher& update(std::int64_t value);              // little-endian two's complement
+  ContentHasher& update(std::int64_t value);  // little-endian two's complement
   // Hash of everything fed so far (the hasher stays usable).
   ContentHash value() const;
 

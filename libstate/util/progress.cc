@@ -59,9 +59,9 @@ void Progress::print(bool final) {
   const long long total = std::max(total_, done_);
   const double pct = total > 0 ? 100.0 * done_ / total : 100.0;
   const char* approx = estimate_ && done_ < total ? "~" : "";
-  const std::string tail =
-      final ? "elapsed " + format_duration(elapsed)
-            : std::string("ETA ") + approx + format_duration(rate > 0 ? (total - done_) / rate : -1);
+  const std::string tail = final ? "elapsed " + format_duration(elapsed)
+                                 : std::string("ETA ") + approx +
+                                       format_duration(rate > 0 ? (total - done_) / rate : -1);
   std::string failures = failures_ > 0 ? ", failures " + std::to_string(failures_) : "";
   std::fprintf(out_, "%s%s: %lld/%s%lld (%.0f%%), %.2f/s, %s%s%s%s%s", tty_ ? "\r" : "",
                label_.c_str(), done_, approx, total, pct, rate, tail.c_str(), failures.c_str(),

@@ -1,6 +1,7 @@
 // A progress line for long work: "label: done/total (pct), rate/s, ETA, failures".
 // Printed to a stream at most once per `interval_s` (and at finish()); on a terminal the line
-// is rewritten in place, otherwise one line per update and at most one per 10 s (a log). Not thread-safe.
+// is rewritten in place, otherwise one line per update and at most one per 10 s (a log). Not
+// thread-safe.
 #pragma once
 
 #include <chrono>

@@ -8,10 +8,10 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <hdf5.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <cstdio>
 
 #include <cmath>
 #include <fstream>
@@ -141,7 +141,8 @@ TEST(Segment, FormatOneSegmentIsStillRead) {
     H5Dclose(data);
     H5Sclose(space);
     H5Pclose(links);
-    for (auto [name, value] : {std::pair{"hapstate_segment_format", 1}, std::pair{"hapstate_complete", 1}}) {
+    for (auto [name, value] :
+         {std::pair{"hapstate_segment_format", 1}, std::pair{"hapstate_complete", 1}}) {
       hid_t scalar = H5Screate(H5S_SCALAR);
       hid_t attribute = H5Acreate2(file, name, H5T_STD_I64LE, scalar, H5P_DEFAULT, H5P_DEFAULT);
       const long long v = value;

@@ -1,8 +1,8 @@
 // The zstd filter: registration, the id in the filter pipeline, and the chunk format a foreign
 // reader (the standard HDF5 zstd plugin) expects: one zstd frame with the content size.
+#include "blobs/zstd_filter.h"
 #include "blobs/blob_store.h"
 #include "blobs/segment_writer.h"
-#include "blobs/zstd_filter.h"
 #include "temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -102,9 +102,9 @@ TEST(ZstdFilter, RawChunkIsOneZstdFrameWithContentSize) {
   EXPECT_EQ(filter_mask, 0u);
   EXPECT_EQ(ZSTD_getFrameContentSize(chunk.data(), chunk.size()), values.size() * sizeof(double));
   std::vector<double> decoded(values.size());
-  EXPECT_EQ(ZSTD_decompress(decoded.data(), decoded.size() * sizeof(double), chunk.data(),
-                            chunk.size()),
-            values.size() * sizeof(double));
+  EXPECT_EQ(
+      ZSTD_decompress(decoded.data(), decoded.size() * sizeof(double), chunk.data(), chunk.size()),
+      values.size() * sizeof(double));
   EXPECT_EQ(decoded, values);
 
   // And the other way: a chunk compressed by a streaming writer (no content size in the frame
@@ -123,7 +123,8 @@ TEST(ZstdFilter, RawChunkIsOneZstdFrameWithContentSize) {
   ASSERT_EQ(ZSTD_getFrameContentSize(frame.data(), frame.size()), ZSTD_CONTENTSIZE_UNKNOWN);
   ASSERT_GE(H5Dwrite_chunk(dataset, H5P_DEFAULT, 0, origin, frame.size(), frame.data()), 0);
   std::vector<double> read_back(values.size());
-  ASSERT_GE(H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, read_back.data()), 0);
+  ASSERT_GE(H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, read_back.data()),
+            0);
   EXPECT_EQ(read_back, other);
 
   H5Dclose(dataset);

@@ -1,8 +1,8 @@
 // The catalogue contract: every verb, on a file catalogue and on ":memory:".
+#include "../blobs/temp_dir.h"
 #include "catalogue/catalogue.h"
 #include "catalogue/transaction.h"
 #include "util/error.h"
-#include "../blobs/temp_dir.h"
 
 #include "../common/expect_input_error.h"
 
@@ -115,8 +115,9 @@ TEST_P(CatalogueContract, StageRunsRecordInputsAndOutcome) {
   EXPECT_EQ(cat().read_stage_runs("grid")[1].outcome, StageOutcome::kFailed);
   EXPECT_EQ(cat().last_successful_stage_run("grid")->id, first);
   EXPECT_FALSE(cat().last_successful_stage_run("expand"));
-  expect_input_error([&] { cat().update_stage_run_end(StageRunId(999), StageOutcome::kOk, {}, ""); },
-                     "no stage_run with id 999");
+  expect_input_error(
+      [&] { cat().update_stage_run_end(StageRunId(999), StageOutcome::kOk, {}, ""); },
+      "no stage_run with id 999");
   // A duplicate input name fails the whole insert: the run row is not left behind.
   run.inputs = {{"scene", ContentHash{1}}, {"scene", ContentHash{3}}};
   const auto runs_before = cat().read_stage_runs("expand").size();

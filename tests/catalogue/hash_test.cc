@@ -1,8 +1,8 @@
 // Content hash (XXH64 reference values) and the direction numbering.
-#include "catalogue/direction.h"
 #include "util/hash.h"
-#include "util/error.h"
 #include "../blobs/temp_dir.h"
+#include "catalogue/direction.h"
+#include "util/error.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // Opening catalogues: creation settings, refusal of foreign, future, corrupt and missing
 // files without touching them, read-only access, several connections.
+#include "../blobs/temp_dir.h"
 #include "catalogue/catalogue.h"
 #include "catalogue/sqlite.hpp"
 #include "catalogue/transaction.h"
 #include "util/error.h"
-#include "../blobs/temp_dir.h"
 
 #include "../common/expect_input_error.h"
 
@@ -60,8 +60,8 @@ void fill(Catalogue& cat) {
 void expect_refused_untouched(const std::filesystem::path& file, const std::string& part) {
   const std::string before = file_bytes(file);
   const auto mtime = std::filesystem::last_write_time(file);
-  for (OpenMode mode : {OpenMode::kReadOnly, OpenMode::kReadWrite, OpenMode::kCreate,
-                        OpenMode::kMigrate}) {
+  for (OpenMode mode :
+       {OpenMode::kReadOnly, OpenMode::kReadWrite, OpenMode::kCreate, OpenMode::kMigrate}) {
     expect_input_error([&] { Catalogue cat(file, mode); }, part);
   }
   EXPECT_EQ(file_bytes(file), before);
@@ -108,7 +108,10 @@ TEST(CatalogueOpen, CreateSetsWalApplicationIdAndVersion) {
 TEST(CatalogueOpen, ReopenReadWriteAndReadOnly) {
   TempDir dir("open");
   const auto file = dir.path() / "catalogue.sqlite";
-  { Catalogue cat(file, OpenMode::kCreate); fill(cat); }
+  {
+    Catalogue cat(file, OpenMode::kCreate);
+    fill(cat);
+  }
   {
     Catalogue cat(file, OpenMode::kCreate);  // existing and current: opened as is
     EXPECT_EQ(cat.num_configurations(), 1);
@@ -148,11 +151,15 @@ TEST(CatalogueOpen, EmptyFileIsMigratedFromScratch) {
 TEST(CatalogueOpen, FutureSchemaVersionIsRefusedAndFileUnchanged) {
   TempDir dir("open");
   const auto file = dir.path() / "catalogue.sqlite";
-  { Catalogue cat(file, OpenMode::kCreate); fill(cat); }
+  {
+    Catalogue cat(file, OpenMode::kCreate);
+    fill(cat);
+  }
   raw_sql(file, "PRAGMA user_version = 7");
   ASSERT_FALSE(std::filesystem::exists(file.string() + "-wal"));  // checkpointed on close
   expect_refused_untouched(
-      file, file.string() + " has schema version 7, this hapstate supports up to 2: upgrade hapstate");
+      file,
+      file.string() + " has schema version 7, this hapstate supports up to 2: upgrade hapstate");
 }
 
 TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {
@@ -163,7 +170,8 @@ TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {
   const std::string before = file_bytes(file);
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
                      "has schema version 0, this hapstate needs 2: run any writing stage on it");
-  expect_input_error([&] { Catalogue cat(file, OpenMode::kCreate); }, "run any writing stage on it");
+  expect_input_error([&] { Catalogue cat(file, OpenMode::kCreate); },
+                     "run any writing stage on it");
   EXPECT_EQ(file_bytes(file), before);
 }
 
@@ -186,7 +194,10 @@ TEST(CatalogueOpen, OtherApplicationsDatabaseIsRefused) {
 TEST(CatalogueOpen, CorruptFileGivesAClearError) {
   TempDir dir("open");
   const auto file = dir.path() / "catalogue.sqlite";
-  { Catalogue cat(file, OpenMode::kCreate); fill(cat); }
+  {
+    Catalogue cat(file, OpenMode::kCreate);
+    fill(cat);
+  }
   {
     std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(100);
@@ -224,8 +235,10 @@ TEST(CatalogueOpen, OutOfRangeValuesInADamagedFileAreInputErrors) {
   raw_sql(file, damage + "UPDATE configuration SET status = -1");
   Catalogue cat(file, OpenMode::kReadOnly);
   expect_input_error([&] { cat.read_all_transitions(); }, "transition.outcome = 7, not in 0..2");
-  expect_input_error([&] { cat.read_all_checkpoints(); }, "checkpoint.classification = 9, not in 0..4");
-  expect_input_error([&] { cat.read_all_configurations(); }, "configuration.status = -1, not in 0..2");
+  expect_input_error([&] { cat.read_all_checkpoints(); },
+                     "checkpoint.classification = 9, not in 0..4");
+  expect_input_error([&] { cat.read_all_configurations(); },
+                     "configuration.status = -1, not in 0..2");
 }
 
 TEST(CatalogueOpen, SecondConnectionSeesCommittedWrites) {
@@ -265,12 +278,14 @@ TEST(CatalogueOpen, SchemaOneIsMigratedAndOldTransitionsCountNoFactorisations) {
   const std::string schema_one(std::istreambuf_iterator<char>(in), {});
   raw_sql(file, schema_one + "; PRAGMA user_version = 1; PRAGMA application_id = " +
                     std::to_string(Catalogue::kApplicationId));
-  raw_sql(file, "INSERT INTO checkpoint (i, j, k, x, y, z, classification) VALUES (0, 0, 0, 0, 0, 0, 1);"
-                "INSERT INTO configuration (id, checkpoint, level, wave, force_x, force_y, force_z, k_xx, "
-                "k_xy, k_xz, k_yx, k_yy, k_yz, k_zx, k_zy, k_zz, expandable, status, summary) "
-                "VALUES (1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, x'');"
-                "INSERT INTO transition (source, direction, outcome, target, substeps, "
-                "newton_iterations, final_residual, wall_ms) VALUES (1, 3, 1, NULL, 0, 0, 0, 0)");
+  raw_sql(
+      file,
+      "INSERT INTO checkpoint (i, j, k, x, y, z, classification) VALUES (0, 0, 0, 0, 0, 0, 1);"
+      "INSERT INTO configuration (id, checkpoint, level, wave, force_x, force_y, force_z, k_xx, "
+      "k_xy, k_xz, k_yx, k_yy, k_yz, k_zx, k_zy, k_zz, expandable, status, summary) "
+      "VALUES (1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, x'');"
+      "INSERT INTO transition (source, direction, outcome, target, substeps, "
+      "newton_iterations, final_residual, wall_ms) VALUES (1, 3, 1, NULL, 0, 0, 0, 0)");
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
                      "has schema version 1, this hapstate needs 2");
   Catalogue cat(file, OpenMode::kMigrate);

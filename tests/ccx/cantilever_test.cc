@@ -3,10 +3,10 @@
 // its length, (b) pushed down at mid-span by a patch of top-face nodes. Per law (stvk, neohooke,
 // mooney) the forces and displacements must agree to 1e-4 of their maxima over the path.
 // The same results also go through tools/ccx_compare.py in the documented CSV formats.
-#include "mesh/box_mesh.h"
 #include "ccx/deck.h"
 #include "ccx/read_dat.h"
 #include "ccx/run.h"
+#include "mesh/box_mesh.h"
 #include "solver/path_solver.h"
 
 #include <gtest/gtest.h>
@@ -52,9 +52,8 @@ Problem beam_problem(const Case& k, std::vector<Eigen::Vector3d>* path) {
   p.constraints.role.assign(3 * n, DofRole::kFree);
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d x = p.mesh.nodes.col(i);
-    const bool probe = k.load == Load::kGrabEnd
-                           ? (x - Eigen::Vector3d(10, 0.5, 0.5)).norm() < 1e-12
-                           : x.z() == 1 && x.x() >= 4 && x.x() <= 6;
+    const bool probe = k.load == Load::kGrabEnd ? (x - Eigen::Vector3d(10, 0.5, 0.5)).norm() < 1e-12
+                                                : x.z() == 1 && x.x() >= 4 && x.x() <= 6;
     if (x.x() == 0) {
       for (int c = 0; c < 3; ++c) p.constraints.role[3 * i + c] = DofRole::kFixed;
     } else if (probe) {
@@ -66,8 +65,8 @@ Problem beam_problem(const Case& k, std::vector<Eigen::Vector3d>* path) {
   for (int i : p.constraints.probe_nodes) p.probe_rest += p.mesh.nodes.col(i);
   p.probe_rest /= static_cast<double>(p.constraints.probe_nodes.size());
   // (a) 3 units (30 % of the length) sideways in 5 points; (b) 1.5 units down in 5 points.
-  const Eigen::Vector3d end = k.load == Load::kGrabEnd ? Eigen::Vector3d(0, 3, 0)
-                                                       : Eigen::Vector3d(0, 0, -1.5);
+  const Eigen::Vector3d end =
+      k.load == Load::kGrabEnd ? Eigen::Vector3d(0, 3, 0) : Eigen::Vector3d(0, 0, -1.5);
   path->clear();
   for (int j = 1; j <= 5; ++j) path->push_back(p.probe_rest + end * (j / 5.0));
   return p;
@@ -84,8 +83,8 @@ TEST_P(CcxCantilever, PathSolverMatchesCalculix) {
   Problem problem = beam_problem(GetParam(), &path);
   problem.solver.tolerance = 1e-10;
   const std::string name = case_name(GetParam());
-  const auto dir = std::filesystem::path(HAPSTATE_BINARY_DIR) / "tests" / "ccx_out" /
-                   ("cantilever_" + name);
+  const auto dir =
+      std::filesystem::path(HAPSTATE_BINARY_DIR) / "tests" / "ccx_out" / ("cantilever_" + name);
   std::filesystem::remove_all(dir);
   write_ccx_deck(problem, path, dir);
   run_ccx(dir);
@@ -129,10 +128,11 @@ TEST_P(CcxCantilever, PathSolverMatchesCalculix) {
     const double eu = (u[k] - ccx[k].displacement).cwiseAbs().maxCoeff() / u_scale;
     worst_f = std::max(worst_f, ef);
     worst_u = std::max(worst_u, eu);
-    std::printf("  %-22s pt %zu: felt ours (%+.6e %+.6e %+.6e) ccx (%+.6e %+.6e %+.6e) "
-                "err_f %.1e err_u %.1e\n",
-                name.c_str(), k + 1, force[k].x(), force[k].y(), force[k].z(),
-                ccx[k].force_felt.x(), ccx[k].force_felt.y(), ccx[k].force_felt.z(), ef, eu);
+    std::printf(
+        "  %-22s pt %zu: felt ours (%+.6e %+.6e %+.6e) ccx (%+.6e %+.6e %+.6e) "
+        "err_f %.1e err_u %.1e\n",
+        name.c_str(), k + 1, force[k].x(), force[k].y(), force[k].z(), ccx[k].force_felt.x(),
+        ccx[k].force_felt.y(), ccx[k].force_felt.z(), ef, eu);
   }
   std::printf("  %-22s max |f| %.4e N, max |u| %.4f mesh units: worst err_f %.2e, err_u %.2e\n",
               name.c_str(), f_scale, tip, worst_f, worst_u);
@@ -154,8 +154,7 @@ INSTANTIATE_TEST_SUITE_P(
     Laws, CcxCantilever,
     ::testing::Values(Case{Law::kStvk, Load::kGrabEnd}, Case{Law::kNeoHooke, Load::kGrabEnd},
                       Case{Law::kMooney, Load::kGrabEnd}, Case{Law::kStvk, Load::kPushPatch},
-                      Case{Law::kNeoHooke, Load::kPushPatch},
-                      Case{Law::kMooney, Load::kPushPatch}),
+                      Case{Law::kNeoHooke, Load::kPushPatch}, Case{Law::kMooney, Load::kPushPatch}),
     [](const auto& info) { return case_name(info.param); });
 
 }  // namespace

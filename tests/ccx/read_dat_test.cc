@@ -1,6 +1,6 @@
 // The .dat reader and the deck writer's checks, without running ccx.
-#include "ccx/deck.h"
 #include "ccx/read_dat.h"
+#include "ccx/deck.h"
 #include "util/error.h"
 
 #include <gtest/gtest.h>
@@ -125,7 +125,8 @@ TEST(CcxDeck, WritesSetsStepsAndMaterial) {
 TEST(CcxDeck, MaterialMapping) {
   MaterialConstants c;
   c.law = Law::kStvk;
-  c.mu = 3;  // E = mu (3 lambda + 2 mu) / (lambda + mu) = 7.5, nu = lambda / (2 (lambda + mu)) = 0.25
+  c.mu =
+      3;  // E = mu (3 lambda + 2 mu) / (lambda + mu) = 7.5, nu = lambda / (2 (lambda + mu)) = 0.25
   c.lambda = 3;
   EXPECT_EQ(ccx_material_cards(c), "*ELASTIC\n7.5, 0.25\n");
   EXPECT_TRUE(ccx_needs_nlgeom(Law::kStvk));

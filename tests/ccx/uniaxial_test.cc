@@ -2,10 +2,10 @@
 // symmetry-plane supports stretched and compressed in x, laterally free. The homogeneous state
 // F = diag(a, b, b) is exact on any tet mesh, so ccx's reaction must match P11(a, b) * area with
 // b solving P22(a, b) = 0, and its displacements must be the affine field.
-#include "mesh/box_mesh.h"
 #include "ccx/deck.h"
 #include "ccx/read_dat.h"
 #include "ccx/run.h"
+#include "mesh/box_mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -16,9 +16,9 @@
 namespace hapstate {
 namespace {
 
-constexpr double kYoung = 5e4;   // Pa, soft tissue
+constexpr double kYoung = 5e4;  // Pa, soft tissue
 constexpr double kPoisson = 0.3;
-constexpr double kUnit = 0.01;   // 1 mesh unit = 1 cm: the unit cube gives forces of ~1 N
+constexpr double kUnit = 0.01;  // 1 mesh unit = 1 cm: the unit cube gives forces of ~1 N
 constexpr double kRtol = 1e-4;
 
 MaterialConstants constants(Law law) {
@@ -122,7 +122,8 @@ TEST_P(CcxUniaxial, MatchesClosedForm) {
 
   const double area = kUnit * kUnit;
   double max_force = 0;
-  for (double a : stretches) max_force = std::max(max_force, std::abs(uniaxial(problem.material, a).p11 * area));
+  for (double a : stretches)
+    max_force = std::max(max_force, std::abs(uniaxial(problem.material, a).p11 * area));
   for (std::size_t k = 0; k < path.size(); ++k) {
     const double a = stretches[k];
     const Uniaxial exact = uniaxial(problem.material, a);

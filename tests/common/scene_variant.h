@@ -30,8 +30,9 @@ inline std::string scene_variant(const std::string& scene, const std::string& me
                                  const std::vector<std::pair<std::string, std::string>>& edits) {
   std::string text = slurp(scene);
   std::vector<std::pair<std::string, std::string>> all = edits;
-  all.emplace_back("file = \"" + mesh + "\"",
-                   "file = \"" + (std::filesystem::path(scene).parent_path() / mesh).string() + "\"");
+  all.emplace_back(
+      "file = \"" + mesh + "\"",
+      "file = \"" + (std::filesystem::path(scene).parent_path() / mesh).string() + "\"");
   for (const auto& [from, to] : all) {
     const auto at = text.find(from);
     EXPECT_NE(at, std::string::npos) << from;

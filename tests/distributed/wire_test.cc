@@ -152,7 +152,8 @@ TEST(Wire, TruncatedMessageIsAnError) {
   s.vectors = some_vectors(1);
   wire::Writer w;
   wire::put(w, s);
-  for (std::size_t cut : {std::size_t{0}, std::size_t{5}, w.bytes().size() / 2, w.bytes().size() - 1}) {
+  for (std::size_t cut :
+       {std::size_t{0}, std::size_t{5}, w.bytes().size() / 2, w.bytes().size() - 1}) {
     wire::Reader r(w.bytes().data(), cut);
     EXPECT_THROW(wire::get_transition_solve(r), std::runtime_error) << "cut at " << cut;
   }

@@ -22,7 +22,8 @@ VectorsById read_vectors(const fs::path& state) {
   VectorsById out;
   for (const Configuration& c : cat.read_all_configurations()) {
     if (!c.blob) continue;
-    for (const char* v : {"/u", "/t", "/h"}) out[c.id.value()].push_back(blobs.read(c.blob->segment, c.blob->name + v));
+    for (const char* v : {"/u", "/t", "/h"})
+      out[c.id.value()].push_back(blobs.read(c.blob->segment, c.blob->name + v));
   }
   return out;
 }
@@ -44,11 +45,14 @@ TEST_F(BeamCompact, RepacksKeepsDecisionsAndVectorsThenInspects) {
   ASSERT_GT(before.segment_files.size(), 1u);
   ASSERT_GT(vectors_before.size(), 10u);
 
-  const StageResult first = run_stage(HAPSTATE_COMPACT_EXE, {"--state", state.string(), "-q"}, dir_);
+  const StageResult first =
+      run_stage(HAPSTATE_COMPACT_EXE, {"--state", state.string(), "-q"}, dir_);
   ASSERT_EQ(first.exit_code, 0) << first.err;
-  EXPECT_NE(first.out.find("0 levels merged, 0 transitions rewritten"), std::string::npos) << first.out;
+  EXPECT_NE(first.out.find("0 levels merged, 0 transitions rewritten"), std::string::npos)
+      << first.out;
   EXPECT_NE(first.out.find("segments: " + std::to_string(before.segment_files.size()) + " -> 1"),
-            std::string::npos) << first.out;
+            std::string::npos)
+      << first.out;
 
   const Snapshot after = snapshot(state);
   expect_same_decisions(without_blob_layout(before), without_blob_layout(after));
@@ -58,7 +62,8 @@ TEST_F(BeamCompact, RepacksKeepsDecisionsAndVectorsThenInspects) {
     Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
     EXPECT_EQ(cat.integrity_check(), "ok");
     EXPECT_EQ(cat.num_foreign_key_violations(), 0);
-    EXPECT_TRUE(BlobStore(state / "blobs").unreferenced_segments(cat.referenced_segments()).empty());
+    EXPECT_TRUE(
+        BlobStore(state / "blobs").unreferenced_segments(cat.referenced_segments()).empty());
   }
 
   // Expand resumes on the compacted directory and changes no decision.
@@ -66,11 +71,13 @@ TEST_F(BeamCompact, RepacksKeepsDecisionsAndVectorsThenInspects) {
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   expect_same_decisions(without_blob_layout(before), without_blob_layout(snapshot(state)));
 
-  const StageResult second = run_stage(HAPSTATE_COMPACT_EXE, {"--state", state.string(), "-q"}, dir_);
+  const StageResult second =
+      run_stage(HAPSTATE_COMPACT_EXE, {"--state", state.string(), "-q"}, dir_);
   ASSERT_EQ(second.exit_code, 0) << second.err;
   EXPECT_NE(second.out.find("nothing to do"), std::string::npos) << second.out;
 
-  const StageResult summary = run_stage(HAPSTATE_INSPECT_EXE, {"--state", state.string(), "summary", "--json"}, dir_);
+  const StageResult summary =
+      run_stage(HAPSTATE_INSPECT_EXE, {"--state", state.string(), "summary", "--json"}, dir_);
   ASSERT_EQ(summary.exit_code, 0) << summary.err;
   const json j = json::parse(summary.out);
   EXPECT_EQ(j["configurations"]["total"].get<std::size_t>(), before.configurations.size());
@@ -83,7 +90,9 @@ TEST_F(BeamCompact, RepacksKeepsDecisionsAndVectorsThenInspects) {
   const std::int64_t id = vectors_before.begin()->first;
   const fs::path vtu = dir_ / "c.vtu";
   const StageResult exported = run_stage(
-      HAPSTATE_INSPECT_EXE, {"--state", state.string(), "export", std::to_string(id), "--vtu", vtu.string(), "--json"}, dir_);
+      HAPSTATE_INSPECT_EXE,
+      {"--state", state.string(), "export", std::to_string(id), "--vtu", vtu.string(), "--json"},
+      dir_);
   ASSERT_EQ(exported.exit_code, 0) << exported.err;
   const json e = json::parse(exported.out);
   EXPECT_EQ(e["nodes"], 81);

@@ -1,8 +1,8 @@
 // Runs the real hapstate-inspect and hapstate-compact executables on a synthetic state
 // directory as a user would: JSON of every command, refused SQL, exit codes and messages.
-#include "catalogue/catalogue.h"
 #include "../blobs/temp_dir.h"
 #include "../maintenance/synthetic_state.h"
+#include "catalogue/catalogue.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -55,7 +55,8 @@ class Inspect : public ::testing::Test {
   void SetUp() override { test_util::write_synthetic_state(state()); }
   fs::path state() const { return dir_.path() / "state"; }
   ToolRun inspect(const std::string& args) {
-    return run_tool(HAPSTATE_INSPECT_EXE, "--state " + quote(state().string()) + " " + args, dir_.path());
+    return run_tool(HAPSTATE_INSPECT_EXE, "--state " + quote(state().string()) + " " + args,
+                    dir_.path());
   }
   json inspect_json(const std::string& args) {
     const ToolRun r = inspect(args + " --json");
@@ -91,8 +92,9 @@ TEST_F(Inspect, SummaryJson) {
   EXPECT_EQ(j["failures_by_reason"], json::parse(R"([{"reason":"newton diverged","count":2}])"));
   EXPECT_EQ(j["disk"]["segments"], 3);
   EXPECT_GT(j["disk"]["blob_bytes"].get<long long>(), 0);
-  EXPECT_EQ(j["disk"]["total_bytes"].get<long long>(),
-            j["disk"]["catalogue_bytes"].get<long long>() + j["disk"]["blob_bytes"].get<long long>());
+  EXPECT_EQ(
+      j["disk"]["total_bytes"].get<long long>(),
+      j["disk"]["catalogue_bytes"].get<long long>() + j["disk"]["blob_bytes"].get<long long>());
   EXPECT_EQ(j["disk"]["problem_bytes"], 0);
 }
 
@@ -101,7 +103,8 @@ TEST_F(Inspect, SummaryText) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("configurations: 8 (0 expanded, 8 still to expand, 0 not expanded: force "
                        "above probe.max_force or outside the workspace; 0 merged"),
-            std::string::npos) << r.out;
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("failed 2x: newton diverged"), std::string::npos) << r.out;
 }
 
@@ -171,25 +174,29 @@ TEST_F(Inspect, ExportVtu) {
   EXPECT_NE(s.str().find("displacement"), std::string::npos);
   // A different mesh than the one the state was built from is refused.
   const ToolRun wrong = inspect("export 3 --vtu " + quote(vtu.string()) + " --mesh " +
-                            quote(std::string(HAPSTATE_TEST_DATA) + "/meshes/bunny.msh"));
+                                quote(std::string(HAPSTATE_TEST_DATA) + "/meshes/bunny.msh"));
   EXPECT_EQ(wrong.exit_code, 2);
   EXPECT_NE(wrong.err.find("differs from the one the state was built from"), std::string::npos)
       << wrong.err;
 }
 
 TEST_F(Inspect, SqlReads) {
-  const json j = inspect_json("sql " + quote("SELECT count(*) AS n, max(level) FROM configuration"));
+  const json j =
+      inspect_json("sql " + quote("SELECT count(*) AS n, max(level) FROM configuration"));
   EXPECT_EQ(j["columns"], json::parse(R"j(["n","max(level)"])j"));
   EXPECT_EQ(j["rows"], json::parse("[[8,2]]"));
-  const json s = inspect_json("sql " + quote("SELECT x'0102ff' AS b, NULL AS n, 2.5 AS r, 'text' AS t"));
+  const json s =
+      inspect_json("sql " + quote("SELECT x'0102ff' AS b, NULL AS n, 2.5 AS r, 'text' AS t"));
   EXPECT_EQ(s["rows"], json::parse(R"([[{"blob":"0102ff"},null,2.5,"text"]])"));
-  EXPECT_EQ(inspect("sql " + quote("SELECT x'0102ff' AS b, NULL AS n")).out, "b\tn\nx'0102ff'\tNULL\n");
+  EXPECT_EQ(inspect("sql " + quote("SELECT x'0102ff' AS b, NULL AS n")).out,
+            "b\tn\nx'0102ff'\tNULL\n");
   EXPECT_EQ(inspect_json("sql " + quote("PRAGMA user_version"))["rows"], json::parse("[[2]]"));
   // Pragmas that only read, with an argument naming a table or index.
   const json columns = inspect_json("sql " + quote("PRAGMA table_info(configuration)"));
   EXPECT_EQ(columns["columns"][1], "name");
   EXPECT_EQ(columns["rows"][0][1], "id");
-  EXPECT_EQ(inspect_json("sql " + quote("pragma INTEGRITY_CHECK"))["rows"], json::parse(R"([["ok"]])"));
+  EXPECT_EQ(inspect_json("sql " + quote("pragma INTEGRITY_CHECK"))["rows"],
+            json::parse(R"([["ok"]])"));
   EXPECT_FALSE(inspect_json("sql " + quote("PRAGMA index_list(transition)"))["rows"].is_null());
   EXPECT_EQ(inspect("sql " + quote("PRAGMA foreign_key_check(transition)")).exit_code, 0);
 }
@@ -197,13 +204,12 @@ TEST_F(Inspect, SqlReads) {
 TEST_F(Inspect, SqlRefusesWrites) {
   const fs::path catalogue = state() / "catalogue.sqlite";
   for (const std::string& sql : std::vector<std::string>{
-        "INSERT INTO checkpoint (i, j, k, x, y, z, classification) VALUES (5, 5, 5, 0, 0, 0, 1)",
-        "DELETE FROM transition", "UPDATE configuration SET status = 2",
-        "ATTACH DATABASE '" + (dir_.path() / "other.db").string() + "' AS other",
-        "PRAGMA user_version = 7", "PRAGMA journal_mode = DELETE", "DROP TABLE transition",
-        "PRAGMA user_version(7)", "PRAGMA wal_checkpoint", "PRAGMA optimize",
-        "PRAGMA schema_version = 3",
-        "BEGIN", "SELECT 1; DELETE FROM transition", "VACUUM"}) {
+           "INSERT INTO checkpoint (i, j, k, x, y, z, classification) VALUES (5, 5, 5, 0, 0, 0, 1)",
+           "DELETE FROM transition", "UPDATE configuration SET status = 2",
+           "ATTACH DATABASE '" + (dir_.path() / "other.db").string() + "' AS other",
+           "PRAGMA user_version = 7", "PRAGMA journal_mode = DELETE", "DROP TABLE transition",
+           "PRAGMA user_version(7)", "PRAGMA wal_checkpoint", "PRAGMA optimize",
+           "PRAGMA schema_version = 3", "BEGIN", "SELECT 1; DELETE FROM transition", "VACUUM"}) {
     const ToolRun r = inspect("sql " + quote(sql));
     EXPECT_EQ(r.exit_code, 2) << sql << "\n" << r.out << r.err;
     EXPECT_NE(r.err.find("hapstate-inspect: error:"), std::string::npos) << sql << ": " << r.err;
@@ -218,23 +224,31 @@ TEST_F(Inspect, SqlRefusesWrites) {
 
 TEST(InspectCli, MissingStateDirectory) {
   test_util::TempDir dir("inspect");
-  const ToolRun r = run_tool(HAPSTATE_INSPECT_EXE, "--state " + quote((dir.path() / "none").string()) + " summary",
-                    dir.path());
+  const ToolRun r =
+      run_tool(HAPSTATE_INSPECT_EXE,
+               "--state " + quote((dir.path() / "none").string()) + " summary", dir.path());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("none: no such state directory"), std::string::npos) << r.err;
-  const ToolRun empty = run_tool(HAPSTATE_INSPECT_EXE, "--state " + quote(dir.path().string()) + " summary", dir.path());
+  const ToolRun empty = run_tool(HAPSTATE_INSPECT_EXE,
+                                 "--state " + quote(dir.path().string()) + " summary", dir.path());
   EXPECT_EQ(empty.exit_code, 2);
-  EXPECT_NE(empty.err.find("not a state directory (no catalogue.sqlite"), std::string::npos) << empty.err;
-  EXPECT_EQ(run_tool(HAPSTATE_INSPECT_EXE, "--state " + quote(dir.path().string()), dir.path()).exit_code, 2);
+  EXPECT_NE(empty.err.find("not a state directory (no catalogue.sqlite"), std::string::npos)
+      << empty.err;
+  EXPECT_EQ(
+      run_tool(HAPSTATE_INSPECT_EXE, "--state " + quote(dir.path().string()), dir.path()).exit_code,
+      2);
   EXPECT_EQ(run_tool(HAPSTATE_INSPECT_EXE, "--help", dir.path()).exit_code, 0);
 }
 
 TEST_F(Inspect, CompactStageThenInspect) {
-  const ToolRun first = run_tool(HAPSTATE_COMPACT_EXE, "--state " + quote(state().string()), dir_.path());
+  const ToolRun first =
+      run_tool(HAPSTATE_COMPACT_EXE, "--state " + quote(state().string()), dir_.path());
   EXPECT_EQ(first.exit_code, 0) << first.err;
-  EXPECT_NE(first.out.find("2 levels merged, 3 transitions rewritten"), std::string::npos) << first.out;
+  EXPECT_NE(first.out.find("2 levels merged, 3 transitions rewritten"), std::string::npos)
+      << first.out;
   EXPECT_NE(first.out.find("segments: 3 -> 1"), std::string::npos) << first.out;
-  const ToolRun second = run_tool(HAPSTATE_COMPACT_EXE, "--state " + quote(state().string()), dir_.path());
+  const ToolRun second =
+      run_tool(HAPSTATE_COMPACT_EXE, "--state " + quote(state().string()), dir_.path());
   EXPECT_EQ(second.exit_code, 0) << second.err;
   EXPECT_NE(second.out.find("nothing to do"), std::string::npos) << second.out;
 
@@ -248,7 +262,8 @@ TEST_F(Inspect, CompactStageThenInspect) {
   EXPECT_EQ(j["disk"]["segments"], 1);
   EXPECT_EQ(inspect_json("transitions 2")["transitions"][21]["target"], 3);
 
-  const ToolRun missing = run_tool(HAPSTATE_COMPACT_EXE, "--state " + quote((dir_.path() / "none").string()), dir_.path());
+  const ToolRun missing = run_tool(
+      HAPSTATE_COMPACT_EXE, "--state " + quote((dir_.path() / "none").string()), dir_.path());
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("no such state directory"), std::string::npos) << missing.err;
 }

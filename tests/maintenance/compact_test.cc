@@ -1,15 +1,15 @@
 // Compaction of a synthetic state directory: exactly the duplicates are merged, transitions
 // rewritten, blobs repacked, garbage dropped, and a crash at either commit point is harmless.
+#include "maintenance/compact.h"
+#include "../blobs/temp_dir.h"
 #include "blobs/blob_store.h"
 #include "catalogue/catalogue.h"
-#include "maintenance/compact.h"
 #include "maintenance/level_compare.h"
 #include "maintenance/level_merge.h"
-#include "statespace/state_dir.h"
 #include "scene/scene.h"
+#include "statespace/state_dir.h"
 #include "synthetic_state.h"
 #include "util/error.h"
-#include "../blobs/temp_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -39,7 +39,8 @@ void expect_all_blobs_readable(const std::filesystem::path& dir) {
   BlobStore blobs(dir / "blobs");
   for (const Configuration& c : cat.read_all_configurations()) {
     if (!c.blob) continue;
-    EXPECT_EQ(blobs.read(c.blob->segment, c.blob->name + "/u"), test_util::synthetic_u(c.id.value()))
+    EXPECT_EQ(blobs.read(c.blob->segment, c.blob->name + "/u"),
+              test_util::synthetic_u(c.id.value()))
         << "configuration " << c.id.value();
   }
 }
@@ -55,11 +56,14 @@ void expect_consistent(const std::filesystem::path& dir) {
 TEST(LevelCompare, DistanceInToleranceUnitsWithZeroStates) {
   const LevelTolerances tol{0.01, 0.05};
   const ConfigVectors a{{0.0, 1.0}, {}, {0.0, 0.0, 0.0}, {}, {}};
-  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.005, 1.0}, {}, {0.0, 0.0, 0.0}, {}, {}}, tol), 0.5);
-  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.0, 1.0}, {}, {0.03, 0.04, 0.0}, {}, {}}, tol), 1.0);
+  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.005, 1.0}, {}, {0.0, 0.0, 0.0}, {}, {}}, tol),
+                   0.5);
+  EXPECT_DOUBLE_EQ(compaction_level_distance(a, {{0.0, 1.0}, {}, {0.03, 0.04, 0.0}, {}, {}}, tol),
+                   1.0);
   EXPECT_TRUE(std::isinf(compaction_level_distance(a, {{0.0}, {}, {0.0, 0.0, 0.0}, {}, {}}, tol)));
   // No blob: zeros of the other's length.
-  EXPECT_DOUBLE_EQ(compaction_level_distance({}, {{0.004, -0.002}, {}, {0.0, 0.0, 0.01}, {}, {}}, tol), 0.4);
+  EXPECT_DOUBLE_EQ(
+      compaction_level_distance({}, {{0.004, -0.002}, {}, {0.0, 0.0, 0.01}, {}, {}}, tol), 0.4);
 }
 
 TEST(LevelCompare, BoundFromSummariesAndForces) {
@@ -106,7 +110,7 @@ TEST(Compact, MergesRewritesRepacksAndShrinks) {
   EXPECT_EQ(r.garbage_segments, 0);
   EXPECT_EQ(r.repacked_configurations, 5);  // c2, c3, c5, c6, c7
   EXPECT_EQ(r.new_segments, 1);
-  EXPECT_EQ(r.dead_vectors, 6);             // c4 and c8: u, t, h
+  EXPECT_EQ(r.dead_vectors, 6);  // c4 and c8: u, t, h
   EXPECT_EQ(r.before.segments, 3);
   EXPECT_EQ(r.after.segments, 1);
   EXPECT_LT(r.after.blob_bytes, r.before.blob_bytes);
@@ -125,17 +129,20 @@ TEST(Compact, MergesRewritesRepacksAndShrinks) {
   EXPECT_EQ(cat.read_transition(ConfigId(2), Direction(21))->target, ConfigId(3));
   EXPECT_EQ(cat.read_transition(ConfigId(6), Direction(4))->target, ConfigId(3));
   EXPECT_EQ(cat.read_transition(ConfigId(4), Direction(21))->target, ConfigId(6));
-  EXPECT_EQ(cat.read_transition(ConfigId(3), Direction(13))->outcome, TransitionOutcome::kOutsideGrid);
+  EXPECT_EQ(cat.read_transition(ConfigId(3), Direction(13))->outcome,
+            TransitionOutcome::kOutsideGrid);
   EXPECT_FALSE(cat.read_transition(ConfigId(4), Direction(13)).has_value());
   EXPECT_EQ(cat.num_transitions(), 10);
-  const auto target_4 = cat.query_read_only("SELECT count(*) FROM transition WHERE target IN (4, 8)");
+  const auto target_4 =
+      cat.query_read_only("SELECT count(*) FROM transition WHERE target IN (4, 8)");
   EXPECT_EQ(std::get<std::int64_t>(target_4.rows[0][0]), 0);
 
   BlobStore blobs(dir.path() / "blobs");
   EXPECT_EQ(blobs.list_segments(), std::vector<SegmentId>{SegmentId{4}});
   EXPECT_EQ(blobs.list_vectors(SegmentId{4}).size(), 16u);  // 5 x (u, t, h) + c3/visual
   EXPECT_EQ(blobs.precision_of(SegmentId{4}, "c3/visual"), Precision::kFloat32);
-  EXPECT_EQ(blobs.read_float32(SegmentId{4}, "c3/visual"), (std::vector<float>{0.5f, -1.25f, 3.0f}));
+  EXPECT_EQ(blobs.read_float32(SegmentId{4}, "c3/visual"),
+            (std::vector<float>{0.5f, -1.25f, 3.0f}));
   EXPECT_EQ(blobs.provenance(SegmentId{4}).stage, "compact");
 
   const auto runs = cat.read_stage_runs("compact");
@@ -178,8 +185,9 @@ TEST(Compact, DryRunChangesNothing) {
   EXPECT_NE(r.text().find("would do: "), std::string::npos) << r.text();
   {
     TempDir copy("compact-copy");
-    std::filesystem::copy(dir.path(), copy.path(), std::filesystem::copy_options::recursive |
-                                                       std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy(dir.path(), copy.path(),
+                          std::filesystem::copy_options::recursive |
+                              std::filesystem::copy_options::overwrite_existing);
     const CompactReport real = compact_state(copy.path(), CompactOptions{});
     EXPECT_EQ(real.new_segments, r.new_segments);
     EXPECT_EQ(real.after.segments, predicted);
@@ -221,7 +229,9 @@ TEST(Compact, CrashAfterTheCommitLeavesGarbageForTheNextRun) {
   {
     Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
     EXPECT_EQ(cat.read_configuration(ConfigId(4)).status, ConfigStatus::kMerged);
-    EXPECT_EQ(BlobStore(dir.path() / "blobs").unreferenced_segments(cat.referenced_segments()).size(), 3u);
+    EXPECT_EQ(
+        BlobStore(dir.path() / "blobs").unreferenced_segments(cat.referenced_segments()).size(),
+        3u);
   }
   const CompactReport r = compact_state(dir.path(), {});
   EXPECT_EQ(r.garbage_segments, 3);
@@ -253,7 +263,8 @@ TEST(Compact, RefusedWhileTheStateIsLocked) {
       compact_state(dir.path(), {});
       ADD_FAILURE() << "no InputError";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("another hapstate stage"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("another hapstate stage"), std::string::npos)
+          << e.what();
     }
     CompactOptions dry;
     dry.dry_run = true;

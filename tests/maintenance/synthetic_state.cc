@@ -29,7 +29,7 @@ std::map<int, Vectors> make_vectors() {
   v[2] = {random_vector(n, 2, 0.1), {0.1, 0, 0}, {1.0, 0.2, -0.3}};
   v[3] = {random_vector(n, 3, 0.1), {0.2, 0, 0}, {0.4, 0.1, 0.0}};
   v[4] = v[3];
-  v[4].u[0] += 0.5 * kUTol;   // 0.5 tolerances
+  v[4].u[0] += 0.5 * kUTol;  // 0.5 tolerances
   v[4].h[1] += 0.3 * kHTol;
   v[5] = v[3];
   v[5].u[7] -= 1.05 * kUTol;  // just outside
@@ -54,12 +54,15 @@ std::string scene_text() {
   return "[mesh]\nfile = \"" + liver_mesh().string() +
          "\"\nunit = 0.01\n\n[material]\nlaw = \"neohooke\"\nyoung = 5000.0\npoisson = 0.45\n\n"
          "[probe]\nmode = \"grab\"\npoint = [-2.5, 3.5, 2.2]\nmax_force = 3.0\n\n"
-         "[grid]\nspacing = 0.25\n\n[levels]\ndisplacement_tolerance = 0.01\nforce_tolerance = 0.05\n";
+         "[grid]\nspacing = 0.25\n\n[levels]\ndisplacement_tolerance = 0.01\nforce_tolerance = "
+         "0.05\n";
 }
 
 }  // namespace
 
-std::filesystem::path liver_mesh() { return std::filesystem::path(HAPSTATE_TEST_DATA) / "meshes/liver.msh"; }
+std::filesystem::path liver_mesh() {
+  return std::filesystem::path(HAPSTATE_TEST_DATA) / "meshes/liver.msh";
+}
 
 std::vector<double> synthetic_u(int id) {
   if (id == 1) return {};

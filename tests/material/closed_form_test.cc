@@ -34,8 +34,8 @@ Stretches stvk_stress(const MaterialConstants& c, const Stretches& s) {
 Stretches mooney_stress(const MaterialConstants& c, const Stretches& s) {
   const double J = s[0] * s[1] * s[2];
   const double I1 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
-  const double I2 = s[0] * s[0] * s[1] * s[1] + s[1] * s[1] * s[2] * s[2] +
-                    s[2] * s[2] * s[0] * s[0];
+  const double I2 =
+      s[0] * s[0] * s[1] * s[1] + s[1] * s[1] * s[2] * s[2] + s[2] * s[2] * s[0] * s[0];
   Stretches p;
   for (int i = 0; i < 3; ++i) {
     const double dJ = J / s[i];
@@ -50,14 +50,17 @@ Stretches mooney_stress(const MaterialConstants& c, const Stretches& s) {
 
 Stretches closed_form_stress(const MaterialConstants& c, const Stretches& s) {
   switch (c.law) {
-    case Law::kLinear: return linear_stress(c, s);
-    case Law::kStvk: return stvk_stress(c, s);
+    case Law::kLinear:
+      return linear_stress(c, s);
+    case Law::kStvk:
+      return stvk_stress(c, s);
     case Law::kNeoHooke: {
       MaterialConstants neo = c;
       neo.c01 = 0;  // neo-Hooke is mooney without the I2 term
       return mooney_stress(neo, s);
     }
-    case Law::kMooney: return mooney_stress(c, s);
+    case Law::kMooney:
+      return mooney_stress(c, s);
   }
   return {};
 }
@@ -112,7 +115,8 @@ TEST_P(ClosedForm, LaterallyFreeUniaxialStretch) {
 TEST_P(ClosedForm, SmallUniaxialStretchRecoversYoungAndPoisson) {
   const MaterialConstants& c = GetParam().constants;
   if (c.mu == 0) GTEST_SKIP() << "constants not derived from E, nu";
-  const double young = 9 * (c.lambda + 2 * c.mu / 3) * c.mu / (3 * (c.lambda + 2 * c.mu / 3) + c.mu);
+  const double young =
+      9 * (c.lambda + 2 * c.mu / 3) * c.mu / (3 * (c.lambda + 2 * c.mu / 3) + c.mu);
   const double nu = c.lambda / (2 * (c.lambda + c.mu));
   ASSERT_NEAR(young, test::kYoung, 1e-9 * test::kYoung);
   const auto material = make_material(c);

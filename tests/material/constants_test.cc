@@ -42,8 +42,7 @@ TEST(Constants, NamesRoundTrip) {
 
 TEST(Constants, PositiveJacobianRequirement) {
   auto needs = [](Law law) {
-    return make_material(constants_from_young_poisson(law, 1e3, 0.3))
-        ->requires_positive_jacobian();
+    return make_material(constants_from_young_poisson(law, 1e3, 0.3))->requires_positive_jacobian();
   };
   EXPECT_FALSE(needs(Law::kLinear));
   EXPECT_FALSE(needs(Law::kStvk));
@@ -91,7 +90,7 @@ TEST(Constants, InvalidDirectConstantsThrow) {
     expect_rejected(with(law, -1, 1, 0, 0, 0), "mu");
     expect_rejected(with(law, nan, 1, 0, 0, 0), "mu");
     expect_rejected(with(law, 3, -2.5, 0, 0, 0), "lambda");  // bulk = -0.5
-    EXPECT_NO_THROW(with(law, 3, -1.5, 0, 0, 0)());           // bulk = 0.5
+    EXPECT_NO_THROW(with(law, 3, -1.5, 0, 0, 0)());          // bulk = 0.5
   }
   for (Law law : {Law::kNeoHooke, Law::kMooney}) {
     expect_rejected(with(law, 0, 0, 0, 0, 1), "c10");

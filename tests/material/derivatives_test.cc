@@ -20,8 +20,8 @@ TEST_P(Derivatives, StressAndTangentMatchFiniteDifferences) {
     for (double strain : {0.05, 0.15, 0.3}) {
       std::mt19937 rng(seed);
       const Mat3 F = test::random_deformation(rng, strain, seed % 2 == 0);
-      SCOPED_TRACE("seed " + std::to_string(seed) + " strain " + std::to_string(strain) +
-                   " det " + std::to_string(F.determinant()));
+      SCOPED_TRACE("seed " + std::to_string(seed) + " strain " + std::to_string(strain) + " det " +
+                   std::to_string(F.determinant()));
       Mat3 P;
       Mat9 A;
       const double w = material->evaluate(F, &P, &A);
@@ -30,8 +30,8 @@ TEST_P(Derivatives, StressAndTangentMatchFiniteDifferences) {
       Mat3 P_fd;
       for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i)
-          P_fd(i, j) = test::central_difference(
-              [&](const Mat3& G) { return material->energy(G); }, F, i, j, kStep);
+          P_fd(i, j) = test::central_difference([&](const Mat3& G) { return material->energy(G); },
+                                                F, i, j, kStep);
       ASSERT_GT(P.norm(), 1e-3 * test::kYoung * strain) << "analytic P is trivially small";
       EXPECT_LE((P - P_fd).norm(), kRelTolerance * P.norm()) << "P\n" << P << "\nFD\n" << P_fd;
 

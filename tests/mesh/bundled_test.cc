@@ -14,7 +14,7 @@ struct Expected {
   int tets;
   int boundary_nodes;  // -1: not documented
   int boundary_faces;
-  double volume;       // -1: not documented
+  double volume;  // -1: not documented
   const char* format;
 };
 

@@ -1,11 +1,11 @@
 // The carving fallback for closed but self-intersecting surfaces (libstate/mesh/carve.h): the
 // shared grid layout, the bundled liver-smooth.obj and synthetic overlapping cubes.
-#include "mesh/box_mesh.h"
 #include "mesh/carve.h"
+#include "cube_writers.h"
+#include "mesh/box_mesh.h"
 #include "mesh/load.h"
 #include "mesh/surface.h"
 #include "mesh/winding_number.h"
-#include "cube_writers.h"
 #include "util/error.h"
 
 #include <gtest/gtest.h>
@@ -15,8 +15,8 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <iterator>
+#include <map>
 #include <sstream>
 
 namespace hapstate {
@@ -31,16 +31,20 @@ std::string warnings_text(const MeshReport& r) {
 // The test shapes are turned by this rotation so that their faces cut the carving grid at every
 // angle and offset (axis-aligned faces would all sit at one offset in their cells, a systematic
 // error of up to a quarter cell).
-Eigen::Matrix3d tilt() { return Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix(); }
+Eigen::Matrix3d tilt() {
+  return Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+}
 
 // Cubes tilt() * [lo, lo + edge]^3 written into one OBJ, outward faces (or all flipped).
-std::string cubes_obj(const std::vector<std::pair<Eigen::Vector3d, double>>& cubes, bool flip = false) {
+std::string cubes_obj(const std::vector<std::pair<Eigen::Vector3d, double>>& cubes,
+                      bool flip = false) {
   std::ostringstream o;
   o.precision(17);
   int base = 0;
   for (const auto& [lo, edge] : cubes) {
     for (int v = 0; v < 8; ++v) {
-      const Eigen::Vector3d p = tilt() * (lo + edge * Eigen::Vector3d(v & 1, (v >> 1) & 1, (v >> 2) & 1));
+      const Eigen::Vector3d p =
+          tilt() * (lo + edge * Eigen::Vector3d(v & 1, (v >> 1) & 1, (v >> 2) & 1));
       o << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
     }
     for (const auto& f : test::cube_surface()) {
@@ -59,7 +63,8 @@ std::string cubes_obj(const std::vector<std::pair<Eigen::Vector3d, double>>& cub
 void expect_manifold_nodes(const Mesh& m) {
   std::map<int, std::map<int, int>> next;  // node -> (next corner -> following corner) per face
   for (int f = 0; f < m.surface.cols(); ++f) {
-    for (int k = 0; k < 3; ++k) next[m.surface(k, f)][m.surface((k + 1) % 3, f)] = m.surface((k + 2) % 3, f);
+    for (int k = 0; k < 3; ++k)
+      next[m.surface(k, f)][m.surface((k + 1) % 3, f)] = m.surface((k + 2) % 3, f);
   }
   for (const auto& [node, ring] : next) {
     int steps = 0;
@@ -70,7 +75,8 @@ void expect_manifold_nodes(const Mesh& m) {
       v = it->second;
       ++steps;
     } while (v != ring.begin()->first && steps <= static_cast<int>(ring.size()));
-    EXPECT_EQ(steps, static_cast<int>(ring.size())) << "node " << node << " joins several surface sheets";
+    EXPECT_EQ(steps, static_cast<int>(ring.size()))
+        << "node " << node << " joins several surface sheets";
   }
 }
 
@@ -109,7 +115,9 @@ TEST(Carve, CellSizeRule) {
   // A sheet too thin for 8 cells within the cell budget: coarser grid, reported.
   const double sheet = carve_cell_size(Eigen::Vector3d(100, 100, 0.01), 100, &capped);
   EXPECT_TRUE(capped);
-  EXPECT_LE((std::ceil(100 / sheet) + 2) * (std::ceil(100 / sheet) + 2) * (std::ceil(0.01 / sheet) + 2), kCarveMaxCells);
+  EXPECT_LE(
+      (std::ceil(100 / sheet) + 2) * (std::ceil(100 / sheet) + 2) * (std::ceil(0.01 / sheet) + 2),
+      kCarveMaxCells);
 }
 
 TEST(Carve, LiverSmoothObjImportsByCarving) {
@@ -123,10 +131,13 @@ TEST(Carve, LiverSmoothObjImportsByCarving) {
   const auto start = std::chrono::steady_clock::now();
   MeshReport report;
   const Mesh m = load_mesh(path, &report);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string warnings = warnings_text(report);
-  std::cout << "liver-smooth.obj: " << m.num_nodes() << " nodes, " << m.num_tets() << " tets, " << m.surface.cols()
-            << " boundary faces, volume " << test::tet_volume_sum(m) << " in " << seconds << " s\n" << warnings;
+  std::cout << "liver-smooth.obj: " << m.num_nodes() << " nodes, " << m.num_tets() << " tets, "
+            << m.surface.cols() << " boundary faces, volume " << test::tet_volume_sum(m) << " in "
+            << seconds << " s\n"
+            << warnings;
 
   EXPECT_EQ(report.format, "obj-surface");
   test::expect_valid(m);  // positive tets, closed outward boundary
@@ -140,7 +151,8 @@ TEST(Carve, LiverSmoothObjImportsByCarving) {
   for (int t = 0; t < m.num_tets(); ++t) {
     double longest = 0;
     for (int a = 0; a < 4; ++a) {
-      for (int b = a + 1; b < 4; ++b) longest = std::max(longest, (m.nodes.col(m.tets(a, t)) - m.nodes.col(m.tets(b, t))).norm());
+      for (int b = a + 1; b < 4; ++b)
+        longest = std::max(longest, (m.nodes.col(m.tets(a, t)) - m.nodes.col(m.tets(b, t))).norm());
     }
     worst = std::min(worst, 6 * test::signed_volume(m, t) / (longest * longest * longest));
   }
@@ -148,10 +160,15 @@ TEST(Carve, LiverSmoothObjImportsByCarving) {
   EXPECT_GT(worst, 3e-3);
   EXPECT_GE(m.num_tets(), 5000);
   EXPECT_LE(m.num_tets(), 20000);
-  EXPECT_NE(warnings.find("liver-smooth.obj: the surface self-intersects near (-2.09"), std::string::npos) << warnings;
-  EXPECT_NE(warnings.find("liver-smooth.obj:5207 is crossed by the edge"), std::string::npos) << warnings;
-  EXPECT_NE(warnings.find("the volume was carved on a grid of cell size h = "), std::string::npos) << warnings;
-  const std::string count = std::to_string(m.num_tets()) + " tets, enclosed-volume ratio carved/surface = ";
+  EXPECT_NE(warnings.find("liver-smooth.obj: the surface self-intersects near (-2.09"),
+            std::string::npos)
+      << warnings;
+  EXPECT_NE(warnings.find("liver-smooth.obj:5207 is crossed by the edge"), std::string::npos)
+      << warnings;
+  EXPECT_NE(warnings.find("the volume was carved on a grid of cell size h = "), std::string::npos)
+      << warnings;
+  const std::string count =
+      std::to_string(m.num_tets()) + " tets, enclosed-volume ratio carved/surface = ";
   EXPECT_NE(warnings.find(count), std::string::npos) << warnings;
   // The carved volume lies inside the surface's bounding box, give or take a cell.
   const Eigen::Vector3d lo = m.nodes.rowwise().minCoeff();
@@ -169,7 +186,8 @@ TEST(Carve, TheStrictCheckStillNamesTheCrossing) {
     FAIL() << "self-intersection not found";
   } catch (const InputError& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("liver-smooth.obj:5207: self-intersecting surface"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("liver-smooth.obj:5207: self-intersecting surface"), std::string::npos)
+        << msg;
     EXPECT_NE(msg.find("near (-2.09"), std::string::npos) << msg;
   }
 }
@@ -181,11 +199,14 @@ TEST(Carve, OverlappingCubesImportAsTheirUnion) {
   for (const bool flip : {false, true}) {
     MeshReport report;
     const Mesh m = load_mesh(test::write_file(flip ? "cubes_in.obj" : "cubes.obj",
-                                              cubes_obj({{Eigen::Vector3d(0, 0, 0), 1.0}, {Eigen::Vector3d(0.5, 0.5, 0.5), 1.0}}, flip)),
+                                              cubes_obj({{Eigen::Vector3d(0, 0, 0), 1.0},
+                                                         {Eigen::Vector3d(0.5, 0.5, 0.5), 1.0}},
+                                                        flip)),
                              &report);
     const std::string warnings = warnings_text(report);
     std::cout << (flip ? "inward" : "outward") << " cubes: " << m.num_tets() << " tets, volume "
-              << test::tet_volume_sum(m) << "\n" << warnings;
+              << test::tet_volume_sum(m) << "\n"
+              << warnings;
     test::expect_valid(m);
     expect_manifold_nodes(m);
     // Stair-stepped faces at cell size h ~ 0.1, cut at all angles: within 3 %.
@@ -197,7 +218,8 @@ TEST(Carve, OverlappingCubesImportAsTheirUnion) {
 }
 
 TEST(Carve, SnappingMovesMostBoundaryNodesOntoTheSurface) {
-  const TriangleSurface s = parse_obj(cubes_obj({{Eigen::Vector3d(0, 0, 0), 1.0}, {Eigen::Vector3d(0.5, 0.5, 0.5), 1.0}}), "cubes");
+  const TriangleSurface s = parse_obj(
+      cubes_obj({{Eigen::Vector3d(0, 0, 0), 1.0}, {Eigen::Vector3d(0.5, 0.5, 0.5), 1.0}}), "cubes");
   const CarveResult stairs = carve_surface(s, /*snap=*/false);
   const CarveResult snapped = carve_surface(s);
   EXPECT_EQ(stairs.snapped_nodes, 0);
@@ -207,19 +229,20 @@ TEST(Carve, SnappingMovesMostBoundaryNodesOntoTheSurface) {
   // Sharp cube edges and corners are cut by the snapped chords: a little volume is lost.
   EXPECT_NEAR(stairs.carved_volume, kUnionVolume, 0.01 * kUnionVolume);
   EXPECT_NEAR(snapped.carved_volume, kUnionVolume, 0.02 * kUnionVolume);
-  EXPECT_NEAR(snapped.surface_volume, 2.0, 1e-12);  // the overlap counts twice in the surface's own volume
-  std::cout << "stairs " << stairs.carved_volume << ", snapped " << snapped.carved_volume << " (" << snapped.snapped_nodes
-            << " of " << snapped.boundary_nodes << " nodes), repair +" << snapped.added_tets << " -" << snapped.removed_tets
-            << " tets\n";
+  EXPECT_NEAR(snapped.surface_volume, 2.0,
+              1e-12);  // the overlap counts twice in the surface's own volume
+  std::cout << "stairs " << stairs.carved_volume << ", snapped " << snapped.carved_volume << " ("
+            << snapped.snapped_nodes << " of " << snapped.boundary_nodes << " nodes), repair +"
+            << snapped.added_tets << " -" << snapped.removed_tets << " tets\n";
 }
 
 TEST(Carve, OnlyTheLargestPieceIsKept) {
   MeshReport report;
-  const Mesh m = load_mesh(test::write_file("cubes_and_island.obj",
-                                            cubes_obj({{Eigen::Vector3d(0, 0, 0), 1.0},
-                                                       {Eigen::Vector3d(0.5, 0.5, 0.5), 1.0},
-                                                       {Eigen::Vector3d(2.5, 0, 0), 0.5}})),
-                           &report);
+  const Mesh m = load_mesh(
+      test::write_file("cubes_and_island.obj", cubes_obj({{Eigen::Vector3d(0, 0, 0), 1.0},
+                                                          {Eigen::Vector3d(0.5, 0.5, 0.5), 1.0},
+                                                          {Eigen::Vector3d(2.5, 0, 0), 0.5}})),
+      &report);
   const std::string warnings = warnings_text(report);
   test::expect_valid(m);
   const Eigen::Matrix3Xd unturned = tilt().transpose() * m.nodes;
@@ -230,7 +253,8 @@ TEST(Carve, OnlyTheLargestPieceIsKept) {
 }
 
 TEST(Carve, OpenSelfIntersectingSurfaceIsStillAnError) {
-  std::string text = cubes_obj({{Eigen::Vector3d(0, 0, 0), 1.0}, {Eigen::Vector3d(0.5, 0.5, 0.5), 1.0}});
+  std::string text =
+      cubes_obj({{Eigen::Vector3d(0, 0, 0), 1.0}, {Eigen::Vector3d(0.5, 0.5, 0.5), 1.0}});
   text = text.substr(0, text.rfind("f "));  // drop the last triangle: a hole
   try {
     load_mesh(test::write_file("open_cubes.obj", text));

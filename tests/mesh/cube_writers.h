@@ -5,8 +5,8 @@
 
 #include "mesh_test_util.h"
 
-#include <sstream>
 #include <zlib.h>
+#include <sstream>
 
 namespace hapstate::test {
 
@@ -18,11 +18,14 @@ inline std::string msh1(const CubeMesh& c) {
   s.precision(17);
   s << "$NOD\n" << c.nodes.size() << "\n";
   for (std::size_t i = 0; i < c.nodes.size(); ++i) {
-    s << gmsh_tag(int(i)) << " " << c.nodes[i][0] << " " << c.nodes[i][1] << " " << c.nodes[i][2] << "\n";
+    s << gmsh_tag(int(i)) << " " << c.nodes[i][0] << " " << c.nodes[i][1] << " " << c.nodes[i][2]
+      << "\n";
   }
   s << "$ENDNOD\n$ELM\n" << c.tets.size() + c.bottom.size() << "\n";
   int id = 1;
-  for (const auto& t : c.bottom) s << id++ << " 2 7 1 3 " << gmsh_tag(t[0]) << " " << gmsh_tag(t[1]) << " " << gmsh_tag(t[2]) << "\n";
+  for (const auto& t : c.bottom)
+    s << id++ << " 2 7 1 3 " << gmsh_tag(t[0]) << " " << gmsh_tag(t[1]) << " " << gmsh_tag(t[2])
+      << "\n";
   for (const auto& t : c.tets) {
     s << id++ << " 4 9 1 4";
     for (int v : t) s << " " << gmsh_tag(v);
@@ -48,7 +51,8 @@ inline std::string msh2(const CubeMesh& c, bool binary) {
       for (double x : c.nodes[i]) put<double>(&s, x);
     } else {
       a.str("");
-      a << gmsh_tag(int(i)) << " " << c.nodes[i][0] << " " << c.nodes[i][1] << " " << c.nodes[i][2] << "\n";
+      a << gmsh_tag(int(i)) << " " << c.nodes[i][0] << " " << c.nodes[i][1] << " " << c.nodes[i][2]
+        << "\n";
       s += a.str();
     }
   }
@@ -97,7 +101,8 @@ inline std::string msh4(const CubeMesh& c, bool binary) {
     put<std::int32_t>(&s, 1);
     s += "\n";
   }
-  s += "$EndMeshFormat\n$PhysicalNames\n2\n2 7 \"bottom\"\n3 9 \"body\"\n$EndPhysicalNames\n$Entities\n";
+  s += "$EndMeshFormat\n$PhysicalNames\n2\n2 7 \"bottom\"\n3 9 "
+       "\"body\"\n$EndPhysicalNames\n$Entities\n";
   std::ostringstream a;
   a.precision(17);
   if (binary) {
@@ -162,8 +167,9 @@ inline std::string msh4(const CubeMesh& c, bool binary) {
   } else {
     s += "2 8 1 8\n2 1 2 2\n";
     int id = 1;
-    for (const auto& t : c.bottom) s += std::to_string(id++) + " " + std::to_string(gmsh_tag(t[0])) + " " +
-                                        std::to_string(gmsh_tag(t[1])) + " " + std::to_string(gmsh_tag(t[2])) + "\n";
+    for (const auto& t : c.bottom)
+      s += std::to_string(id++) + " " + std::to_string(gmsh_tag(t[0])) + " " +
+           std::to_string(gmsh_tag(t[1])) + " " + std::to_string(gmsh_tag(t[2])) + "\n";
     s += "3 1 4 6\n";
     for (const auto& t : c.tets) {
       s += std::to_string(id++);
@@ -178,8 +184,8 @@ inline std::string msh4(const CubeMesh& c, bool binary) {
 // Legacy VTK: the 6 tets, then the 2 bottom triangles; CELL_DATA int "label" (1 = tet,
 // 2 = bottom triangle) as SCALARS, plus a FIELD with a float array (skipped) and an int array.
 inline std::string vtk_legacy(const CubeMesh& c, bool binary, bool offsets_layout) {
-  std::string s = std::string("# vtk DataFile Version ") + (offsets_layout ? "5.1" : "3.0") + "\ncube\n" +
-                  (binary ? "BINARY" : "ASCII") + "\nDATASET UNSTRUCTURED_GRID\n";
+  std::string s = std::string("# vtk DataFile Version ") + (offsets_layout ? "5.1" : "3.0") +
+                  "\ncube\n" + (binary ? "BINARY" : "ASCII") + "\nDATASET UNSTRUCTURED_GRID\n";
   s += "POINTS 8 double\n";
   std::ostringstream a;
   a.precision(17);
@@ -203,10 +209,13 @@ inline std::string vtk_legacy(const CubeMesh& c, bool binary, bool offsets_layou
       conn.insert(conn.end(), cell.begin(), cell.end());
       offsets.push_back(static_cast<long long>(conn.size()));
     }
-    s += "CELLS " + std::to_string(offsets.size()) + " " + std::to_string(conn.size()) + "\nOFFSETS vtktypeint64\n";
-    for (long long o : offsets) binary ? put<std::int64_t>(&s, o, true) : void(s += std::to_string(o) + "\n");
+    s += "CELLS " + std::to_string(offsets.size()) + " " + std::to_string(conn.size()) +
+         "\nOFFSETS vtktypeint64\n";
+    for (long long o : offsets)
+      binary ? put<std::int64_t>(&s, o, true) : void(s += std::to_string(o) + "\n");
     s += binary ? "\nCONNECTIVITY vtktypeint64\n" : "CONNECTIVITY vtktypeint64\n";
-    for (long long v : conn) binary ? put<std::int64_t>(&s, v, true) : void(s += std::to_string(v) + " ");
+    for (long long v : conn)
+      binary ? put<std::int64_t>(&s, v, true) : void(s += std::to_string(v) + " ");
     s += "\n";
   } else {
     s += "CELLS " + std::to_string(cells.size()) + " " + std::to_string(6 * 5 + 2 * 4) + "\n";
@@ -223,15 +232,20 @@ inline std::string vtk_legacy(const CubeMesh& c, bool binary, bool offsets_layou
     if (binary) s += "\n";
   }
   s += "CELL_TYPES 8\n";
-  for (const auto& cell : cells) binary ? put<std::int32_t>(&s, cell.size() == 4 ? 10 : 5, true)
-                                        : void(s += cell.size() == 4 ? "10\n" : "5\n");
-  s += binary ? "\nCELL_DATA 8\nSCALARS label int 1\nLOOKUP_TABLE default\n" : "CELL_DATA 8\nSCALARS label int 1\nLOOKUP_TABLE default\n";
-  for (const auto& cell : cells) binary ? put<std::int32_t>(&s, cell.size() == 4 ? 1 : 2, true)
-                                        : void(s += cell.size() == 4 ? "1\n" : "2\n");
-  s += binary ? "\nFIELD FieldData 2\nquality 1 8 float\n" : "FIELD FieldData 2\nquality 1 8 float\n";
+  for (const auto& cell : cells)
+    binary ? put<std::int32_t>(&s, cell.size() == 4 ? 10 : 5, true)
+           : void(s += cell.size() == 4 ? "10\n" : "5\n");
+  s += binary ? "\nCELL_DATA 8\nSCALARS label int 1\nLOOKUP_TABLE default\n"
+              : "CELL_DATA 8\nSCALARS label int 1\nLOOKUP_TABLE default\n";
+  for (const auto& cell : cells)
+    binary ? put<std::int32_t>(&s, cell.size() == 4 ? 1 : 2, true)
+           : void(s += cell.size() == 4 ? "1\n" : "2\n");
+  s += binary ? "\nFIELD FieldData 2\nquality 1 8 float\n"
+              : "FIELD FieldData 2\nquality 1 8 float\n";
   for (int i = 0; i < 8; ++i) binary ? put<float>(&s, 0.5f, true) : void(s += "0.5\n");
   s += binary ? "\nzone 1 8 int\n" : "zone 1 8 int\n";
-  for (int i = 0; i < 8; ++i) binary ? put<std::int32_t>(&s, i < 3 ? 4 : 5, true) : void(s += i < 3 ? "4\n" : "5\n");
+  for (int i = 0; i < 8; ++i)
+    binary ? put<std::int32_t>(&s, i < 3 ? 4 : 5, true) : void(s += i < 3 ? "4\n" : "5\n");
   s += binary ? "\nPOINT_DATA 8\nVECTORS fibre double\n" : "POINT_DATA 8\nVECTORS fibre double\n";
   for (int i = 0; i < 24; ++i) binary ? put<double>(&s, 1.0, true) : void(s += "1 ");
   s += "\n";
@@ -263,23 +277,27 @@ inline std::string vtu(const CubeMesh& c, VtuMode mode) {
     if (mode == VtuMode::kZlib) {
       uLongf size = compressBound(data.size());
       std::string z(size, '\0');
-      compress(reinterpret_cast<Bytef*>(z.data()), &size, reinterpret_cast<const Bytef*>(data.data()), data.size());
+      compress(reinterpret_cast<Bytef*>(z.data()), &size,
+               reinterpret_cast<const Bytef*>(data.data()), data.size());
       z.resize(size);
       std::string header;
-      for (std::uint32_t v : {1u, std::uint32_t(data.size()), std::uint32_t(data.size()), std::uint32_t(size)}) put(&header, v);
+      for (std::uint32_t v :
+           {1u, std::uint32_t(data.size()), std::uint32_t(data.size()), std::uint32_t(size)})
+        put(&header, v);
       return base64(header) + base64(z);  // VTK encodes header and data separately
     }
     std::string header;
-    header64 ? put<std::uint64_t>(&header, data.size()) : put<std::uint32_t>(&header, std::uint32_t(data.size()));
+    header64 ? put<std::uint64_t>(&header, data.size())
+             : put<std::uint32_t>(&header, std::uint32_t(data.size()));
     if (mode == VtuMode::kAppendedRaw) return header + data;
     if (mode == VtuMode::kBase64) return base64(header + data);  // one stream
     return base64(header) + base64(data);
   };
   std::string appended;
-  const auto array = [&](const char* type, const char* name, int components, const std::string& data,
-                         const std::string& ascii) {
-    std::string s = std::string("<DataArray type=\"") + type + "\" Name=\"" + name + "\" NumberOfComponents=\"" +
-                    std::to_string(components) + "\" ";
+  const auto array = [&](const char* type, const char* name, int components,
+                         const std::string& data, const std::string& ascii) {
+    std::string s = std::string("<DataArray type=\"") + type + "\" Name=\"" + name +
+                    "\" NumberOfComponents=\"" + std::to_string(components) + "\" ";
     if (mode == VtuMode::kAscii) return s + "format=\"ascii\">\n" + ascii + "\n</DataArray>\n";
     if (mode == VtuMode::kAppendedRaw || mode == VtuMode::kAppendedBase64) {
       s += "format=\"appended\" offset=\"" + std::to_string(appended.size()) + "\"/>\n";
@@ -299,18 +317,24 @@ inline std::string vtu(const CubeMesh& c, VtuMode mode) {
     ta << (cell.size() == 4 ? 10 : 5) << " ";
     la << (cell.size() == 4 ? 1 : 2) << " ";
   }
-  std::string s = "<?xml version=\"1.0\"?>\n<!-- test cube -->\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\"";
+  std::string s =
+      "<?xml version=\"1.0\"?>\n<!-- test cube -->\n<VTKFile type=\"UnstructuredGrid\" "
+      "version=\"1.0\" byte_order=\"LittleEndian\"";
   if (header64) s += " header_type=\"UInt64\"";
   if (mode == VtuMode::kZlib) s += " compressor=\"vtkZLibDataCompressor\"";
-  s += ">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"8\" NumberOfCells=\"8\">\n<PointData>\n</PointData>\n";
-  s += "<CellData Scalars=\"label\">\n" + array("Int32", "label", 1, labels, la.str()) + "</CellData>\n";
+  s += ">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"8\" "
+       "NumberOfCells=\"8\">\n<PointData>\n</PointData>\n";
+  s += "<CellData Scalars=\"label\">\n" + array("Int32", "label", 1, labels, la.str()) +
+       "</CellData>\n";
   s += "<Points>\n" + array("Float64", "Points", 3, points, pa.str()) + "</Points>\n<Cells>\n";
   s += array("Int64", "connectivity", 1, conn, ca.str());
   s += array("Int64", "offsets", 1, offsets, oa.str());
   s += array("UInt8", "types", 1, types, ta.str());
   s += "</Cells>\n</Piece>\n</UnstructuredGrid>\n";
-  if (mode == VtuMode::kAppendedRaw) s += "<AppendedData encoding=\"raw\">\n_" + appended + "\n</AppendedData>\n";
-  if (mode == VtuMode::kAppendedBase64) s += "<AppendedData encoding=\"base64\">\n_" + appended + "\n</AppendedData>\n";
+  if (mode == VtuMode::kAppendedRaw)
+    s += "<AppendedData encoding=\"raw\">\n_" + appended + "\n</AppendedData>\n";
+  if (mode == VtuMode::kAppendedBase64)
+    s += "<AppendedData encoding=\"base64\">\n_" + appended + "\n</AppendedData>\n";
   s += "</VTKFile>\n";
   return s;
 }
@@ -324,7 +348,8 @@ inline std::string medit(const CubeMesh& c) {
   s << "\nTriangles\n" << c.bottom.size() << "\n";
   for (const auto& t : c.bottom) s << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << " 7\n";
   s << "\nTetrahedra\n" << c.tets.size() << "\n";
-  for (const auto& t : c.tets) s << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << " " << t[3] + 1 << " 9\n";
+  for (const auto& t : c.tets)
+    s << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << " " << t[3] + 1 << " 9\n";
   s << "\nCorners\n1\n1\nEnd\n";
   return s.str();
 }
@@ -336,8 +361,8 @@ inline std::pair<std::string, std::string> tetgen(const CubeMesh& c, int base) {
   n.precision(17);
   n << "# cube\n" << c.nodes.size() << " 3 1 1\n";
   for (std::size_t i = 0; i < c.nodes.size(); ++i) {
-    n << i + base << "  " << c.nodes[i][0] << " " << c.nodes[i][1] << " " << c.nodes[i][2] << "  0.25  "
-      << (c.nodes[i][2] == 0 ? 5 : 0) << "\n";
+    n << i + base << "  " << c.nodes[i][0] << " " << c.nodes[i][1] << " " << c.nodes[i][2]
+      << "  0.25  " << (c.nodes[i][2] == 0 ? 5 : 0) << "\n";
   }
   std::ostringstream e;
   e << c.tets.size() << " 4 1\n";

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include <unistd.h>
 #include <array>
 #include <cstdint>
 #include <cstdlib>
@@ -18,7 +19,6 @@
 #include <set>
 #include <string>
 #include <vector>
-#include <unistd.h>
 
 namespace hapstate::test {
 
@@ -30,7 +30,8 @@ struct CubeMesh {
   std::vector<std::array<int, 3>> bottom;  // triangles on z = 0
 
   CubeMesh() {
-    for (int v = 0; v < 8; ++v) nodes.push_back({double(v & 1), double((v >> 1) & 1), double((v >> 2) & 1)});
+    for (int v = 0; v < 8; ++v)
+      nodes.push_back({double(v & 1), double((v >> 1) & 1), double((v >> 2) & 1)});
     const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
     for (const auto& a : axes) {
       std::array<int, 4> t{0, 1 << a[0], (1 << a[0]) | (1 << a[1]), 7};
@@ -54,12 +55,14 @@ inline std::vector<int> all_cube_nodes() { return {0, 1, 2, 3, 4, 5, 6, 7}; }
 // A fresh temporary directory for this test process.
 inline std::filesystem::path temp_dir() {
   static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() / ("hapstate_mesh_test_" + std::to_string(::getpid()));
+    auto d = std::filesystem::temp_directory_path() /
+             ("hapstate_mesh_test_" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
     std::atexit([] {
       std::error_code ignored;
       std::filesystem::remove_all(std::filesystem::temp_directory_path() /
-                                      ("hapstate_mesh_test_" + std::to_string(::getpid())), ignored);
+                                      ("hapstate_mesh_test_" + std::to_string(::getpid())),
+                                  ignored);
     });
     return d;
   }();
@@ -116,7 +119,9 @@ inline double tet_volume_sum(const Mesh& m) {
 inline double enclosed_volume(const Mesh& m) {
   double v = 0;
   for (int f = 0; f < m.surface.cols(); ++f) {
-    v += m.nodes.col(m.surface(0, f)).dot(m.nodes.col(m.surface(1, f)).cross(m.nodes.col(m.surface(2, f)))) / 6.0;
+    v += m.nodes.col(m.surface(0, f))
+             .dot(m.nodes.col(m.surface(1, f)).cross(m.nodes.col(m.surface(2, f)))) /
+         6.0;
   }
   return v;
 }
@@ -136,7 +141,8 @@ inline void expect_valid(const Mesh& m) {
   }
   for (const auto& [e, n] : directed) {
     ASSERT_EQ(n, 1) << "edge " << e.first << "-" << e.second << " used twice in one direction";
-    ASSERT_EQ(directed.count({e.second, e.first}), 1u) << "open edge " << e.first << "-" << e.second;
+    ASSERT_EQ(directed.count({e.second, e.first}), 1u)
+        << "open edge " << e.first << "-" << e.second;
   }
   const double vol = tet_volume_sum(m);
   EXPECT_NEAR(enclosed_volume(m), vol, 1e-9 * std::abs(vol));

@@ -46,27 +46,31 @@ TEST(RoundTrip, Msh1) {
 }
 
 TEST(RoundTrip, Msh22Ascii) {
-  const Mesh m = load_cube(test::write_file("cube22.msh", test::msh2(CubeMesh(), false)), "gmsh-2.2");
+  const Mesh m =
+      load_cube(test::write_file("cube22.msh", test::msh2(CubeMesh(), false)), "gmsh-2.2");
   EXPECT_EQ(m.groups.size(), 2u);
   expect_group(m, "bottom", test::bottom_nodes());
   expect_group(m, "body", test::all_cube_nodes());
 }
 
 TEST(RoundTrip, Msh22Binary) {
-  const Mesh m = load_cube(test::write_file("cube22b.msh", test::msh2(CubeMesh(), true)), "gmsh-2.2-binary");
+  const Mesh m =
+      load_cube(test::write_file("cube22b.msh", test::msh2(CubeMesh(), true)), "gmsh-2.2-binary");
   expect_group(m, "bottom", test::bottom_nodes());
   expect_group(m, "body", test::all_cube_nodes());
 }
 
 TEST(RoundTrip, Msh41Ascii) {
-  const Mesh m = load_cube(test::write_file("cube41.msh", test::msh4(CubeMesh(), false)), "gmsh-4.1");
+  const Mesh m =
+      load_cube(test::write_file("cube41.msh", test::msh4(CubeMesh(), false)), "gmsh-4.1");
   EXPECT_EQ(m.groups.size(), 2u);
   expect_group(m, "bottom", test::bottom_nodes());
   expect_group(m, "body", test::all_cube_nodes());
 }
 
 TEST(RoundTrip, Msh41Binary) {
-  const Mesh m = load_cube(test::write_file("cube41b.msh", test::msh4(CubeMesh(), true)), "gmsh-4.1-binary");
+  const Mesh m =
+      load_cube(test::write_file("cube41b.msh", test::msh4(CubeMesh(), true)), "gmsh-4.1-binary");
   expect_group(m, "bottom", test::bottom_nodes());
   expect_group(m, "body", test::all_cube_nodes());
 }
@@ -74,7 +78,8 @@ TEST(RoundTrip, Msh41Binary) {
 TEST(RoundTrip, Msh41UnnamedPhysicalUsesNumber) {
   std::string text = test::msh4(CubeMesh(), false);
   const std::size_t a = text.find("$PhysicalNames");
-  const std::size_t b = text.find("$EndPhysicalNames\n") + std::string("$EndPhysicalNames\n").size();
+  const std::size_t b =
+      text.find("$EndPhysicalNames\n") + std::string("$EndPhysicalNames\n").size();
   text.erase(a, b - a);
   const Mesh m = load_cube(test::write_file("cube41n.msh", text), "gmsh-4.1");
   expect_group(m, "7", test::bottom_nodes());
@@ -85,7 +90,8 @@ class VtkLegacy : public ::testing::TestWithParam<std::pair<bool, bool>> {};  //
 
 TEST_P(VtkLegacy, RoundTrip) {
   const auto [binary, offsets] = GetParam();
-  const std::string name = std::string("cube_") + (binary ? "bin" : "ascii") + (offsets ? "51" : "") + ".vtk";
+  const std::string name =
+      std::string("cube_") + (binary ? "bin" : "ascii") + (offsets ? "51" : "") + ".vtk";
   const Mesh m = load_cube(test::write_file(name, test::vtk_legacy(CubeMesh(), binary, offsets)),
                            binary ? "vtk-legacy-binary" : "vtk-legacy");
   EXPECT_EQ(m.groups.size(), 4u);
@@ -100,22 +106,25 @@ TEST_P(VtkLegacy, RoundTrip) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Layouts, VtkLegacy,
-                         ::testing::Values(std::pair{false, false}, std::pair{false, true}, std::pair{true, false},
-                                           std::pair{true, true}));
+                         ::testing::Values(std::pair{false, false}, std::pair{false, true},
+                                           std::pair{true, false}, std::pair{true, true}));
 
 class Vtu : public ::testing::TestWithParam<test::VtuMode> {};
 
 TEST_P(Vtu, RoundTrip) {
-  const Mesh m = load_cube(test::write_file("cube" + std::to_string(int(GetParam())) + ".vtu", test::vtu(CubeMesh(), GetParam())), "vtu");
+  const Mesh m = load_cube(test::write_file("cube" + std::to_string(int(GetParam())) + ".vtu",
+                                            test::vtu(CubeMesh(), GetParam())),
+                           "vtu");
   EXPECT_EQ(m.groups.size(), 2u);
   expect_group(m, "label:1", test::all_cube_nodes());
   expect_group(m, "label:2", test::bottom_nodes());
 }
 
 INSTANTIATE_TEST_SUITE_P(Encodings, Vtu,
-                         ::testing::Values(test::VtuMode::kAscii, test::VtuMode::kBase64, test::VtuMode::kBase64UInt64,
-                                           test::VtuMode::kAppendedRaw, test::VtuMode::kAppendedBase64,
-                                           test::VtuMode::kZlib));
+                         ::testing::Values(test::VtuMode::kAscii, test::VtuMode::kBase64,
+                                           test::VtuMode::kBase64UInt64,
+                                           test::VtuMode::kAppendedRaw,
+                                           test::VtuMode::kAppendedBase64, test::VtuMode::kZlib));
 
 TEST(RoundTrip, VtuUnderVtkExtension) {
   // Some tools (e.g. SOFA's Bunny.vtk) write VTK XML under a .vtk name.

@@ -23,7 +23,8 @@ struct Surface {
   }
   double area() const {
     double a = 0;
-    for (const auto& f : faces) a += 0.5 * (points[f[1]] - points[f[0]]).cross(points[f[2]] - points[f[0]]).norm();
+    for (const auto& f : faces)
+      a += 0.5 * (points[f[1]] - points[f[0]]).cross(points[f[2]] - points[f[0]]).norm();
     return a;
   }
 };
@@ -32,12 +33,23 @@ struct Surface {
 Surface icosphere(int levels) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   Surface s;
-  for (const auto& p : std::vector<Eigen::Vector3d>{{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                                                     {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}}) {
+  for (const auto& p : std::vector<Eigen::Vector3d>{{-1, t, 0},
+                                                    {1, t, 0},
+                                                    {-1, -t, 0},
+                                                    {1, -t, 0},
+                                                    {0, -1, t},
+                                                    {0, 1, t},
+                                                    {0, -1, -t},
+                                                    {0, 1, -t},
+                                                    {t, 0, -1},
+                                                    {t, 0, 1},
+                                                    {-t, 0, -1},
+                                                    {-t, 0, 1}}) {
     s.points.push_back(p.normalized());
   }
-  s.faces = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-             {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  s.faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+             {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+             {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<int, int>, int> mid;
     const auto midpoint = [&](int a, int b) {
@@ -73,7 +85,8 @@ std::string obj_text(const Surface& s) {
   o << "# test surface\nmtllib none.mtl\no shape\n";
   for (const auto& p : s.points) o << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
   o << "vn 0 0 1\ns off\n";
-  for (const auto& f : s.faces) o << "f " << f[0] + 1 << "//1 " << f[1] + 1 << "//1 " << f[2] + 1 << "//1\n";
+  for (const auto& f : s.faces)
+    o << "f " << f[0] + 1 << "//1 " << f[1] + 1 << "//1 " << f[2] + 1 << "//1\n";
   return o.str();
 }
 
@@ -83,7 +96,9 @@ std::string stl_ascii(const Surface& s) {
   o << "solid test\n";
   for (const auto& f : s.faces) {
     o << " facet normal 0 0 0\n  outer loop\n";
-    for (int v : f) o << "   vertex " << float(s.points[v].x()) << " " << float(s.points[v].y()) << " " << float(s.points[v].z()) << "\n";
+    for (int v : f)
+      o << "   vertex " << float(s.points[v].x()) << " " << float(s.points[v].y()) << " "
+        << float(s.points[v].z()) << "\n";
     o << "  endloop\n endfacet\n";
   }
   o << "endsolid test\n";

@@ -28,39 +28,48 @@ class BeamPlayback : public StateSuite {
 
 TEST_F(BeamPlayback, SecondIndexRunIsUnchanged) {
   const auto before = fs::last_write_time(*state_ / "playback.bin");
-  const StageResult r = run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "--nodes", "all"}, *root_);
+  const StageResult r =
+      run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "--nodes", "all"}, *root_);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("unchanged"), std::string::npos) << r.out;
   EXPECT_EQ(fs::last_write_time(*state_ / "playback.bin"), before);
   // Other options are another file.
-  const StageResult s = run_stage(HAPSTATE_INDEX_EXE,
-                                  {"--state", state_->string(), "-o", (*root_ / "surface.bin").string(),
-                                   "--nodes", "surface"}, *root_);
+  const StageResult s = run_stage(
+      HAPSTATE_INDEX_EXE,
+      {"--state", state_->string(), "-o", (*root_ / "surface.bin").string(), "--nodes", "surface"},
+      *root_);
   EXPECT_EQ(s.exit_code, 0) << s.err;
   EXPECT_NE(s.out.find("wrote"), std::string::npos) << s.out;
-  const StageResult v = run_stage(HAPSTATE_INDEX_EXE, {"--verify", (*root_ / "surface.bin").string()}, *root_);
+  const StageResult v =
+      run_stage(HAPSTATE_INDEX_EXE, {"--verify", (*root_ / "surface.bin").string()}, *root_);
   EXPECT_EQ(v.exit_code, 0) << v.err;
   EXPECT_NE(v.out.find("ok: 45 configurations on a 5 x 3 x 3 grid"), std::string::npos) << v.out;
   std::filesystem::resize_file(*root_ / "surface.bin", 3000);
-  const StageResult t = run_stage(HAPSTATE_INDEX_EXE, {"--verify", (*root_ / "surface.bin").string()}, *root_);
+  const StageResult t =
+      run_stage(HAPSTATE_INDEX_EXE, {"--verify", (*root_ / "surface.bin").string()}, *root_);
   EXPECT_EQ(t.exit_code, 2);
   EXPECT_NE(t.err.find("truncated"), std::string::npos) << t.err;
   // Rewriting a damaged file says what it replaced; so does replacing a file of other options.
   const StageResult rewritten = run_stage(
       HAPSTATE_INDEX_EXE,
-      {"--state", state_->string(), "-o", (*root_ / "surface.bin").string(), "--nodes", "surface"}, *root_);
+      {"--state", state_->string(), "-o", (*root_ / "surface.bin").string(), "--nodes", "surface"},
+      *root_);
   ASSERT_EQ(rewritten.exit_code, 0) << rewritten.err;
   EXPECT_NE(rewritten.out.find("(replaced the previous file: an unreadable or older file)"),
-            std::string::npos) << rewritten.out;
-  const StageResult all = run_stage(
-      HAPSTATE_INDEX_EXE, {"--state", state_->string(), "-o", (*root_ / "all.bin").string()}, *root_);
+            std::string::npos)
+      << rewritten.out;
+  const StageResult all =
+      run_stage(HAPSTATE_INDEX_EXE,
+                {"--state", state_->string(), "-o", (*root_ / "all.bin").string()}, *root_);
   ASSERT_EQ(all.exit_code, 0) << all.err;
   EXPECT_TRUE(PlaybackFile(*root_ / "all.bin").view_is_all_nodes());  // the default
   fs::copy_file(*root_ / "surface.bin", *root_ / "all.bin", fs::copy_options::overwrite_existing);
-  const StageResult replaced = run_stage(
-      HAPSTATE_INDEX_EXE, {"--state", state_->string(), "-o", (*root_ / "all.bin").string()}, *root_);
+  const StageResult replaced =
+      run_stage(HAPSTATE_INDEX_EXE,
+                {"--state", state_->string(), "-o", (*root_ / "all.bin").string()}, *root_);
   EXPECT_NE(replaced.out.find("(replaced the previous file: 45 configurations, surface nodes)"),
-            std::string::npos) << replaced.out;
+            std::string::npos)
+      << replaced.out;
   PlaybackFile surface(*root_ / "surface.bin");
   EXPECT_FALSE(surface.view_is_all_nodes());
   EXPECT_LT(surface.num_view_nodes(), surface.num_mesh_nodes());
@@ -80,7 +89,8 @@ TEST_F(BeamPlayback, EqualsTheStoredConfigurationAtEveryCheckpoint) {
       if (configs.empty()) continue;
       const Configuration& c = configs.front();
       HapticCursor cursor(file, scheme);
-      const std::array<double, 3> p{o[0] + cp.ijk[0] * h[0], o[1] + cp.ijk[1] * h[1], o[2] + cp.ijk[2] * h[2]};
+      const std::array<double, 3> p{o[0] + cp.ijk[0] * h[0], o[1] + cp.ijk[1] * h[1],
+                                    o[2] + cp.ijk[2] * h[2]};
       // Walk there in 20 steps from rest.
       const auto rest = file.rest_position();
       for (int s = 1; s <= 20; ++s)
@@ -88,14 +98,16 @@ TEST_F(BeamPlayback, EqualsTheStoredConfigurationAtEveryCheckpoint) {
                       rest[2] + (p[2] - rest[2]) * s / 20});
       const Force f = cursor.force(p);
       const double scale = std::max(1e-12, std::hypot(c.force[0], c.force[1], c.force[2]));
-      for (int r = 0; r < 3; ++r) EXPECT_NEAR(f.value[r], c.force[r], 1e-6 * scale) << cp.ijk[0] << cp.ijk[1] << cp.ijk[2];
+      for (int r = 0; r < 3; ++r)
+        EXPECT_NEAR(f.value[r], c.force[r], 1e-6 * scale) << cp.ijk[0] << cp.ijk[1] << cp.ijk[2];
       hapstate::Snapshot snap;
       cursor.snapshot(&snap);
       displacements(file, snap, u);
       const std::vector<double> stored = c.blob ? blobs.read(c.blob->segment, c.blob->name + "/u")
                                                 : std::vector<double>(u.size(), 0.0);
       double diff = 0, norm = 0;
-      for (std::size_t k = 0; k < u.size(); ++k) diff += std::pow(u[k] - stored[k], 2), norm += stored[k] * stored[k];
+      for (std::size_t k = 0; k < u.size(); ++k)
+        diff += std::pow(u[k] - stored[k], 2), norm += stored[k] * stored[k];
       EXPECT_LE(std::sqrt(diff), 1e-6 * std::sqrt(norm) + 1e-12);
       // Back to rest: exactly zero force.
       for (int s = 19; s >= 0; --s)
@@ -113,7 +125,8 @@ TEST_F(BeamPlayback, RandomWalkStaysFiniteAndWithinTheBound) {
   PlaybackFile file(*state_ / "playback.bin");
   for (Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
     const double worst = check_bound_along_random_walk(file, scheme, 10000);
-    RecordProperty(scheme == Scheme::kHermite ? "hermite_worst" : "trilinear_worst", std::to_string(worst));
+    RecordProperty(scheme == Scheme::kHermite ? "hermite_worst" : "trilinear_worst",
+                   std::to_string(worst));
     EXPECT_LE(worst, 1.0);
   }
 }
@@ -129,10 +142,13 @@ TEST_F(BeamPlayback, EvalBeatsThePaperAndHermiteBeatsTrilinear) {
   for (const EvalStep& s : r.steps) {
     EXPECT_TRUE(s.solved) << s.failure;
     for (int k = 0; k < 2; ++k) worst[k] = std::max(worst[k], s.schemes[k].force_error);
-    for (int k = 0; k < 2; ++k) deformation[k] = std::max(deformation[k], s.schemes[k].deformation_error_all);
+    for (int k = 0; k < 2; ++k)
+      deformation[k] = std::max(deformation[k], s.schemes[k].deformation_error_all);
   }
-  std::printf("beam: max force error trilinear %.3g, hermite %.3g; deformation trilinear %.3g, hermite %.3g\n",
-              worst[0], worst[1], deformation[0], deformation[1]);
+  std::printf(
+      "beam: max force error trilinear %.3g, hermite %.3g; deformation trilinear %.3g, hermite "
+      "%.3g\n",
+      worst[0], worst[1], deformation[0], deformation[1]);
   EXPECT_LT(worst[0], 0.04);
   EXPECT_LT(deformation[0], 0.14);
   EXPECT_LT(worst[1], worst[0]);
@@ -142,7 +158,8 @@ TEST_F(BeamPlayback, EvalBeatsThePaperAndHermiteBeatsTrilinear) {
 
 TEST_F(BeamPlayback, EvalRefusesAPlaybackFileOfAnotherScene) {
   const fs::path other = *root_ / "other";
-  const std::string scene = beam_variant(*root_, "other.toml", {{"young = 5000.0", "young = 6000.0"}});
+  const std::string scene =
+      beam_variant(*root_, "other.toml", {{"young = 5000.0", "young = 6000.0"}});
   build_beam(other, scene, 1, *root_);
   ASSERT_EQ(run_stage(HAPSTATE_INDEX_EXE, {"--state", other.string()}, *root_).exit_code, 0);
   EvalOptions o;

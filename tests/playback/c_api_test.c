@@ -9,12 +9,12 @@
 #include <string.h>
 
 static int failures = 0;
-#define CHECK(cond)                                                        \
-  do {                                                                     \
-    if (!(cond)) {                                                         \
-      fprintf(stderr, "%s:%d: failed: %s\n", __FILE__, __LINE__, #cond);   \
-      ++failures;                                                          \
-    }                                                                      \
+#define CHECK(cond)                                                      \
+  do {                                                                   \
+    if (!(cond)) {                                                       \
+      fprintf(stderr, "%s:%d: failed: %s\n", __FILE__, __LINE__, #cond); \
+      ++failures;                                                        \
+    }                                                                    \
   } while (0)
 
 int main(int argc, char** argv) {
@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
   CHECK(knorm > 0.0);
   for (int a = 0; a < 3; ++a) q[a] = p[a] + (a == 2 ? 1e-6 : 0.0);
   hs_cursor_force(cursor, q, fq);
-  for (int r = 0; r < 3; ++r) CHECK(fabs(fq[r] - f[r] - k[3 * r + 2] * 1e-6) <= 1e-9 * (1.0 + sqrt(knorm)));
+  for (int r = 0; r < 3; ++r)
+    CHECK(fabs(fq[r] - f[r] - k[3 * r + 2] * 1e-6) <= 1e-9 * (1.0 + sqrt(knorm)));
   hs_snapshot snapshot;
   hs_cursor_snapshot(cursor, &snapshot);
   CHECK(snapshot.sequence == 4);

@@ -8,14 +8,14 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <new>
-#include <cstdio>
 #include <random>
 #include <thread>
-#include <unistd.h>
 
 // Counts heap allocations while `g_counting` is set (this test binary replaces operator new;
 // GCC cannot see that the replaced delete matches it and warns falsely).
@@ -54,20 +54,22 @@ class Cursor : public ::testing::Test {
   // Walks a cursor from rest to 300 random points within 1.5 spacings of rest in small steps
   // and calls at(p) at each.
   template <typename At>
-  static void visit_random_points(HapticCursor& cursor, const Field& field, const Eigen::Vector3d& h,
-                                  unsigned seed, At&& at) {
+  static void visit_random_points(HapticCursor& cursor, const Field& field,
+                                  const Eigen::Vector3d& h, unsigned seed, At&& at) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-1.5, 1.5);
     Eigen::Vector3d p = field.origin;
     for (int n = 0; n < 300; ++n) {
-      const Eigen::Vector3d target = field.origin + Eigen::Vector3d(u(rng) * h[0], u(rng) * h[1], u(rng) * h[2]);
+      const Eigen::Vector3d target =
+          field.origin + Eigen::Vector3d(u(rng) * h[0], u(rng) * h[1], u(rng) * h[2]);
       for (int s = 1; s < 10; ++s) cursor.force(arr(p + (target - p) * s / 10.0));
       p = target;
       at(p);
     }
   }
   // Max |f - f_exact| (absolute, N) over those points.
-  double max_error(const PlaybackFile& file, Scheme scheme, const Field& field, const Eigen::Vector3d& h) {
+  double max_error(const PlaybackFile& file, Scheme scheme, const Field& field,
+                   const Eigen::Vector3d& h) {
     HapticCursor cursor(file, scheme);
     double err = 0;
     visit_random_points(cursor, field, h, 7, [&](const Eigen::Vector3d& p) {
@@ -109,7 +111,8 @@ TEST_F(Cursor, ExactAtEveryCheckpoint) {
         for (int k = -2; k <= 2; ++k) {
           const Eigen::Vector3d p = field_.origin + Eigen::Vector3d(i * h[0], j * h[1], k * h[2]);
           const Eigen::Vector3d f = vec(cursor.force(arr(p)).value);
-          EXPECT_LE((f - field_.force(p)).norm(), 1e-12 * (1 + field_.force(p).norm())) << i << j << k;
+          EXPECT_LE((f - field_.force(p)).norm(), 1e-12 * (1 + field_.force(p).norm()))
+              << i << j << k;
           EXPECT_EQ(cursor.anchor_checkpoint(), (std::array<std::int32_t, 3>{i, j, k}));
           Snapshot s;
           cursor.snapshot(&s);
@@ -165,12 +168,14 @@ TEST_F(Cursor, HermiteStiffnessIsTheDerivativeOfTheInterpolatedForce) {
       const double e = 1e-6 * h[a];
       Eigen::Vector3d dp = Eigen::Vector3d::Zero();
       dp[a] = e;
-      fd.col(a) = (vec(cursor.force(arr(p + dp)).value) - vec(cursor.force(arr(p - dp)).value)) / (2 * e);
+      fd.col(a) =
+          (vec(cursor.force(arr(p + dp)).value) - vec(cursor.force(arr(p - dp)).value)) / (2 * e);
     }
     const Eigen::Matrix3d k = mat(at.stiffness);
     worst = std::max(worst, (k - fd).norm() / k.norm());
     const Eigen::Matrix3d jac = field_.jacobian(p);
-    worst_tri = std::max(worst_tri, (mat(trilinear.force(arr(p)).stiffness) - jac).norm() / jac.norm());
+    worst_tri =
+        std::max(worst_tri, (mat(trilinear.force(arr(p)).stiffness) - jac).norm() / jac.norm());
   }
   std::printf("hermite stiffness vs central differences %.3g; trilinear blend vs exact %.3g\n",
               worst, worst_tri);
@@ -183,7 +188,8 @@ TEST_F(Cursor, OutsideTheGridTheStiffnessIsTheExtensionsSlope) {
   PlaybackFile file(write(test_util::synthetic_content(field_, h), "ko.bin"));
   HapticCursor cursor(file, Scheme::kHermite);
   const Eigen::Vector3d edge = field_.origin + Eigen::Vector3d(2 * h[0], 0.3 * h[1], 0.2 * h[2]);
-  for (int s = 1; s <= 20; ++s) cursor.force(arr(field_.origin + (edge - field_.origin) * s / 20.0));
+  for (int s = 1; s <= 20; ++s)
+    cursor.force(arr(field_.origin + (edge - field_.origin) * s / 20.0));
   const Eigen::Vector3d out = edge + Eigen::Vector3d(0.1, 0, 0);
   const Force f = cursor.force(arr(out));
   ASSERT_FALSE(f.inside_grid);
@@ -210,13 +216,14 @@ TEST_F(Cursor, HermiteDisplacementsConvergeFasterThanTrilinear) {
   double tri[2], her[2];
   for (int level = 0; level < 2; ++level) {
     const Eigen::Vector3d h = Eigen::Vector3d(0.5, 0.4, 0.6) / (level ? 2.0 : 1.0);
-    PlaybackFile file(write(test_util::synthetic_content(field_, h), "dconv" + std::to_string(level) + ".bin"));
+    PlaybackFile file(
+        write(test_util::synthetic_content(field_, h), "dconv" + std::to_string(level) + ".bin"));
     ASSERT_TRUE(file.has_displacement_slopes());
     tri[level] = max_displacement_error(file, Scheme::kTrilinear, field_, h);
     her[level] = max_displacement_error(file, Scheme::kHermite, field_, h);
   }
-  std::printf("max displacement error trilinear %.3g -> %.3g, hermite %.3g -> %.3g\n", tri[0], tri[1],
-              her[0], her[1]);
+  std::printf("max displacement error trilinear %.3g -> %.3g, hermite %.3g -> %.3g\n", tri[0],
+              tri[1], her[0], her[1]);
   EXPECT_GT(tri[0] / tri[1], 3.0);
   EXPECT_GT(her[0] / her[1], 6.0);
   EXPECT_LT(her[0], tri[0] / 3);
@@ -242,13 +249,15 @@ TEST_F(Cursor, HermiteConvergesFasterThanTrilinear) {
   double tri[2], her[2];
   for (int level = 0; level < 2; ++level) {
     const Eigen::Vector3d h = Eigen::Vector3d(0.5, 0.4, 0.6) / (level ? 2.0 : 1.0);
-    PlaybackFile file(write(test_util::synthetic_content(field_, h), "conv" + std::to_string(level) + ".bin"));
+    PlaybackFile file(
+        write(test_util::synthetic_content(field_, h), "conv" + std::to_string(level) + ".bin"));
     tri[level] = max_error(file, Scheme::kTrilinear, field_, h);
     her[level] = max_error(file, Scheme::kHermite, field_, h);
   }
   RecordProperty("trilinear", std::to_string(tri[0]) + " -> " + std::to_string(tri[1]));
   RecordProperty("hermite", std::to_string(her[0]) + " -> " + std::to_string(her[1]));
-  std::printf("max error trilinear %.3g -> %.3g, hermite %.3g -> %.3g\n", tri[0], tri[1], her[0], her[1]);
+  std::printf("max error trilinear %.3g -> %.3g, hermite %.3g -> %.3g\n", tri[0], tri[1], her[0],
+              her[1]);
   EXPECT_GT(tri[0] / tri[1], 3.0);
   EXPECT_GT(her[0] / her[1], 6.0);
   EXPECT_LT(her[0], tri[0] / 3);
@@ -298,7 +307,8 @@ TEST_F(Cursor, ContinuousWithMissingCornersAndOutsideTheGrid) {
     displacements(file, snap, d);
     for (int v = 0; v < test_util::kSyntheticViewNodes; ++v) {
       Eigen::Vector3d want = test_util::synthetic_displacement(field_, v, p1);
-      if (scheme == Scheme::kHermite) want += test_util::synthetic_displacement_slope(field_, v, p1) * (p2 - p1);
+      if (scheme == Scheme::kHermite)
+        want += test_util::synthetic_displacement_slope(field_, v, p1) * (p2 - p1);
       for (int r = 0; r < 3; ++r) EXPECT_NEAR(d[3 * v + r], want[r], 1e-5) << v << r;
     }
   }
@@ -318,12 +328,15 @@ TEST_F(Cursor, PlanarWorkspaceWithOneCheckpointAlongAnAxis) {
     EXPECT_LE((vec(cursor.force(arr(p)).value) - field_.force(p)).norm(), 1e-12);
     const Force off = cursor.force(arr(p + Eigen::Vector3d(0, 0, 0.01)));
     EXPECT_FALSE(off.inside_grid);
-    EXPECT_LE((vec(off.value) - field_.force(p) - field_.jacobian(p) * Eigen::Vector3d(0, 0, 0.01)).norm(), 1e-12);
+    EXPECT_LE((vec(off.value) - field_.force(p) - field_.jacobian(p) * Eigen::Vector3d(0, 0, 0.01))
+                  .norm(),
+              1e-12);
     // Between check-points in the plane: close to the field (second order in the spacing).
     const Eigen::Vector3d mid = field_.origin + Eigen::Vector3d(0.5 * h[0], -1.5 * h[1], 0);
     EXPECT_LE((vec(cursor.force(arr(mid)).value) - field_.force(mid)).norm(), 0.05);
   }
-  RecordProperty("worst", std::to_string(check_bound_along_random_walk(file, Scheme::kHermite, 10000)));
+  RecordProperty("worst",
+                 std::to_string(check_bound_along_random_walk(file, Scheme::kHermite, 10000)));
 }
 
 TEST_F(Cursor, OutsideTheGridTheForceIsExtendedContinuously) {
@@ -355,7 +368,8 @@ TEST_F(Cursor, FastMoveWalksTheCellsAndReturnsToRest) {
 TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
   playback::Content c = test_util::synthetic_content(field_, h);
-  for (int d = 0; d < 26 * 125; d += 5) c.transitions[d] = playback::kFailed;  // extended corners too
+  for (int d = 0; d < 26 * 125; d += 5)
+    c.transitions[d] = playback::kFailed;  // extended corners too
   PlaybackFile file(write(std::move(c), "alloc.bin"));
   HapticCursor cursor(file, Scheme::kHermite);
   std::vector<float> pos(3 * test_util::kSyntheticViewNodes);
@@ -365,8 +379,8 @@ TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
   g_counting = true;
   for (int n = 0; n < 20000; ++n) {
     const double t = 1e-3 * n;
-    const Force f = cursor.force({1.0 + 1.2 * std::sin(t), 2.0 + 0.9 * std::cos(1.3 * t),
-                                  3.0 + 1.5 * std::sin(0.7 * t)});
+    const Force f = cursor.force(
+        {1.0 + 1.2 * std::sin(t), 2.0 + 0.9 * std::cos(1.3 * t), 3.0 + 1.5 * std::sin(0.7 * t)});
     if (!std::isfinite(f.stiffness[4])) ++bad_numbers;
     if (n % 16 == 0) {
       cursor.snapshot(&s);
@@ -402,7 +416,9 @@ TEST_F(Cursor, SnapshotsFromAnotherThreadAreConsistent) {
       for (double x : s.weight) w += x;
       if (s.sequence < last || std::abs(w - 1.0) > 1e-12) ++bad;
       // The snapshot's force is the force at its probe position (no torn writes).
-      if (s.sequence > 0 && std::abs(s.probe[0] - (1.0 + 1e-4 * static_cast<double>(s.sequence))) > 1e-9) ++bad;
+      if (s.sequence > 0 &&
+          std::abs(s.probe[0] - (1.0 + 1e-4 * static_cast<double>(s.sequence))) > 1e-9)
+        ++bad;
       deform(file, s, pos);
       last = s.sequence;
       ++seen;

@@ -1,19 +1,19 @@
 // The playback file: round trip, O(1) checks at open (header, section table, sizes),
 // verify() (section checksums, cross-references), atomic replacement. Truth: the content
 // written, and deliberately damaged copies of the file.
+#include "../common/expect_input_error.h"
 #include "hapstate/playback.h"
 #include "hapstate/playback_c.h"
 #include "synthetic.h"
-#include "../common/expect_input_error.h"
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <unistd.h>
 
 namespace hapstate {
 namespace {
@@ -73,7 +73,8 @@ TEST_F(PlaybackFormat, RoundTripKeepsEveryValue) {
   ASSERT_TRUE(f.has_displacement_slopes());
   const auto du_dz = f.displacement_slopes(124, 2);
   ASSERT_EQ(du_dz.size(), 3u * test_util::kSyntheticViewNodes);
-  EXPECT_EQ(du_dz[3 * 4 + 1], static_cast<float>(test_util::synthetic_displacement_slope(field_, 4, p)(1, 2)));
+  EXPECT_EQ(du_dz[3 * 4 + 1],
+            static_cast<float>(test_util::synthetic_displacement_slope(field_, 4, p)(1, 2)));
   EXPECT_GT(f.force_change_bound(), 0.0);
   // Every section is 64-byte aligned in the file.
   const auto* table = reinterpret_cast<const playback::SectionEntry*>(bytes_.data() + 64);
@@ -85,9 +86,11 @@ TEST_F(PlaybackFormat, TruncatedFileIsRefusedAtOpen) {
                            bytes_.size() / 2, bytes_.size() - 1}) {
     const fs::path f = damaged(bytes_.substr(0, keep));
     if (keep < 64) {
-      expect_input_error([&] { PlaybackFile p(f); }, {f.string(), "shorter than the 64-byte header"});
+      expect_input_error([&] { PlaybackFile p(f); },
+                         {f.string(), "shorter than the 64-byte header"});
     } else {
-      expect_input_error([&] { PlaybackFile p(f); }, {f.string(), "truncated", std::to_string(keep)});
+      expect_input_error([&] { PlaybackFile p(f); },
+                         {f.string(), "truncated", std::to_string(keep)});
     }
   }
   expect_input_error([&] { PlaybackFile p(dir_ / "missing.bin"); }, {"missing.bin", "cannot open"});
@@ -99,7 +102,8 @@ TEST_F(PlaybackFormat, DamagedHeaderIsRefusedAtOpen) {
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "bad magic");
   b = bytes_;
   b[8] = 2;  // version 2: no displacement slopes
-  expect_input_error([&] { PlaybackFile p(damaged(b)); }, "format version 2, this build reads version 3 (run hapstate-index again)");
+  expect_input_error([&] { PlaybackFile p(damaged(b)); },
+                     "format version 2, this build reads version 3 (run hapstate-index again)");
   b = bytes_;
   b[30] ^= 1;  // section table offset, covered by the header checksum
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "header checksum mismatch");
@@ -118,15 +122,17 @@ TEST_F(PlaybackFormat, DamagedMetaIsRefusedAtOpen) {
 }
 
 TEST_F(PlaybackFormat, DamagedDataIsFoundByVerify) {
-  for (auto [id, name] : {std::pair{playback::SectionId::kDisplacements, "displacements"},
-                          std::pair{playback::SectionId::kDisplacementSlopes, "displacement slopes"},
-                          std::pair{playback::SectionId::kTransitions, "transitions"},
-                          std::pair{playback::SectionId::kForce, "forces"}}) {
+  for (auto [id, name] :
+       {std::pair{playback::SectionId::kDisplacements, "displacements"},
+        std::pair{playback::SectionId::kDisplacementSlopes, "displacement slopes"},
+        std::pair{playback::SectionId::kTransitions, "transitions"},
+        std::pair{playback::SectionId::kForce, "forces"}}) {
     std::string b = bytes_;
     b[section_offset(id) + 17] ^= 0x01;
     const fs::path f = damaged(b);
     PlaybackFile p(f);  // O(1) checks do not read the data
-    expect_input_error([&] { p.verify(); }, {f.string(), std::string("section '") + name + "' checksum mismatch"});
+    expect_input_error([&] { p.verify(); },
+                       {f.string(), std::string("section '") + name + "' checksum mismatch"});
   }
 }
 
@@ -149,7 +155,8 @@ TEST_F(PlaybackFormat, CursorOnDamagedTransitionsStaysFinite) {
 TEST_F(PlaybackFormat, FailedWriteLeavesTheOldFileIntact) {
   playback::Content bad = test_util::synthetic_content(field_, {0.5, 0.4, 0.6});
   bad.meta.dims[1] = 0;
-  expect_input_error([&] { playback::write_file(std::move(bad), file_); }, "at least 1 check-point");
+  expect_input_error([&] { playback::write_file(std::move(bad), file_); },
+                     "at least 1 check-point");
   playback::Content throws = test_util::synthetic_content(field_, {0.5, 0.4, 0.6});
   throws.displacements = [](std::int32_t c, std::span<float>) {
     if (c == 60) throw InputError("blob unreadable");

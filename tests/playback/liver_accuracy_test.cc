@@ -16,7 +16,8 @@ namespace {
 using namespace test_util;
 
 TEST(LiverAccuracy, TrilinearBeatsThePaperAndHermiteBeatsTrilinearInForceAndDeformation) {
-  const fs::path root = fs::temp_directory_path() / ("hapstate_liver_accuracy_" + std::to_string(::getpid()));
+  const fs::path root =
+      fs::temp_directory_path() / ("hapstate_liver_accuracy_" + std::to_string(::getpid()));
   fs::create_directories(root);
   std::string text = slurp(HAPSTATE_SOURCE_DIR "/pipelines/liver/scene.toml");
   text = std::regex_replace(text, std::regex("file = \"[^\"]*\""),
@@ -31,7 +32,8 @@ TEST(LiverAccuracy, TrilinearBeatsThePaperAndHermiteBeatsTrilinearInForceAndDefo
   ASSERT_EQ(grid_stage(state, root).exit_code, 0);
   const StageResult e = expand_stage(state, 2, root);
   ASSERT_EQ(e.exit_code, 0) << e.err;
-  const StageResult i = run_stage(HAPSTATE_INDEX_EXE, {"--state", state.string(), "--nodes", "all"}, root);
+  const StageResult i =
+      run_stage(HAPSTATE_INDEX_EXE, {"--state", state.string(), "--nodes", "all"}, root);
   ASSERT_EQ(i.exit_code, 0) << i.err;
 
   EvalOptions o;
@@ -43,11 +45,14 @@ TEST(LiverAccuracy, TrilinearBeatsThePaperAndHermiteBeatsTrilinearInForceAndDefo
   for (const EvalStep& s : r.steps) {
     ASSERT_TRUE(s.solved) << s.failure;
     for (int k = 0; k < 2; ++k) force[k] = std::max(force[k], s.schemes[k].force_error);
-    for (int k = 0; k < 2; ++k) deformation[k] = std::max(deformation[k], s.schemes[k].deformation_error_all);
+    for (int k = 0; k < 2; ++k)
+      deformation[k] = std::max(deformation[k], s.schemes[k].deformation_error_all);
   }
-  std::printf("liver, spacing 0.5 cm: max force error trilinear %.3f %%, Hermite %.3f %%; max deformation "
-              "error trilinear %.2f %%, Hermite %.3f %% (max |f*| %.3f N)\n",
-              100 * force[0], 100 * force[1], 100 * deformation[0], 100 * deformation[1], r.max_exact_force);
+  std::printf(
+      "liver, spacing 0.5 cm: max force error trilinear %.3f %%, Hermite %.3f %%; max deformation "
+      "error trilinear %.2f %%, Hermite %.3f %% (max |f*| %.3f N)\n",
+      100 * force[0], 100 * force[1], 100 * deformation[0], 100 * deformation[1],
+      r.max_exact_force);
   EXPECT_LT(force[0], 0.04);
   EXPECT_LT(deformation[0], 0.14);
   EXPECT_LT(force[1], force[0] / 5);  // measurably better: at least 5x

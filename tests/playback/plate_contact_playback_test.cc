@@ -26,8 +26,9 @@ class PlatePlayback : public StateSuite {
   static void SetUpTestSuite() {
     make_root("plate_playback");
     // The column through the middle of the bundled scene's 3-D workspace.
-    const std::string scene = plate_variant(
-        *root_, {{"box = [[1.8, 1.8, -1.0], [2.2, 2.2, 1.0]]", "box = [[1.9, 1.9, -1.0], [2.1, 2.1, 1.0]]"}});
+    const std::string scene =
+        plate_variant(*root_, {{"box = [[1.8, 1.8, -1.0], [2.2, 2.2, 1.0]]",
+                                "box = [[1.9, 1.9, -1.0], [2.1, 2.1, 1.0]]"}});
     ASSERT_EQ(import_stage(*state_, scene, *root_).exit_code, 0);
     ASSERT_EQ(grid_stage(*state_, *root_).exit_code, 0);
     ASSERT_EQ(expand_stage(*state_, 2, *root_).exit_code, 0);
@@ -38,7 +39,8 @@ class PlatePlayback : public StateSuite {
     const fs::path file = *root_ / (name + ".csv");
     std::ofstream out(file);
     out << "x,y,z\n";
-    for (int s = 1; s <= steps; ++s) out << kColumn << ',' << kColumn << ',' << z0 + (z1 - z0) * s / steps << '\n';
+    for (int s = 1; s <= steps; ++s)
+      out << kColumn << ',' << kColumn << ',' << z0 + (z1 - z0) * s / steps << '\n';
     return file;
   }
   static EvalResult eval_along(const fs::path& path) {
@@ -70,10 +72,12 @@ TEST_F(PlatePlayback, EntersFromBelowAndFromAboveLikeThePreciseSolver) {
     // After the first contact cell the deformation follows too (the contact onset lies inside
     // the first cell: docs/contact.md, playback).
     for (std::size_t k = 4; k < r->steps.size(); ++k)
-      for (const SchemeResult& s : r->steps[k].schemes) EXPECT_LT(s.deformation_error_all, 0.14) << k;
+      for (const SchemeResult& s : r->steps[k].schemes)
+        EXPECT_LT(s.deformation_error_all, 0.14) << k;
   }
   // Step 20 is z = 0: pushed up from below the body pushes the probe down, and the reverse.
-  const Eigen::Vector3d f_below = below.steps[19].exact_force, f_above = above.steps[19].exact_force;
+  const Eigen::Vector3d f_below = below.steps[19].exact_force,
+                        f_above = above.steps[19].exact_force;
   ASSERT_NEAR(below.steps[19].probe.z(), 0.0, 1e-12);
   ASSERT_NEAR(above.steps[19].probe.z(), 0.0, 1e-12);
   EXPECT_LT(f_below.z(), -0.1);
@@ -83,8 +87,10 @@ TEST_F(PlatePlayback, EntersFromBelowAndFromAboveLikeThePreciseSolver) {
   // the expansion, and sticking contact depends a little on the steps (when each node was
   // caught): 0.8 % here.
   for (std::size_t scheme = 0; scheme < 2; ++scheme) {
-    EXPECT_NEAR(below.steps[19].schemes[scheme].force.z(), f_below.z(), 0.02 * std::abs(f_below.z()));
-    EXPECT_NEAR(above.steps[19].schemes[scheme].force.z(), f_above.z(), 0.02 * std::abs(f_above.z()));
+    EXPECT_NEAR(below.steps[19].schemes[scheme].force.z(), f_below.z(),
+                0.02 * std::abs(f_below.z()));
+    EXPECT_NEAR(above.steps[19].schemes[scheme].force.z(), f_above.z(),
+                0.02 * std::abs(f_above.z()));
   }
 }
 

@@ -12,13 +12,15 @@ class StateSuite : public ::testing::Test {
  protected:
   // Creates the root directory <tmp>/hapstate_<name>_<pid>; the state directory is root/state.
   static void make_root(const std::string& name) {
-    root_ = new fs::path(fs::temp_directory_path() / ("hapstate_" + name + "_" + std::to_string(::getpid())));
+    root_ = new fs::path(fs::temp_directory_path() /
+                         ("hapstate_" + name + "_" + std::to_string(::getpid())));
     fs::create_directories(*root_);
     state_ = new fs::path(*root_ / "state");
   }
   // hapstate-index --nodes all into state/playback.bin.
   static void index_all_nodes() {
-    const StageResult r = run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "--nodes", "all"}, *root_);
+    const StageResult r =
+        run_stage(HAPSTATE_INDEX_EXE, {"--state", state_->string(), "--nodes", "all"}, *root_);
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   static void TearDownTestSuite() {

@@ -1,7 +1,8 @@
 // A synthetic playback file for the runtime tests: a 5 x 5 x 5 grid (anisotropic spacing)
 // whose configurations carry an analytic force field f(P) and its exact Jacobian, one level
 // each, every transition between neighbours stored, and displacements (with their slopes)
-// that are a known function of the check-point. Edits (missing transitions) are applied by the tests.
+// that are a known function of the check-point. Edits (missing transitions) are applied by the
+// tests.
 #pragma once
 
 #include "playback/writer.h"
@@ -22,10 +23,13 @@ struct Field {
 
   Field() { a << -2.0, 0.3, 0.1, 0.3, -1.5, 0.2, 0.1, 0.2, -3.0; }
   Eigen::Vector3d raw(const Eigen::Vector3d& x) const {
-    const Eigen::Vector3d n(std::sin(x[0] + 2 * x[1]), std::cos(x[0] * x[2]) - 1.0, x[0] * x[1] * x[2]);
+    const Eigen::Vector3d n(std::sin(x[0] + 2 * x[1]), std::cos(x[0] * x[2]) - 1.0,
+                            x[0] * x[1] * x[2]);
     return a * x + amplitude * n;
   }
-  Eigen::Vector3d force(const Eigen::Vector3d& p) const { return raw(p - origin) - raw(Eigen::Vector3d::Zero()); }
+  Eigen::Vector3d force(const Eigen::Vector3d& p) const {
+    return raw(p - origin) - raw(Eigen::Vector3d::Zero());
+  }
   Eigen::Matrix3d jacobian(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d x = p - origin;
     Eigen::Matrix3d n;
@@ -43,13 +47,15 @@ inline Eigen::Vector3d synthetic_displacement(const Field& field, int v, const E
 }
 
 // Its derivative with respect to the probe position: column a = d u / d p_a.
-inline Eigen::Matrix3d synthetic_displacement_slope(const Field& field, int v, const Eigen::Vector3d& p) {
+inline Eigen::Matrix3d synthetic_displacement_slope(const Field& field, int v,
+                                                    const Eigen::Vector3d& p) {
   return (0.1 * (v + 1)) * Eigen::Matrix3d::Identity() + 0.01 * field.jacobian(p);
 }
 
 // Content of the synthetic file with spacing h (grid indices -2..2 per axis; with flat_z only
 // k = 0 along z: a planar workspace).
-inline playback::Content synthetic_content(const Field& field, const Eigen::Vector3d& h, bool flat_z = false) {
+inline playback::Content synthetic_content(const Field& field, const Eigen::Vector3d& h,
+                                           bool flat_z = false) {
   const int klo = flat_z ? 0 : -2, nk = flat_z ? 1 : 5;
   playback::Content c;
   playback::Meta& m = c.meta;
@@ -65,7 +71,8 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
   m.num_mesh_nodes = kSyntheticViewNodes;
   m.view_all_nodes = 1;
   auto position = [&](int i, int j, int k) {
-    return Eigen::Vector3d(field.origin[0] + i * h[0], field.origin[1] + j * h[1], field.origin[2] + k * h[2]);
+    return Eigen::Vector3d(field.origin[0] + i * h[0], field.origin[1] + j * h[1],
+                           field.origin[2] + k * h[2]);
   };
   auto index = [=](int i, int j, int k) { return ((i + 2) * 5 + (j + 2)) * nk + (k - klo); };
   for (int i = -2; i <= 2; ++i)
@@ -88,7 +95,8 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
             for (int dk = -1; dk <= 1; ++dk) {
               if (di == 0 && dj == 0 && dk == 0) continue;
               const int ti = i + di, tj = j + dj, tk = k + dk;
-              const bool inside = std::abs(ti) <= 2 && std::abs(tj) <= 2 && tk >= klo && tk < klo + nk;
+              const bool inside =
+                  std::abs(ti) <= 2 && std::abs(tj) <= 2 && tk >= klo && tk < klo + nk;
               c.transitions.push_back(inside ? index(ti, tj, tk) : playback::kOutsideGrid);
             }
       }
@@ -110,7 +118,8 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
     for (int v = 0; v < kSyntheticViewNodes; ++v) {
       const Eigen::Matrix3d d = synthetic_displacement_slope(field, v, position(i, j, k));
       for (int a = 0; a < 3; ++a)
-        for (int r = 0; r < 3; ++r) out[3 * (a * kSyntheticViewNodes + v) + r] = static_cast<float>(d(r, a));
+        for (int r = 0; r < 3; ++r)
+          out[3 * (a * kSyntheticViewNodes + v) + r] = static_cast<float>(d(r, a));
     }
   };
   return c;

@@ -5,8 +5,8 @@
 
 #include "hapstate/playback.h"
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 
 #include <random>
 

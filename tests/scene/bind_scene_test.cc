@@ -25,8 +25,8 @@ class BindScene : public ::testing::Test {
  protected:
   // A scene with `fixed` ([[fixed]] tables, from line 7) and the body of [probe].
   Scene scene(const std::string& fixed, const std::string& probe) const {
-    const std::string text = kHead + "lambda = 4000\n" + fixed + "[probe]\n" + probe +
-                             "\nmax_force = 1.5\n" + kTail;
+    const std::string text =
+        kHead + "lambda = 4000\n" + fixed + "[probe]\n" + probe + "\nmax_force = 1.5\n" + kTail;
     return parse_scene(text, scene_path(), SceneParseOptions{.check_files = false});
   }
   std::filesystem::path scene_path() const { return dir_.path() / "scene.toml"; }
@@ -50,7 +50,9 @@ TEST_F(BindScene, BoxFixesTheClosedBoxAndGrabsTheNearestNode) {
   for (int n = 0; n < 27; ++n) {
     const bool on_face = p.mesh.nodes(0, n) == 0.0;
     for (int c = 0; c < 3; ++c) {
-      const DofRole expected = on_face ? DofRole::kFixed : n == 26 ? DofRole::kProbe : DofRole::kFree;
+      const DofRole expected = on_face   ? DofRole::kFixed
+                               : n == 26 ? DofRole::kProbe
+                                         : DofRole::kFree;
       EXPECT_EQ(role(p, n, c), expected) << "node " << n << " component " << c;
     }
   }
@@ -124,9 +126,9 @@ TEST_F(BindScene, NodeFilesSelectAndReportBadIds) {
               bind_scene(scene("[[fixed]]\nnodes = \"bad.txt\"\n", "point = [1, 1, 2]"), cube_);
             }),
             bad.string() + ":2: 'foo' is not a node id (a 0-based integer)\n" + bad.string() +
-                ":2: node id 27 out of range: the mesh has 27 nodes (ids 0..26)\n" +
-                bad.string() + ":3: node id -1 out of range: the mesh has 27 nodes (ids 0..26)\n" +
-                bad.string() + ":3: '2.5' is not a node id (a 0-based integer)");
+                ":2: node id 27 out of range: the mesh has 27 nodes (ids 0..26)\n" + bad.string() +
+                ":3: node id -1 out of range: the mesh has 27 nodes (ids 0..26)\n" + bad.string() +
+                ":3: '2.5' is not a node id (a 0-based integer)");
 }
 
 TEST_F(BindScene, SelectorSelectingNoNodeIsNamed) {
@@ -134,8 +136,9 @@ TEST_F(BindScene, SelectorSelectingNoNodeIsNamed) {
                             "[[fixed]]\nplane = { point = [0, 0, 0.5], normal = [0, 0, 1] }\n";
   EXPECT_EQ(error_of([&] { bind_scene(scene(fixed, "point = [2, 2, 2]"), cube_); }),
             at(10, "fixed[1] (box [[5, 5, 5], [6, 6, 6.5]]) selects no node of the mesh") + "\n" +
-                at(12, "fixed[2] (plane through [0, 0, 0.5] normal [0, 0, 1]) selects no node of "
-                       "the mesh"));
+                at(12,
+                   "fixed[2] (plane through [0, 0, 0.5] normal [0, 0, 1]) selects no node of "
+                   "the mesh"));
 }
 
 TEST_F(BindScene, GrabNearestNodeMayBeInterior) {
@@ -161,9 +164,7 @@ TEST_F(BindScene, GrabByRadiusTakesSurfaceNodesOnly) {
 }
 
 TEST_F(BindScene, GrabByRadiusNeedsASurfaceNode) {
-  EXPECT_EQ(error_of([&] {
-              bind_scene(scene(kFixX0, "point = [1, 1, 5]\nradius = 0.5"), cube_);
-            }),
+  EXPECT_EQ(error_of([&] { bind_scene(scene(kFixX0, "point = [1, 1, 5]\nradius = 0.5"), cube_); }),
             at(10, "probe: no surface node of the mesh within radius 0.5 of [1, 1, 5]"));
 }
 
@@ -186,25 +187,29 @@ TEST_F(BindScene, GrabByGroup) {
 
 TEST_F(BindScene, DofBothFixedAndGrabbedIsNamed) {
   dir_.write("grab.txt", "0 26\n");
-  EXPECT_EQ(error_of([&] {
-              bind_scene(scene(kFixX0 + "[[fixed]]\ngroup = \"g\"\n",
-                               "nodes = \"grab.txt\"\ndofs = \"xz\""),
-                         [&] {
-                           Mesh m = cube_;
-                           m.groups["g"] = {26};
-                           return m;
-                         }());
-            }),
-            at(12, "probe: node 0 component x is both fixed (by fixed[0]) and grabbed by the probe") +
-                "\n" +
-                at(12, "probe: node 0 component z is both fixed (by fixed[0]) and grabbed by the "
-                       "probe") +
-                "\n" +
-                at(12, "probe: node 26 component x is both fixed (by fixed[1]) and grabbed by the "
-                       "probe") +
-                "\n" +
-                at(12, "probe: node 26 component z is both fixed (by fixed[1]) and grabbed by the "
-                       "probe"));
+  EXPECT_EQ(
+      error_of([&] {
+        bind_scene(
+            scene(kFixX0 + "[[fixed]]\ngroup = \"g\"\n", "nodes = \"grab.txt\"\ndofs = \"xz\""),
+            [&] {
+              Mesh m = cube_;
+              m.groups["g"] = {26};
+              return m;
+            }());
+      }),
+      at(12, "probe: node 0 component x is both fixed (by fixed[0]) and grabbed by the probe") +
+          "\n" +
+          at(12,
+             "probe: node 0 component z is both fixed (by fixed[0]) and grabbed by the "
+             "probe") +
+          "\n" +
+          at(12,
+             "probe: node 26 component x is both fixed (by fixed[1]) and grabbed by the "
+             "probe") +
+          "\n" +
+          at(12,
+             "probe: node 26 component z is both fixed (by fixed[1]) and grabbed by the "
+             "probe"));
 }
 
 TEST_F(BindScene, SingleFixedNodeLeavesRotationAboutTheProbeLine) {
@@ -272,9 +277,10 @@ TEST_F(BindScene, ContactSphereOverlappingTheBodyAtRestIsAnError) {
               bind_scene(scene(kFixX0, "mode = \"contact\"\npoint = [1, 1, 2.4]\nradius = 0.5"),
                          cube_);
             }),
-            at(10, "probe: contact: the sphere at rest (centre [1, 1, 2.4], radius 0.5) overlaps "
-                   "the body: the surface point [1, 1, 2] is at distance 0.4; put probe.point at "
-                   "least probe.radius away from the body"));
+            at(10,
+               "probe: contact: the sphere at rest (centre [1, 1, 2.4], radius 0.5) overlaps "
+               "the body: the surface point [1, 1, 2] is at distance 0.4; put probe.point at "
+               "least probe.radius away from the body"));
 }
 
 TEST_F(BindScene, ContactProbeNeedsFixedNodesThatHoldTheBody) {

@@ -30,7 +30,8 @@ Triangles boundary_faces(const Mesh& mesh) {
   }
   Triangles surface(3, static_cast<Eigen::Index>(once.size()));
   for (size_t i = 0; i < once.size(); ++i) {
-    for (int r = 0; r < 3; ++r) surface(r, static_cast<Eigen::Index>(i)) = once[i][static_cast<size_t>(r)];
+    for (int r = 0; r < 3; ++r)
+      surface(r, static_cast<Eigen::Index>(i)) = once[i][static_cast<size_t>(r)];
   }
   return surface;
 }
@@ -67,7 +68,8 @@ Mesh make_box_mesh(int nx, int ny, int nz, double h, const Eigen::Vector3d& offs
       }
   mesh.tets.resize(4, static_cast<Eigen::Index>(tets.size()));
   for (size_t t = 0; t < tets.size(); ++t)
-    for (int r = 0; r < 4; ++r) mesh.tets(r, static_cast<Eigen::Index>(t)) = tets[t][static_cast<size_t>(r)];
+    for (int r = 0; r < 4; ++r)
+      mesh.tets(r, static_cast<Eigen::Index>(t)) = tets[t][static_cast<size_t>(r)];
   mesh.surface = boundary_faces(mesh);
   return mesh;
 }

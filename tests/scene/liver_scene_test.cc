@@ -16,8 +16,9 @@ const std::filesystem::path kScene =
 
 TEST(LiverScene, Parses) {
   const Scene s = load_scene(kScene);
-  EXPECT_EQ(s.mesh.file,
-            (std::filesystem::path(HAPSTATE_SOURCE_DIR) / "data/meshes/liver.msh").lexically_normal());
+  EXPECT_EQ(
+      s.mesh.file,
+      (std::filesystem::path(HAPSTATE_SOURCE_DIR) / "data/meshes/liver.msh").lexically_normal());
   EXPECT_EQ(s.mesh.unit, 0.01);
   EXPECT_EQ(s.material.law, Law::kNeoHooke);
   EXPECT_EQ(s.material.young, 5000.0);
@@ -47,9 +48,9 @@ TEST(LiverScene, BuildProblem) {
   // SOFA's fixture box holds 18 nodes, all three components each.
   int fixed = 0;
   for (int n = 0; n < 181; ++n) {
-    const int count = static_cast<int>(std::count(p.constraints.role.begin() + 3 * n,
-                                                  p.constraints.role.begin() + 3 * n + 3,
-                                                  DofRole::kFixed));
+    const int count =
+        static_cast<int>(std::count(p.constraints.role.begin() + 3 * n,
+                                    p.constraints.role.begin() + 3 * n + 3, DofRole::kFixed));
     EXPECT_TRUE(count == 0 || count == 3) << "node " << n;
     if (count == 3) {
       ++fixed;
@@ -62,7 +63,8 @@ TEST(LiverScene, BuildProblem) {
   ASSERT_EQ(p.constraints.probe_nodes, std::vector<int>{100});
   const std::vector<int> surface = surface_nodes(p.mesh);
   EXPECT_TRUE(std::binary_search(surface.begin(), surface.end(), 100));
-  EXPECT_TRUE(p.probe_rest.isApprox(Eigen::Vector3d(-2.51058, 3.4868, 2.21873), 1e-12))  // liver.msh node "101"
+  EXPECT_TRUE(p.probe_rest.isApprox(Eigen::Vector3d(-2.51058, 3.4868, 2.21873),
+                                    1e-12))  // liver.msh node "101"
       << p.probe_rest.transpose();
   EXPECT_LT(p.probe_rest.x(), -2.0);
   for (int c = 0; c < 3; ++c) EXPECT_EQ(p.constraints.role[300 + c], DofRole::kProbe);

@@ -15,29 +15,29 @@ using testing::ScratchDir;
 
 // Line numbers matter: the expected messages below refer to them.
 const std::string kBase =
-    "[mesh]\n"                                           // 1
-    "file = \"box.msh\"\n"                               // 2
-    "unit = 0.01\n"                                      // 3
-    "\n"                                                 // 4
-    "[material]\n"                                       // 5
-    "law = \"neohooke\"\n"                               // 6
-    "young = 5000.0\n"                                   // 7
-    "poisson = 0.45\n"                                   // 8
-    "\n"                                                 // 9
-    "[[fixed]]\n"                                        // 10
-    "box = [[0.0, 3.0, -1.0], [2.0, 5.0, 2.0]]\n"        // 11
-    "\n"                                                 // 12
-    "[probe]\n"                                          // 13
-    "point = [-2.0, 4.0, 1.0]\n"                         // 14
-    "max_force = 3.0\n"                                  // 15
-    "\n"                                                 // 16
-    "[grid]\n"                                           // 17
-    "spacing = 0.25\n"                                   // 18
-    "\n"                                                 // 19
-    "[solver]\n"                                         // 20
-    "substeps = 4\n"                                     // 21
-    "tolerance = 1e-8\n"                                 // 22
-    "max_iterations = 30\n";                             // 23
+    "[mesh]\n"                                     // 1
+    "file = \"box.msh\"\n"                         // 2
+    "unit = 0.01\n"                                // 3
+    "\n"                                           // 4
+    "[material]\n"                                 // 5
+    "law = \"neohooke\"\n"                         // 6
+    "young = 5000.0\n"                             // 7
+    "poisson = 0.45\n"                             // 8
+    "\n"                                           // 9
+    "[[fixed]]\n"                                  // 10
+    "box = [[0.0, 3.0, -1.0], [2.0, 5.0, 2.0]]\n"  // 11
+    "\n"                                           // 12
+    "[probe]\n"                                    // 13
+    "point = [-2.0, 4.0, 1.0]\n"                   // 14
+    "max_force = 3.0\n"                            // 15
+    "\n"                                           // 16
+    "[grid]\n"                                     // 17
+    "spacing = 0.25\n"                             // 18
+    "\n"                                           // 19
+    "[solver]\n"                                   // 20
+    "substeps = 4\n"                               // 21
+    "tolerance = 1e-8\n"                           // 22
+    "max_iterations = 30\n";                       // 23
 
 class ParseScene : public ::testing::Test {
  protected:
@@ -258,14 +258,14 @@ INSTANTIATE_TEST_SUITE_P(
                 "key 'solver.max_iterations' = 2000: must be in [1, 1000]"},
         BadCase{"max_iterations = 30", "max_iterations = 30\nmax_cutbacks = -1", 24,
                 "key 'solver.max_cutbacks' = -1: must be in [0, 50]"},
-        BadCase{"max_iterations = 30",
-                "max_iterations = 30\n[levels]\nforce_tolerance = 0", 25,
+        BadCase{"max_iterations = 30", "max_iterations = 30\n[levels]\nforce_tolerance = 0", 25,
                 "key 'levels.force_tolerance' = 0: must be > 0"}));
 
 TEST_F(ParseScene, UnknownKeyIsNamedWithSuggestion) {
   EXPECT_EQ(error(replace_once(kBase, "poisson = 0.45", "poisson = 0.45\npoison = 0.3")),
-            at(9, "unknown key 'material.poison' (did you mean 'poisson'?); allowed: law, young, "
-                  "poisson, mu, lambda, c10, c01, d1"));
+            at(9,
+               "unknown key 'material.poison' (did you mean 'poisson'?); allowed: law, young, "
+               "poisson, mu, lambda, c10, c01, d1"));
   EXPECT_EQ(error(replace_once(kBase, "[[fixed]]\n", "[[fixed]]\ncolour = \"red\"\n")),
             at(11, "unknown key 'fixed[0].colour'; allowed: box, plane, group, nodes, dofs"));
   EXPECT_EQ(error(replace_once(kBase, "box = [[0.0, 3.0, -1.0], [2.0, 5.0, 2.0]]",
@@ -275,17 +275,20 @@ TEST_F(ParseScene, UnknownKeyIsNamedWithSuggestion) {
 
 TEST_F(ParseScene, UnknownTableIsNamed) {
   EXPECT_EQ(error(kBase + "[solvr]\nsubsteps = 2\n"),
-            at(24, "unknown table 'solvr' (did you mean 'solver'?); allowed: mesh, material, "
-                   "fixed, probe, grid, solver, levels"));
+            at(24,
+               "unknown table 'solvr' (did you mean 'solver'?); allowed: mesh, material, "
+               "fixed, probe, grid, solver, levels"));
   EXPECT_EQ(error("substeps = 2\n" + kBase),
-            at(1, "unknown key 'substeps'; allowed: mesh, material, fixed, probe, grid, solver, "
-                  "levels"));
+            at(1,
+               "unknown key 'substeps'; allowed: mesh, material, fixed, probe, grid, solver, "
+               "levels"));
 }
 
 TEST_F(ParseScene, WrongTableShapes) {
   EXPECT_EQ(error(replace_once(kBase, "[[fixed]]", "[fixed]")),
-            at(10, "key 'fixed' = {...}: expected an array of tables ([[fixed]] headers), got a "
-                   "table"));
+            at(10,
+               "key 'fixed' = {...}: expected an array of tables ([[fixed]] headers), got a "
+               "table"));
   EXPECT_EQ(error(replace_once(kBase, "[probe]", "[[probe]]")),
             at(13, "key 'probe' = [{...}]: expected a table, got an array"));
 }
@@ -299,8 +302,9 @@ TEST_F(ParseScene, MissingRequiredKeysAndTables) {
             at(1, "missing key 'mesh.file'"));
   EXPECT_EQ(error(replace_once(kBase, "poisson = 0.45\n", "")),
             at(5, "missing key 'material.poisson' (young and poisson go together)"));
-  EXPECT_EQ(error(replace_once(kBase, "point = [-2.0, 4.0, 1.0]\n", "")),
-            at(13, "missing key 'probe.point' (grab needs point, point and radius, nodes, or group)"));
+  EXPECT_EQ(
+      error(replace_once(kBase, "point = [-2.0, 4.0, 1.0]\n", "")),
+      at(13, "missing key 'probe.point' (grab needs point, point and radius, nodes, or group)"));
   EXPECT_EQ(error(replace_once(kBase, "spacing = 0.25\n", "")),
             at(17, "missing key 'grid.spacing' (or dims)"));
   EXPECT_EQ(error(replace_once(kBase, "spacing = 0.25", "dims = [3, 3, 3]")),
@@ -308,18 +312,21 @@ TEST_F(ParseScene, MissingRequiredKeysAndTables) {
   EXPECT_EQ(error(replace_once(kBase, "[probe]\npoint = [-2.0, 4.0, 1.0]\nmax_force = 3.0\n", "")),
             scene_path_.string() + ": missing table [probe]");
   EXPECT_EQ(error(replace_once(kBase, "young = 5000.0\npoisson = 0.45\n", "")),
-            at(5, "missing material constants in [material]: give young and poisson, or c10 "
-                  "and d1"));
+            at(5,
+               "missing material constants in [material]: give young and poisson, or c10 "
+               "and d1"));
 }
 
 TEST_F(ParseScene, MaterialConstantsMustMatchTheLaw) {
   EXPECT_EQ(error(replace_once(kBase, "young = 5000.0\npoisson = 0.45", "mu = 1000\nd1 = 1e-3")),
             at(5, "missing key 'material.c10' (law 'neohooke' needs c10 and d1)") + "\n" +
-                at(7, "key 'material.mu' = 1000: does not apply to law 'neohooke' (give young and "
-                      "poisson, or c10 and d1)"));
+                at(7,
+                   "key 'material.mu' = 1000: does not apply to law 'neohooke' (give young and "
+                   "poisson, or c10 and d1)"));
   EXPECT_EQ(error(replace_once(kBase, "poisson = 0.45", "poisson = 0.45\nc10 = 400")),
-            at(9, "key 'material.c10' = 400: cannot be combined with young/poisson (give young "
-                  "and poisson, or c10 and d1)"));
+            at(9,
+               "key 'material.c10' = 400: cannot be combined with young/poisson (give young "
+               "and poisson, or c10 and d1)"));
   EXPECT_EQ(error(replace_once(kBase, "law = \"neohooke\"\nyoung = 5000.0\npoisson = 0.45",
                                "law = \"stvk\"\nmu = 1000\nlambda = -1000")),
             at(8, "key 'material.lambda' = -1000: must be > -2/3 mu (a positive bulk modulus)"));
@@ -333,17 +340,20 @@ TEST_F(ParseScene, MaterialConstantsMustMatchTheLaw) {
 
 TEST_F(ParseScene, TwoAlternativesGiven) {
   EXPECT_EQ(error(replace_once(kBase, "[[fixed]]\n", "[[fixed]]\ngroup = \"base\"\n")),
-            at(10, "[[fixed]] table 'fixed[0]': give exactly one of box, plane, group, nodes "
-                   "(got box and group)"));
+            at(10,
+               "[[fixed]] table 'fixed[0]': give exactly one of box, plane, group, nodes "
+               "(got box and group)"));
   EXPECT_EQ(error(replace_once(kBase, "[[fixed]]\nbox = [[0.0, 3.0, -1.0], [2.0, 5.0, 2.0]]\n",
                                "[[fixed]]\ndofs = \"x\"\n")),
             at(10, "[[fixed]] table 'fixed[0]': give exactly one of box, plane, group, nodes"));
   EXPECT_EQ(error(replace_once(kBase, "max_force = 3.0", "max_force = 3.0\nnodes = \"grab.txt\"")),
-            at(16, "key 'probe.nodes' = \"grab.txt\": give exactly one of point (with an "
-                   "optional radius), nodes or group"));
+            at(16,
+               "key 'probe.nodes' = \"grab.txt\": give exactly one of point (with an "
+               "optional radius), nodes or group"));
   EXPECT_EQ(error(replace_once(kBase, "max_force = 3.0", "max_force = 3.0\ngroup = \"tip\"")),
-            at(16, "key 'probe.group' = \"tip\": give exactly one of point (with an "
-                   "optional radius), nodes or group"));
+            at(16,
+               "key 'probe.group' = \"tip\": give exactly one of point (with an "
+               "optional radius), nodes or group"));
   EXPECT_EQ(error(replace_once(kBase, "spacing = 0.25",
                                "spacing = 0.25\ndims = [3, 3, 3]\nbox = [[0, 0, 0], [1, 1, 1]]")),
             at(19, "key 'grid.dims' = [3, 3, 3]: give either spacing or dims, not both"));
@@ -353,12 +363,16 @@ TEST_F(ParseScene, ContactProbeKeys) {
   const std::string contact = replace_once(kBase, "point = [-2.0, 4.0, 1.0]",
                                            "mode = \"contact\"\npoint = [-2.0, 4.0, 1.0]");
   EXPECT_EQ(error(contact), at(13, "missing key 'probe.radius' (contact: the sphere radius)"));
-  EXPECT_EQ(error(replace_once(contact, "max_force = 3.0", "max_force = 3.0\nradius = 1\n"
-                                                           "dofs = \"x\"")),
-            at(18, "key 'probe.dofs' = \"x\": only allowed with mode = \"grab\""));  EXPECT_EQ(error(replace_once(contact, "max_force = 3.0", "max_force = 3.0\nradius = 1\n"
-                                                           "friction = \"coulomb\"")),
-            at(18, "key 'probe.friction' = \"coulomb\": must be one of none (frictionless "
-                   "sliding), stick"));
+  EXPECT_EQ(error(replace_once(contact, "max_force = 3.0",
+                               "max_force = 3.0\nradius = 1\n"
+                               "dofs = \"x\"")),
+            at(18, "key 'probe.dofs' = \"x\": only allowed with mode = \"grab\""));
+  EXPECT_EQ(error(replace_once(contact, "max_force = 3.0",
+                               "max_force = 3.0\nradius = 1\n"
+                               "friction = \"coulomb\"")),
+            at(18,
+               "key 'probe.friction' = \"coulomb\": must be one of none (frictionless "
+               "sliding), stick"));
   EXPECT_EQ(error(replace_once(kBase, "max_force = 3.0", "max_force = 3.0\nfriction = \"none\"")),
             at(16, "key 'probe.friction' = \"none\": only allowed with mode = \"contact\""));
 }

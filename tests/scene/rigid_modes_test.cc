@@ -1,6 +1,6 @@
 // connected_components and free_rigid_modes on meshes built in code.
-#include "box_mesh.h"
 #include "scene/rigid_modes.h"
+#include "box_mesh.h"
 
 #include <gtest/gtest.h>
 

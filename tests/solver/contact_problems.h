@@ -50,8 +50,7 @@ inline Problem block_problem(int cells = 8, Friction friction = Friction::kStick
 // starts 1.0 below the plate's mid-plane centre.
 inline Problem plate_problem(int cells = 10, Friction friction = Friction::kStick) {
   Problem p;
-  p.mesh =
-      make_box_mesh(Eigen::Vector3d(0, 0, -0.1), Eigen::Vector3d(4, 4, 0.2), cells, cells, 1);
+  p.mesh = make_box_mesh(Eigen::Vector3d(0, 0, -0.1), Eigen::Vector3d(4, 4, 0.2), cells, cells, 1);
   p.unit = 0.01;
   p.material = constants_from_young_poisson(Law::kNeoHooke, 5e4, 0.3);
   p.constraints.role.assign(3 * p.mesh.num_nodes(), DofRole::kFree);

@@ -106,9 +106,10 @@ TEST(LiverRobustness, RandomPathConvergesForEveryNonLinearLaw) {
                     k + 1, failure_name(r.failure), r.reason.c_str());
       }
     }
-    std::printf("[ liver   ] %-8s converged %d/20, Newton iterations per point: %s (max %d, total %d)\n",
-                std::string(law_name(law)).c_str(), converged, iterations.c_str(), max_iterations,
-                total_iterations);
+    std::printf(
+        "[ liver   ] %-8s converged %d/20, Newton iterations per point: %s (max %d, total %d)\n",
+        std::string(law_name(law)).c_str(), converged, iterations.c_str(), max_iterations,
+        total_iterations);
     EXPECT_EQ(converged + failed, 20);
     // With these settings (one grid spacing per move, 4 sub-steps) every point converges.
     EXPECT_EQ(converged, 20) << law_name(law);
@@ -140,10 +141,11 @@ int check_against_careful_solve(const Problem& problem, const Eigen::Vector3d& m
   EXPECT_EQ(rr.substeps, 20) << law;
 
   const Eigen::Vector3d f = solver.force_felt(), f_ref = reference.force_felt();
-  std::printf("[ liver   ] %-8s move (%g, %g, %g) in one step: %d cut-backs, %d sub-steps, %d "
-              "iterations; careful: %d iterations; f = (%.6g, %.6g, %.6g) N\n",
-              law.c_str(), move.x(), move.y(), move.z(), r.cutbacks, r.substeps, r.iterations,
-              rr.iterations, f_ref.x(), f_ref.y(), f_ref.z());
+  std::printf(
+      "[ liver   ] %-8s move (%g, %g, %g) in one step: %d cut-backs, %d sub-steps, %d "
+      "iterations; careful: %d iterations; f = (%.6g, %.6g, %.6g) N\n",
+      law.c_str(), move.x(), move.y(), move.z(), r.cutbacks, r.substeps, r.iterations,
+      rr.iterations, f_ref.x(), f_ref.y(), f_ref.z());
   EXPECT_LE((f - f_ref).norm(), 1e-6 * f_ref.norm()) << law << "\n"
                                                      << f.transpose() << "\n"
                                                      << f_ref.transpose();
@@ -203,8 +205,9 @@ TEST(LiverRobustness, FastAlgorithmMatchesCarefulSolveOnHugeMoves) {
 TEST(LiverRobustness, PathBackToRestGivesZeroForceAndDisplacement) {
   const Problem& base = liver_scene_problem();
   const Eigen::Vector3d rest = base.probe_rest;
-  const ProbePath path = random_path(rest, 8, kSpacing, rest - Eigen::Vector3d::Constant(4 * kSpacing),
-                                     rest + Eigen::Vector3d::Constant(4 * kSpacing), /*seed=*/7);
+  const ProbePath path =
+      random_path(rest, 8, kSpacing, rest - Eigen::Vector3d::Constant(4 * kSpacing),
+                  rest + Eigen::Vector3d::Constant(4 * kSpacing), /*seed=*/7);
   for (Law law : kLaws) {
     PathSolver solver(liver_problem(law));
     for (const Eigen::Vector3d& q : path) ASSERT_TRUE(solver.move_to(q - rest).ok) << law_name(law);

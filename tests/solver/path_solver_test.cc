@@ -1,8 +1,8 @@
 // The path solver on synthetic box meshes: homogeneous uniaxial stretch against the law's
 // closed form, quadratic Newton convergence, cut-back of a huge step, failure reporting, and
 // the haptic stiffness against finite differences of the felt force.
-#include "mesh/box_mesh.h"
 #include "solver/path_solver.h"
+#include "mesh/box_mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -202,14 +202,18 @@ TEST(PathSolver, FastAlgorithmEqualsReferenceWithFewerFactorisations) {
     const MoveResult a = fast.move_to(move), b = reference.move_to(move);
     ASSERT_TRUE(a.ok && b.ok) << law_name(law) << ": " << a.reason << b.reason;
     EXPECT_LE((fast.force_felt() - reference.force_felt()).norm(),
-              1e-9 * reference.force_felt().norm()) << law_name(law);
+              1e-9 * reference.force_felt().norm())
+        << law_name(law);
     EXPECT_LE((fast.displacements() - reference.displacements()).norm(),
-              1e-9 * reference.displacements().norm()) << law_name(law);
+              1e-9 * reference.displacements().norm())
+        << law_name(law);
     EXPECT_LT(a.factorisations, b.factorisations) << law_name(law);
     EXPECT_LT(a.factorisations, a.iterations) << law_name(law);
-    std::printf("[ info ] %s: fast %d factorisations / %d iterations / %d sub-steps, reference %d "
-                "/ %d / %d\n", std::string(law_name(law)).c_str(), a.factorisations, a.iterations,
-                a.substeps, b.factorisations, b.iterations, b.substeps);
+    std::printf(
+        "[ info ] %s: fast %d factorisations / %d iterations / %d sub-steps, reference %d "
+        "/ %d / %d\n",
+        std::string(law_name(law)).c_str(), a.factorisations, a.iterations, a.substeps,
+        b.factorisations, b.iterations, b.substeps);
   }
 }
 

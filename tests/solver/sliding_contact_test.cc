@@ -11,8 +11,8 @@
 #include "solver/path_solver.h"
 #include "solver/triangle_distance.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -25,9 +25,9 @@ using testing::block_problem;
 using testing::plate_problem;
 
 struct SlidingCheck {
-  double penetration = 0;     // max over surface triangles of (r - distance to the centre)
-  double worst_pull = 0;      // max over surface nodes of -(g_n . (x_n - c)/|x_n - c|) / max |g|
-  double moment = 0;          // |sum (x_n - c) x g_n| / (r |sum g_n|)
+  double penetration = 0;        // max over surface triangles of (r - distance to the centre)
+  double worst_pull = 0;         // max over surface nodes of -(g_n . (x_n - c)/|x_n - c|) / max |g|
+  double moment = 0;             // |sum (x_n - c) x g_n| / (r |sum g_n|)
   double interior_residual = 0;  // || f || over free DOFs of nodes not on the surface [N]
   Eigen::Vector3d felt = Eigen::Vector3d::Zero();  // -sum g_n over free surface nodes [N]
 };
@@ -52,7 +52,8 @@ class Independent {
     const Eigen::Matrix3Xd x = problem_.mesh.nodes + solver.displacements();
     const Triangles& tri = problem_.mesh.surface;
     for (int t = 0; t < tri.cols(); ++t) {
-      const double d = closest_point(x.col(tri(0, t)), x.col(tri(1, t)), x.col(tri(2, t)), c).distance;
+      const double d =
+          closest_point(x.col(tri(0, t)), x.col(tri(1, t)), x.col(tri(2, t)), c).distance;
       out.penetration = std::max(out.penetration, r - d);
     }
     Eigen::VectorXd f;
@@ -63,10 +64,14 @@ class Independent {
     std::vector<std::pair<int, Eigen::Vector3d>> loads;
     for (int n = 0; n < problem_.mesh.num_nodes(); ++n) {
       bool free = true;
-      for (int k = 0; k < 3; ++k) free = free && problem_.constraints.role[3 * n + k] == DofRole::kFree;
+      for (int k = 0; k < 3; ++k)
+        free = free && problem_.constraints.role[3 * n + k] == DofRole::kFree;
       if (!free) continue;
       const Eigen::Vector3d g = f.segment<3>(3 * n);  // applied load = internal force
-      if (!on_surface_[n]) { interior += g.squaredNorm(); continue; }
+      if (!on_surface_[n]) {
+        interior += g.squaredNorm();
+        continue;
+      }
       moment += (x.col(n) - c).cross(g);
       sum += g;
       largest = std::max(largest, g.norm());
@@ -88,8 +93,8 @@ class Independent {
 };
 
 // The conditions of every converged frictionless state, with the tolerances docs/contact.md
-// states: gaps closed to the solver's gap_tolerance x r, contact forces through the centre to 1e-6, nodal
-// forces pushing (to 1e-6 of the largest), felt force = -sum of the nodal contact forces.
+// states: gaps closed to the solver's gap_tolerance x r, contact forces through the centre to 1e-6,
+// nodal forces pushing (to 1e-6 of the largest), felt force = -sum of the nodal contact forces.
 void expect_sliding_conditions(const SlidingCheck& c, const PathSolver& solver, double radius,
                                const std::string& where) {
   EXPECT_LE(c.penetration, solver.options().gap_tolerance * radius * (1 + 1e-6)) << where;
@@ -175,7 +180,8 @@ TEST(SlidingContact, FeltForceIsMinusTheEnergyDerivativeAndStiffnessItsDerivativ
   EXPECT_LE((stiffness - fd_stiffness).norm(), 1e-3 * stiffness.norm());
   // The displacement slopes (Hermite deformation) to the same accuracy as the stiffness.
   ASSERT_EQ(du_dp.rows(), u0.size());
-  std::printf("|du/dp - central differences| / |du/dp| = %.2e\n", (du_dp - fd_du).norm() / du_dp.norm());
+  std::printf("|du/dp - central differences| / |du/dp| = %.2e\n",
+              (du_dp - fd_du).norm() / du_dp.norm());
   EXPECT_LE((du_dp - fd_du).norm(), 1e-3 * du_dp.norm());
   // The sphere's curvature: pressing straight down, moving sideways tilts the force.
   EXPECT_GT(std::abs(stiffness(0, 0)), 1e-3 * std::abs(stiffness(2, 2)));
@@ -244,10 +250,11 @@ TEST(SlidingContact, DragIsSmoothAndFrictionlessWhileStickingDrags) {
       }
       last = f;
     }
-    std::printf("%s: mean drag %.5f, largest tangential %.4f of the normal force, largest "
-                "change %.3f of 2|K| step\n",
-                friction == Friction::kNone ? "frictionless" : "stick", mean_drag, worst_drag,
-                worst_jump_ratio);
+    std::printf(
+        "%s: mean drag %.5f, largest tangential %.4f of the normal force, largest "
+        "change %.3f of 2|K| step\n",
+        friction == Friction::kNone ? "frictionless" : "stick", mean_drag, worst_drag,
+        worst_jump_ratio);
     if (friction == Friction::kNone) {
       EXPECT_LE(std::abs(mean_drag), 1e-3);
       EXPECT_LE(worst_drag, 0.02);
@@ -318,7 +325,8 @@ TEST(SlidingContact, RandomWalkConvergesOrRecordsTheReason) {
     t = next;
     updates += r.active_set_iterations;
     if (solver.force_felt().norm() > 0) ++touching;
-    if (i % 10 == 0) expect_sliding_conditions(truth.check(solver), solver, 0.8, "step " + std::to_string(i));
+    if (i % 10 == 0)
+      expect_sliding_conditions(truth.check(solver), solver, 0.8, "step " + std::to_string(i));
     if (::testing::Test::HasFailure()) return;
   }
   EXPECT_EQ(failures, 0);

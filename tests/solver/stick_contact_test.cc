@@ -21,10 +21,10 @@ using testing::plate_problem;
 
 // What the state tells independently of the solver's bookkeeping.
 struct ContactCheck {
-  double off_sphere = 0;       // max | |x_n - c| - r | over touched nodes (mesh units)
-  double penetration = 0;      // max (r - |x_n - c|) over untouched candidates, 0 if none inside
-  double worst_pull = 0;       // max over touched nodes of -(h_n . normal) / max |h| (0: all push)
-  double free_residual = 0;    // || f_free || [N]
+  double off_sphere = 0;     // max | |x_n - c| - r | over touched nodes (mesh units)
+  double penetration = 0;    // max (r - |x_n - c|) over untouched candidates, 0 if none inside
+  double worst_pull = 0;     // max over touched nodes of -(h_n . normal) / max |h| (0: all push)
+  double free_residual = 0;  // || f_free || [N]
   Eigen::Vector3d reaction_sum = Eigen::Vector3d::Zero();  // -sum of h_n over touched nodes [N]
 };
 
@@ -188,8 +188,8 @@ TEST(ContactProbe, PlatePushedFromEitherSideGivesOppositeNormalForces) {
   ASSERT_TRUE(from_below.move_to(target - p.probe_rest).ok);
   from_above.set_state(Eigen::VectorXd::Zero(from_above.num_dofs()), above_start - p.probe_rest);
   for (int step = 1; step <= 4; ++step) {
-    const MoveResult r = from_above.move_to(above_start + (target - above_start) * step / 4.0 -
-                                            p.probe_rest);
+    const MoveResult r =
+        from_above.move_to(above_start + (target - above_start) * step / 4.0 - p.probe_rest);
     ASSERT_TRUE(r.ok) << r.reason;
   }
   const Eigen::Vector3d f_below = from_below.force_felt();

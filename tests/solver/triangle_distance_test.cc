@@ -4,8 +4,8 @@
 // segment-to-triangle distance against sampling the segment.
 #include "solver/triangle_distance.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <random>
 
@@ -40,13 +40,13 @@ std::vector<Case> cases() {
   const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
   const Eigen::Vector3d centroid = (a + b + c) / 3;
   std::vector<Eigen::Vector3d> in_plane = {
-      centroid,                                  // face
-      a + (a - centroid) * 0.8,                  // corner a
-      b + (b - centroid) * 0.8,                  // corner b
-      c + (c - centroid) * 0.8,                  // corner c
-      (a + b) / 2 + ((a + b) / 2 - centroid),    // edge ab
-      (b + c) / 2 + ((b + c) / 2 - centroid),    // edge bc
-      (c + a) / 2 + ((c + a) / 2 - centroid),    // edge ca
+      centroid,                                // face
+      a + (a - centroid) * 0.8,                // corner a
+      b + (b - centroid) * 0.8,                // corner b
+      c + (c - centroid) * 0.8,                // corner c
+      (a + b) / 2 + ((a + b) / 2 - centroid),  // edge ab
+      (b + c) / 2 + ((b + c) / 2 - centroid),  // edge bc
+      (c + a) / 2 + ((c + a) / 2 - centroid),  // edge ca
   };
   std::vector<Case> out;
   for (const Eigen::Vector3d& p : in_plane)
@@ -62,7 +62,9 @@ TEST(TriangleDistance, ClosestPointMatchesBruteForceInEveryRegion) {
     const TrianglePoint tp = closest_point(k.a, k.b, k.c, k.q);
     EXPECT_NEAR(tp.weights.sum(), 1.0, 1e-14);
     EXPECT_GE(tp.weights.minCoeff(), 0.0);
-    EXPECT_NEAR((tp.closest - (tp.weights[0] * k.a + tp.weights[1] * k.b + tp.weights[2] * k.c)).norm(), 0, 1e-14);
+    EXPECT_NEAR(
+        (tp.closest - (tp.weights[0] * k.a + tp.weights[1] * k.b + tp.weights[2] * k.c)).norm(), 0,
+        1e-14);
     // The brute force's grid of 1/400 of the edges bounds its own error by ~2e-3.
     const double brute = brute_force_distance(k.a, k.b, k.c, k.q);
     EXPECT_LE(tp.distance, brute + 1e-12);
@@ -91,16 +93,17 @@ TEST(TriangleDistance, DerivativesMatchCentralDifferencesInEveryRegion) {
       EXPECT_NEAR(g[i], (distance_of(yp) - distance_of(ym)) / (2 * eps), 1e-8) << "gradient " << i;
       Vec12d gp, gm;
       Mat12d unused;
-      distance_derivatives(yp.segment<3>(0), yp.segment<3>(3), yp.segment<3>(6), yp.segment<3>(9),
-                           closest_point(yp.segment<3>(0), yp.segment<3>(3), yp.segment<3>(6),
-                                         yp.segment<3>(9)),
-                           &gp, &unused);
-      distance_derivatives(ym.segment<3>(0), ym.segment<3>(3), ym.segment<3>(6), ym.segment<3>(9),
-                           closest_point(ym.segment<3>(0), ym.segment<3>(3), ym.segment<3>(6),
-                                         ym.segment<3>(9)),
-                           &gm, &unused);
+      distance_derivatives(
+          yp.segment<3>(0), yp.segment<3>(3), yp.segment<3>(6), yp.segment<3>(9),
+          closest_point(yp.segment<3>(0), yp.segment<3>(3), yp.segment<3>(6), yp.segment<3>(9)),
+          &gp, &unused);
+      distance_derivatives(
+          ym.segment<3>(0), ym.segment<3>(3), ym.segment<3>(6), ym.segment<3>(9),
+          closest_point(ym.segment<3>(0), ym.segment<3>(3), ym.segment<3>(6), ym.segment<3>(9)),
+          &gm, &unused);
       const Vec12d column = (gp - gm) / (2 * eps);
-      EXPECT_LE((h.col(i) - column).norm(), 1e-6 * std::max(1.0, h.norm())) << "Hessian column " << i;
+      EXPECT_LE((h.col(i) - column).norm(), 1e-6 * std::max(1.0, h.norm()))
+          << "Hessian column " << i;
     }
     EXPECT_LE((h - h.transpose()).norm(), 1e-12 * h.norm());
     EXPECT_GT(h.norm(), 0.1);  // not trivially zero

@@ -1,8 +1,8 @@
 // The fast solver algorithm (one sub-step per move where it converges, inexact Newton
-// preconditioned by a kept factorisation, the haptic stiffness only for new configurations) stores the same state space as the paper's
-// reference algorithm (fixed sub-steps, full Newton): the same configurations, levels, waves
-// and transitions, with vectors, forces and stiffnesses within the solver's tolerance, and it
-// spends fewer factorisations.
+// preconditioned by a kept factorisation, the haptic stiffness only for new configurations) stores
+// the same state space as the paper's reference algorithm (fixed sub-steps, full Newton): the same
+// configurations, levels, waves and transitions, with vectors, forces and stiffnesses within the
+// solver's tolerance, and it spends fewer factorisations.
 #include "beam_state.h"
 
 #include "catalogue/catalogue.h"
@@ -37,22 +37,23 @@ class Algorithm : public StageTest {
   }
 
   // `relative`: how far forces, stiffnesses and vectors may differ, relative to their scale.
-  void expect_same_state_space(const std::string& scene, const char* name,
-                               double relative = 1e-6) {
+  void expect_same_state_space(const std::string& scene, const char* name, double relative = 1e-6) {
     const double reference = expand_with(scene, "reference");
     const double fast = expand_with(scene, "fast");
     const Snapshot a = snapshot(dir_ / "reference"), b = snapshot(dir_ / "fast");
     const int ties = expect_same_decisions(a, b, /*cost_may_differ=*/true, relative);
     EXPECT_GE(ties, 0);
     EXPECT_LE(ties, static_cast<int>(a.transitions.size() / 1000));  // at most 0.1 %
-    const double vectors = max_vector_difference(dir_ / "reference", dir_ / "fast", a.configurations);
+    const double vectors =
+        max_vector_difference(dir_ / "reference", dir_ / "fast", a.configurations);
     EXPECT_LE(vectors, relative);
     EXPECT_LT(fast, 0.6 * reference);
     EXPECT_LE(fast, 3.0);  // issue 12's target for a complete expansion
-    std::printf("[ info ] %s: %zu configurations, %zu transitions; factorisations per solved "
-                "transition: reference %.2f, fast %.2f; largest vector difference %.2e; %d transitions "
-                "reached the other of two levels within tolerance\n",
-                name, a.configurations.size(), a.transitions.size(), reference, fast, vectors, ties);
+    std::printf(
+        "[ info ] %s: %zu configurations, %zu transitions; factorisations per solved "
+        "transition: reference %.2f, fast %.2f; largest vector difference %.2e; %d transitions "
+        "reached the other of two levels within tolerance\n",
+        name, a.configurations.size(), a.transitions.size(), reference, fast, vectors, ties);
   }
 };
 

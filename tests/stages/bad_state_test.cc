@@ -94,7 +94,8 @@ TEST_F(BadState, CatalogueFromAFutureSchemaVersion) {
 TEST_F(BadState, StateDirectoryOfAnotherScene) {
   const fs::path state = copy_of_reference();
   const auto before = file_tree(state);
-  const std::string softer = beam_variant(dir_, "softer.toml", {{"young = 5000.0", "young = 4000.0"}});
+  const std::string softer =
+      beam_variant(dir_, "softer.toml", {{"young = 5000.0", "young = 4000.0"}});
   const StageResult i = import_stage(state, softer, dir_);
   EXPECT_EQ(i.exit_code, 2) << i.err;
   EXPECT_NE(i.err.find("was built from another scene; changed: the material"), std::string::npos)
@@ -116,7 +117,8 @@ TEST_F(BadState, StateDirectoryOfAnotherScene) {
   EXPECT_TRUE(file_tree(state) == before);
 
   // A bad scene given with --fresh deletes nothing.
-  const std::string broken = beam_variant(dir_, "broken.toml", {{"young = 5000.0", "young = -1.0"}});
+  const std::string broken =
+      beam_variant(dir_, "broken.toml", {{"young = 5000.0", "young = -1.0"}});
   const StageResult b = import_stage(state, broken, dir_, {"--fresh"});
   EXPECT_EQ(b.exit_code, 2) << b.err;
   EXPECT_TRUE(file_tree(state) == before);
@@ -150,7 +152,8 @@ TEST_F(BadState, OneStageAtATime) {
   const StageResult second = grid_stage(state, dir_);
   EXPECT_EQ(second.exit_code, 2) << second.err;
   EXPECT_NE(second.err.find("another hapstate stage is working in this state directory"),
-            std::string::npos) << second.err;
+            std::string::npos)
+      << second.err;
   const bool refused = second.exit_code == 2;
   const StageResult r = wait_stage(first, logs);
   EXPECT_EQ(r.exit_code, 0) << r.err;

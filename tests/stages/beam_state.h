@@ -21,8 +21,8 @@ inline StageResult grid_stage(const fs::path& state, const fs::path& log_dir) {
 
 inline std::vector<std::string> expand_args(const fs::path& state, int threads,
                                             std::vector<std::string> extra = {}) {
-  std::vector<std::string> args{"--state", state.string(), "--threads", std::to_string(threads),
-                                "--batch", "8", "-q"};
+  std::vector<std::string> args{
+      "--state", state.string(), "--threads", std::to_string(threads), "--batch", "8", "-q"};
   args.insert(args.end(), extra.begin(), extra.end());
   return args;
 }

@@ -180,7 +180,8 @@ TEST_F(ContactState, MovesBetweenFreeCheckpointsNeedNoSolve) {
     if (t.outcome != TransitionOutcome::kReached) continue;
     const Configuration source = cat.read_configuration(t.source);
     const Configuration target = cat.read_configuration(t.target);
-    const bool from_free = checkpoints.at(source.checkpoint).classification == CheckpointClass::kFree;
+    const bool from_free =
+        checkpoints.at(source.checkpoint).classification == CheckpointClass::kFree;
     const bool to_free = checkpoints.at(target.checkpoint).classification == CheckpointClass::kFree;
     if (from_free && to_free && !source.blob) {
       EXPECT_EQ(t.substeps, 0);
@@ -204,10 +205,10 @@ TEST_F(ContactState, MovesBetweenFreeCheckpointsNeedNoSolve) {
 class ContactThreads : public ContactState, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(ContactThreads, ThreadCountDoesNotChangeTheStateSpace) {
-  const std::string scene =
-      plate_variant(dir_, {{kBundledBox, "box = [[1.8, 1.8, -1.0], [2.2, 2.2, -0.8]]"},
-                           {"max_force = 0.5", "max_force = 0.03"},
-                           {"friction = \"none\"", std::string("friction = \"") + GetParam() + "\""}});
+  const std::string scene = plate_variant(
+      dir_, {{kBundledBox, "box = [[1.8, 1.8, -1.0], [2.2, 2.2, -0.8]]"},
+             {"max_force = 0.5", "max_force = 0.03"},
+             {"friction = \"none\"", std::string("friction = \"") + GetParam() + "\""}});
   const bool stick = std::string(GetParam()) == "stick";
   std::vector<fs::path> states;
   for (int threads : {1, 2}) {

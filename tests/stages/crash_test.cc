@@ -49,7 +49,7 @@ TEST_F(Crash, KilledAndResumedRunEqualsAnUninterruptedOne) {
 
   std::mt19937 rng(20261122);
   std::uniform_int_distribution<int> delay_ms(80, 500);  // process start-up included (a whole
-                                                        // run takes about 0.8 s on one thread)
+                                                         // run takes about 0.8 s on one thread)
   int kills = 0, finished_early = 0;
   for (int round = 0; round < 5; ++round) {
     const pid_t pid = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), dir_);
@@ -93,7 +93,9 @@ TEST_F(Crash, KilledRunIsReportedInterrupted) {
   }
   const InspectOutput summary = inspect_summary(StateDir{state});
   EXPECT_NE(summary.text.find("expand: 1 runs, last #3 interrupted: the process ended before "
-                              "finishing"), std::string::npos) << summary.text;
+                              "finishing"),
+            std::string::npos)
+      << summary.text;
   EXPECT_EQ(summary.text.find("running"), std::string::npos) << summary.text;
   EXPECT_NE(summary.json.find("\"outcome\": \"interrupted\""), std::string::npos);
 }
@@ -106,7 +108,8 @@ TEST_F(Crash, CtrlCStopsCleanlyAndTheNextRunResumes) {
   if (!stopped) GTEST_SKIP() << "the expansion ended before the signal";
   const StageResult& r = *stopped;
   EXPECT_EQ(r.exit_code, 130) << r.err;
-  EXPECT_NE(r.err.find("stopped; run the same command again to resume"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("stopped; run the same command again to resume"), std::string::npos)
+      << r.err;
   {
     Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
     const StageRun run = cat.read_stage_runs("expand").back();

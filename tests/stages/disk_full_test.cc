@@ -1,11 +1,12 @@
 // The disk fills during hapstate-expand (issue 15): a real, size-limited tmpfs in a private
 // mount namespace of this test process (root, as in CI), else writes made to fail with ENOSPC
-// by a test-only LD_PRELOAD shim (enospc_shim.c; HAPSTATE_DISK_FULL=shim forces it). Either the blob segments' file system fills (the HDF5
-// write fails) or the catalogue's (the SQLite commit fails). Each time: exit 4 (I/O or
-// environment failure, docs/exit-codes.md), stderr names the file and the OS or library error;
-// nothing stored is corrupted (SQLite integrity, foreign keys, every stored vector readable, the
-// rows an exact prefix of an uninterrupted run's: complete batches only); with space again the
-// next run resumes and ends with the same catalogue as an uninterrupted run.
+// by a test-only LD_PRELOAD shim (enospc_shim.c; HAPSTATE_DISK_FULL=shim forces it). Either the
+// blob segments' file system fills (the HDF5 write fails) or the catalogue's (the SQLite commit
+// fails). Each time: exit 4 (I/O or environment failure, docs/exit-codes.md), stderr names the file
+// and the OS or library error; nothing stored is corrupted (SQLite integrity, foreign keys, every
+// stored vector readable, the rows an exact prefix of an uninterrupted run's: complete batches
+// only); with space again the next run resumes and ends with the same catalogue as an uninterrupted
+// run.
 #include "beam_state.h"
 
 #include "blobs/blob_store.h"
@@ -34,7 +35,8 @@ namespace {
 // even if it crashes. Empty on success, else why not (not root, no CAP_SYS_ADMIN, seccomp).
 const std::string& private_mount_namespace() {
   static const std::string why = []() -> std::string {
-    if (::unshare(CLONE_NEWNS) != 0) return std::string("unshare(CLONE_NEWNS): ") + std::strerror(errno);
+    if (::unshare(CLONE_NEWNS) != 0)
+      return std::string("unshare(CLONE_NEWNS): ") + std::strerror(errno);
     if (::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0)
       return std::string("mount --make-rprivate /: ") + std::strerror(errno);
     return "";
@@ -70,7 +72,9 @@ class Tmpfs {
   // A new size (tmpfs refuses one below what is in use).
   void resize(std::uint64_t bytes) {
     const std::string options = "size=" + std::to_string(round_up(bytes));
-    ASSERT_EQ(::mount("tmpfs", where_.c_str(), "tmpfs", MS_REMOUNT | MS_NOSUID | MS_NODEV, options.c_str()), 0)
+    ASSERT_EQ(::mount("tmpfs", where_.c_str(), "tmpfs", MS_REMOUNT | MS_NOSUID | MS_NODEV,
+                      options.c_str()),
+              0)
         << "remount " << where_ << " " << options << ": " << std::strerror(errno);
   }
   std::uint64_t used() const {
@@ -95,7 +99,8 @@ std::uint64_t allocated_bytes(const fs::path& dir) {
   std::uint64_t total = 0;
   for (const auto& e : fs::recursive_directory_iterator(dir)) {
     struct stat st {};
-    if (e.is_regular_file() && ::stat(e.path().c_str(), &st) == 0) total += std::uint64_t(st.st_blocks) * 512;
+    if (e.is_regular_file() && ::stat(e.path().c_str(), &st) == 0)
+      total += std::uint64_t(st.st_blocks) * 512;
   }
   return total;
 }
@@ -123,7 +128,8 @@ class DiskFull : public StageTest {
                    << ") and the LD_PRELOAD shim cannot run under AddressSanitizer: the "
                       "full-disk test needs root (CAP_SYS_ADMIN) for a private tmpfs";
     if (!tmpfs_)
-      std::printf("[ info ] no tmpfs (%s): injected ENOSPC through the LD_PRELOAD shim\n", why.c_str());
+      std::printf("[ info ] no tmpfs (%s): injected ENOSPC through the LD_PRELOAD shim\n",
+                  why.c_str());
     // The uninterrupted run every case is compared with (on the ordinary temporary disk).
     reference_ = dir_ / "reference";
     build_beam(reference_, kBeamScene, 1, dir_);
@@ -144,7 +150,8 @@ class DiskFull : public StageTest {
     }
     BlobStore blobs(state / "blobs");
     std::map<std::int64_t, const Configuration*> reference_configs;
-    for (const Configuration& c : reference_snapshot_.configurations) reference_configs[c.id.value()] = &c;
+    for (const Configuration& c : reference_snapshot_.configurations)
+      reference_configs[c.id.value()] = &c;
     for (const Configuration& c : s.configurations) {
       const auto it = reference_configs.find(c.id.value());
       if (it == reference_configs.end()) {
@@ -155,7 +162,8 @@ class DiskFull : public StageTest {
       EXPECT_EQ(c.checkpoint, r.checkpoint) << "configuration " << c.id.value();
       EXPECT_EQ(c.level, r.level) << "configuration " << c.id.value();
       EXPECT_EQ(c.blob, r.blob) << "configuration " << c.id.value();
-      for (int k = 0; k < 3; ++k) EXPECT_NEAR(c.force[k], r.force[k], 1e-12 * (1 + std::abs(r.force[k])));
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(c.force[k], r.force[k], 1e-12 * (1 + std::abs(r.force[k])));
       if (!c.blob) continue;
       for (const char* v : {"/u", "/t", "/h"}) {
         try {
@@ -197,13 +205,15 @@ class DiskFull : public StageTest {
   }
   // hapstate-expand on `state` under the shim: writes to the files directly in `dir` fail with
   // `error` once `bytes` were written there.
-  StageResult expand_with_shim(const fs::path& state, const fs::path& dir, std::uint64_t bytes, int error) {
+  StageResult expand_with_shim(const fs::path& state, const fs::path& dir, std::uint64_t bytes,
+                               int error) {
     ::setenv("LD_PRELOAD", HAPSTATE_ENOSPC_SHIM, 1);
     ::setenv("HAPSTATE_ENOSPC_DIR", fs::weakly_canonical(dir).c_str(), 1);
     ::setenv("HAPSTATE_ENOSPC_BYTES", std::to_string(bytes).c_str(), 1);
     ::setenv("HAPSTATE_ENOSPC_ERRNO", std::to_string(error).c_str(), 1);
     StageResult r = expand_stage(state, 1, dir_);
-    for (const char* name : {"LD_PRELOAD", "HAPSTATE_ENOSPC_DIR", "HAPSTATE_ENOSPC_BYTES", "HAPSTATE_ENOSPC_ERRNO"})
+    for (const char* name :
+         {"LD_PRELOAD", "HAPSTATE_ENOSPC_DIR", "HAPSTATE_ENOSPC_BYTES", "HAPSTATE_ENOSPC_ERRNO"})
       ::unsetenv(name);
     return r;
   }
@@ -237,9 +247,11 @@ TEST_F(DiskFull, SegmentWriteOnAFullDiskIsExit4AndResumes) {
   EXPECT_NE(full.err.find((state / "blobs" / "seg-").string()), std::string::npos)
       << "names the segment file: " << full.err;
   EXPECT_NE(full.err.find("No space left on device"), std::string::npos) << full.err;
-  EXPECT_EQ(std::count(full.err.begin(), full.err.end(), '\n'), 1) << "one message, nothing else: " << full.err;
+  EXPECT_EQ(std::count(full.err.begin(), full.err.end(), '\n'), 1)
+      << "one message, nothing else: " << full.err;
   std::printf("[ info ] blobs %s of %llu KiB (the whole run needs %llu KiB); stderr: %s",
-              tmpfs_ ? "tmpfs" : "write budget", static_cast<unsigned long long>(round_up(limit) / 1024),
+              tmpfs_ ? "tmpfs" : "write budget",
+              static_cast<unsigned long long>(round_up(limit) / 1024),
               static_cast<unsigned long long>(needed / 1024), full.err.c_str());
 
   // Nothing corrupted, complete batches only; the failed segment was removed by its writer.
@@ -248,14 +260,17 @@ TEST_F(DiskFull, SegmentWriteOnAFullDiskIsExit4AndResumes) {
   EXPECT_LT(configs, reference_snapshot_.configurations.size());
   {
     Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
-    EXPECT_TRUE(BlobStore(state / "blobs").unreferenced_segments(cat.referenced_segments()).empty());
+    EXPECT_TRUE(
+        BlobStore(state / "blobs").unreferenced_segments(cat.referenced_segments()).empty());
     const StageRun run = cat.read_stage_runs("expand").back();
     EXPECT_EQ(run.outcome, StageOutcome::kFailed);
     EXPECT_NE(run.message.find("No space left on device"), std::string::npos) << run.message;
   }
-  std::printf("[ info ] stored when the disk was full: %zu of %zu configurations, %zu of %zu "
-              "transitions\n", configs, reference_snapshot_.configurations.size(), transitions,
-              reference_snapshot_.transitions.size());
+  std::printf(
+      "[ info ] stored when the disk was full: %zu of %zu configurations, %zu of %zu "
+      "transitions\n",
+      configs, reference_snapshot_.configurations.size(), transitions,
+      reference_snapshot_.transitions.size());
 
   // Space again: the same command resumes and completes.
   if (blobs) blobs->resize(4 * needed + 4 * kMiB);
@@ -295,7 +310,8 @@ class CatalogueFull : public DiskFull {
     const StageResult full = expand_on_full_disk(state, state, room);
     EXPECT_EQ(full.exit_code, 4) << full.err;
     EXPECT_NE(full.err.find("hapstate-expand: error: " + (state / "catalogue.sqlite").string()),
-              std::string::npos) << "names the catalogue: " << full.err;
+              std::string::npos)
+        << "names the catalogue: " << full.err;
     EXPECT_NE(full.err.find("database or disk is full"), std::string::npos) << full.err;
     EXPECT_EQ(std::count(full.err.begin(), full.err.end(), '\n'), 1) << "one message: " << full.err;
     std::printf("[ info ] %llu KiB left for the catalogue; stderr: %s",
@@ -312,17 +328,19 @@ class CatalogueFull : public DiskFull {
       orphans = BlobStore(state / "blobs").unreferenced_segments(cat.referenced_segments()).size();
       EXPECT_LE(orphans, 1u);
     }
-    std::printf("[ info ] stored when the disk was full: %zu of %zu configurations, %zu of %zu "
-                "transitions; %zu unreferenced segment(s)\n", configs,
-                reference_snapshot_.configurations.size(), transitions,
-                reference_snapshot_.transitions.size(), orphans);
+    std::printf(
+        "[ info ] stored when the disk was full: %zu of %zu configurations, %zu of %zu "
+        "transitions; %zu unreferenced segment(s)\n",
+        configs, reference_snapshot_.configurations.size(), transitions,
+        reference_snapshot_.transitions.size(), orphans);
 
     // Space again: the same command removes the orphan segment, resumes and completes.
     if (disk) disk->resize(64 * kMiB);
     const StageResult resumed = expand_stage(state, 1, dir_);
     EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
     if (orphans == 1) {
-      EXPECT_NE(resumed.err.find("removed 1 unreferenced segment"), std::string::npos) << resumed.err;
+      EXPECT_NE(resumed.err.find("removed 1 unreferenced segment"), std::string::npos)
+          << resumed.err;
     }
     expect_same_catalogue(reference_, state);
     return orphans;
@@ -357,13 +375,17 @@ TEST_F(DiskFull, IoErrorsAreExit4NamingTheOsError) {
     EXPECT_EQ(failed.exit_code, 4) << failed.err;
     EXPECT_EQ(std::count(failed.err.begin(), failed.err.end(), '\n'), 1) << failed.err;
     if (segment) {
-      EXPECT_NE(failed.err.find((state / "blobs" / "seg-").string()), std::string::npos) << failed.err;
-      EXPECT_NE(failed.err.find(": Input/output error (HDF5: file write failed)"), std::string::npos)
+      EXPECT_NE(failed.err.find((state / "blobs" / "seg-").string()), std::string::npos)
+          << failed.err;
+      EXPECT_NE(failed.err.find(": Input/output error (HDF5: file write failed)"),
+                std::string::npos)
           << failed.err;
     } else {
       EXPECT_NE(failed.err.find((state / "catalogue.sqlite").string() + ": SQLite error in "),
-                std::string::npos) << failed.err;
-      EXPECT_NE(failed.err.find("disk I/O error (write failed, SQLITE_IOERR_WRITE)"), std::string::npos)
+                std::string::npos)
+          << failed.err;
+      EXPECT_NE(failed.err.find("disk I/O error (write failed, SQLITE_IOERR_WRITE)"),
+                std::string::npos)
           << failed.err;
     }
     std::printf("[ info ] EIO: %s", failed.err.c_str());

@@ -2,8 +2,9 @@
  * system can be mounted): a disk that holds HAPSTATE_ENOSPC_BYTES bytes written to the files
  * directly in the directory HAPSTATE_ENOSPC_DIR (an absolute path, no trailing '/'). A write
  * that would go beyond fails with ENOSPC (or the errno number HAPSTATE_ENOSPC_ERRNO, e.g. 5 for
- * EIO), and so does every later one there: the disk stays full. Other files are untouched. Intercepts what HDF5's sec2 driver and SQLite's unix VFS
- * write with: write, pwrite, pwrite64, writev, pwritev. Never built into a shipped program. */
+ * EIO), and so does every later one there: the disk stays full. Other files are untouched.
+ * Intercepts what HDF5's sec2 driver and SQLite's unix VFS write with: write, pwrite, pwrite64,
+ * writev, pwritev. Never built into a shipped program. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -43,8 +44,10 @@ static int shim_charge(int fd, size_t count) {
   int ok;
   pthread_mutex_lock(&shim_mutex);
   ok = !shim_full && shim_written + (long long)count <= limit;
-  if (ok) shim_written += (long long)count;
-  else shim_full = 1;
+  if (ok)
+    shim_written += (long long)count;
+  else
+    shim_full = 1;
   pthread_mutex_unlock(&shim_mutex);
   if (ok) return 0;
   const char* error = getenv("HAPSTATE_ENOSPC_ERRNO");

@@ -10,8 +10,8 @@
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <random>
+#include <sstream>
 #include <thread>
 
 namespace hapstate::test_util {
@@ -37,7 +37,8 @@ class Mpi : public StageTest {
     // that LeakSanitizer reports from modules already unloaded (no library name to suppress),
     // so the ranks run without leak detection; memory errors and undefined behaviour stay fatal.
     if (const char* asan = std::getenv("ASAN_OPTIONS"))
-      for (const std::string& a : {std::string("-x"), "ASAN_OPTIONS=" + std::string(asan) + ":detect_leaks=0"})
+      for (const std::string& a :
+           {std::string("-x"), "ASAN_OPTIONS=" + std::string(asan) + ":detect_leaks=0"})
         args.push_back(a);
     args.push_back(HAPSTATE_EXPAND_EXE);
     for (const std::string& a : expand_args(state, threads, std::move(extra))) args.push_back(a);
@@ -97,7 +98,6 @@ class Mpi : public StageTest {
     name += std::to_string(threads);
     return name;
   }
-
 };
 
 TEST_F(Mpi, RanksAndThreadsDoNotChangeTheBeamCatalogue) {
@@ -118,8 +118,9 @@ TEST_F(Mpi, RanksAndThreadsDoNotChangeTheBeamCatalogue) {
     expect_same_catalogue(reference, state);
     // The stage run records how the work was distributed.
     Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
-    EXPECT_NE(cat.read_stage_runs("expand").back().parameters.find("ranks=" + std::to_string(ranks)),
-              std::string::npos);
+    EXPECT_NE(
+        cat.read_stage_runs("expand").back().parameters.find("ranks=" + std::to_string(ranks)),
+        std::string::npos);
   }
 }
 
@@ -178,7 +179,8 @@ TEST_F(Mpi, KilledMpirunResumesToTheSameCatalogue) {
   ASSERT_EQ(last.exit_code, 0) << last.err;
   expect_same_catalogue(reference, state);
   Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
-  for (const StageRun& run : cat.read_stage_runs("expand")) EXPECT_NE(run.outcome, StageOutcome::kRunning);
+  for (const StageRun& run : cat.read_stage_runs("expand"))
+    EXPECT_NE(run.outcome, StageOutcome::kRunning);
 }
 
 // A worker rank killed: MPI ends the job (mpirun reports the rank), the catalogue is as after

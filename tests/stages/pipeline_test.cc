@@ -15,10 +15,12 @@
 namespace hapstate::test_util {
 namespace {
 
-constexpr double kMaxForce = 0.01;  // pipelines/beam/scene.toml
+constexpr double kMaxForce = 0.01;    // pipelines/beam/scene.toml
 constexpr int kBeamCheckpoints = 45;  // 5 x 3 x 3
 
-double norm(const std::array<double, 3>& f) { return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); }
+double norm(const std::array<double, 3>& f) {
+  return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+}
 
 // One expanded beam (--threads 1) per test program, shared read-only by the tests.
 class Pipeline : public StageTest {
@@ -60,7 +62,8 @@ TEST_F(Pipeline, ExpansionTerminatesWithinTheForceLimit) {
       EXPECT_EQ(c.status, ConfigStatus::kExpanded);
     } else {
       ++beyond_limit;
-      EXPECT_EQ(decided[c.id], 0) << "configuration " << c.id.value() << " beyond F_max was expanded";
+      EXPECT_EQ(decided[c.id], 0) << "configuration " << c.id.value()
+                                  << " beyond F_max was expanded";
       EXPECT_EQ(c.status, ConfigStatus::kOpen);
     }
   }
@@ -226,7 +229,8 @@ TEST_F(Pipeline, EnlargedWorkspaceAddsCheckpointsAndKeepsTheOldOnes) {
 TEST_F(Pipeline, ManyLevelsAreDistinctAndIndependentOfThreads) {
   const std::string scene = beam_variant(
       dir_, "levels.toml",
-      {{"[solver]", "[levels]\ndisplacement_tolerance = 1e-11\nforce_tolerance = 1e-9\n\n[solver]"}});
+      {{"[solver]",
+        "[levels]\ndisplacement_tolerance = 1e-11\nforce_tolerance = 1e-9\n\n[solver]"}});
   const fs::path one = dir_ / "one", two = dir_ / "two";
   for (const auto& [state, threads] : {std::pair{one, 1}, std::pair{two, 2}}) {
     ASSERT_EQ(import_stage(state, scene, dir_).exit_code, 0);
@@ -260,7 +264,8 @@ TEST_F(Pipeline, ManyLevelsAreDistinctAndIndependentOfThreads) {
     }
     for (std::size_t x = 0; x < v.size(); ++x)
       for (std::size_t y = x + 1; y < v.size(); ++y)
-        EXPECT_GT(level_distance(v[x], v[y], tol), 1.0) << checkpoint.value() << ": " << x << ", " << y;
+        EXPECT_GT(level_distance(v[x], v[y], tol), 1.0)
+            << checkpoint.value() << ": " << x << ", " << y;
   }
   EXPECT_GE(most, 5u);
 }

@@ -2,9 +2,9 @@
 // stage (fork/exec, output captured), snapshots of a catalogue for comparisons.
 #pragma once
 
+#include "../common/scene_variant.h"
 #include "blobs/blob_store.h"
 #include "catalogue/catalogue.h"
-#include "../common/scene_variant.h"
 
 #include <gtest/gtest.h>
 
@@ -34,7 +34,8 @@ struct StageResult {
 // Starts `exe args...` with stdout/stderr into files in `log_dir`; returns the pid.
 inline pid_t start_stage(const std::string& exe, const std::vector<std::string>& args,
                          const fs::path& log_dir) {
-  const std::string out = (log_dir / "stdout.txt").string(), err = (log_dir / "stderr.txt").string();
+  const std::string out = (log_dir / "stdout.txt").string(),
+                    err = (log_dir / "stderr.txt").string();
   const pid_t pid = ::fork();
   if (pid == 0) {
     const int fo = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -120,7 +121,8 @@ inline int expect_same_decisions(const Snapshot& a, const Snapshot& b, bool cost
                                  double relative = 1e-12) {
   int level_ties = 0;
   std::map<std::int64_t, std::int64_t> checkpoint_of;
-  for (const Configuration& c : a.configurations) checkpoint_of[c.id.value()] = c.checkpoint.value();
+  for (const Configuration& c : a.configurations)
+    checkpoint_of[c.id.value()] = c.checkpoint.value();
   EXPECT_EQ(a.checkpoints, b.checkpoints);
   EXPECT_EQ(a.configurations.size(), b.configurations.size());
   if (a.configurations.size() != b.configurations.size()) return -1;
@@ -134,10 +136,11 @@ inline int expect_same_decisions(const Snapshot& a, const Snapshot& b, bool cost
     EXPECT_EQ(x.expandable, y.expandable) << "configuration " << x.id.value();
     EXPECT_EQ(x.status, y.status) << "configuration " << x.id.value();
     EXPECT_EQ(x.blob, y.blob) << "configuration " << x.id.value();
-    const double force_scale = std::max({1e-3, std::abs(x.force[0]), std::abs(x.force[1]),
-                                         std::abs(x.force[2])});
+    const double force_scale =
+        std::max({1e-3, std::abs(x.force[0]), std::abs(x.force[1]), std::abs(x.force[2])});
     for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(x.force[c], y.force[c], relative * force_scale) << "configuration " << x.id.value();
+      EXPECT_NEAR(x.force[c], y.force[c], relative * force_scale)
+          << "configuration " << x.id.value();
     for (int c = 0; c < 9; ++c)
       EXPECT_NEAR(x.stiffness[c], y.stiffness[c],
                   std::max(1e-9, relative) * (1 + std::abs(x.stiffness[c])));
@@ -155,12 +158,14 @@ inline int expect_same_decisions(const Snapshot& a, const Snapshot& b, bool cost
     const Transition& y = b.transitions[k];
     EXPECT_EQ(x.source, y.source);
     EXPECT_EQ(x.direction, y.direction);
-    EXPECT_EQ(x.outcome, y.outcome) << "transition " << x.source.value() << "/" << x.direction.index();
+    EXPECT_EQ(x.outcome, y.outcome)
+        << "transition " << x.source.value() << "/" << x.direction.index();
     if (cost_may_differ && x.target != y.target && x.target.valid() && y.target.valid() &&
         checkpoint_of[x.target.value()] == checkpoint_of[y.target.value()]) {
       ++level_ties;
     } else {
-      EXPECT_EQ(x.target, y.target) << "transition " << x.source.value() << "/" << x.direction.index();
+      EXPECT_EQ(x.target, y.target)
+          << "transition " << x.source.value() << "/" << x.direction.index();
     }
     if (!cost_may_differ) {
       EXPECT_EQ(x.substeps, y.substeps);

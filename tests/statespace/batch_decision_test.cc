@@ -33,7 +33,8 @@ class MemoryLevels final : public StoredLevels {
   Level next_level(CheckpointId c) override {
     int next = 0;
     for (const auto& [id, entry] : levels)
-      if (entry.first.checkpoint == c) next = std::max<int>(next, static_cast<int>(entry.first.level.value()) + 1);
+      if (entry.first.checkpoint == c)
+        next = std::max<int>(next, static_cast<int>(entry.first.level.value()) + 1);
     return Level(next);
   }
   const ConfigVectors& vectors(const Configuration& c) override {
@@ -105,11 +106,11 @@ class Decide : public ::testing::Test {
 
 TEST_F(Decide, MatchesStoredAndSameBatchLevelsAndNumbersNewOnesInTaskOrder) {
   const std::vector<TransitionTask> tasks = {
-      task(1, 0, 5),   // within tolerance of stored level 10
-      task(1, 1, 5),   // far from it: new, level 1 at check-point 5
-      task(2, 0, 5),   // within tolerance of the previous one (same batch): reuses it
-      task(2, 1, 6),   // new at check-point 6, level 0
-      task(2, 2, 5),   // far from both: new, level 2 at check-point 5
+      task(1, 0, 5),  // within tolerance of stored level 10
+      task(1, 1, 5),  // far from it: new, level 1 at check-point 5
+      task(2, 0, 5),  // within tolerance of the previous one (same batch): reuses it
+      task(2, 1, 6),  // new at check-point 6, level 0
+      task(2, 2, 5),  // far from both: new, level 2 at check-point 5
   };
   const std::vector<TransitionSolve> solves = {reached(0.505, 0.41), reached(0.8, 0.6),
                                                reached(0.801, 0.6), reached(0.2, 0.1),
@@ -154,8 +155,7 @@ TEST_F(Decide, NearestOfTwoLevelsWithinToleranceWins) {
   c.level = Level(1);
   c.summary = sketch_.summary(vectors_with(0.51, 0.4).u);
   stored_.levels[11] = {c, vectors_with(0.51, 0.4)};
-  const BatchDecision d =
-      decide_batch({task(1, 0, 5)}, {reached(0.508, 0.4)}, stored_, settings_);
+  const BatchDecision d = decide_batch({task(1, 0, 5)}, {reached(0.508, 0.4)}, stored_, settings_);
   EXPECT_EQ(d.transitions[0].target, ConfigId(11));
 }
 
@@ -165,15 +165,16 @@ TEST_F(Decide, ForceLimitFailuresAndOutsideTheGrid) {
   failed.move.ok = false;
   failed.move.failure = SolveFailure::kLineSearch;
   failed.move.reason = "no descent";
-  const std::vector<TransitionTask> tasks = {task(1, 0, 8), task(1, 1, 9), task(1, 2, std::nullopt)};
+  const std::vector<TransitionTask> tasks = {task(1, 0, 8), task(1, 1, 9),
+                                             task(1, 2, std::nullopt)};
   const BatchDecision d =
       decide_batch(tasks, {reached(2.0, 1.5), failed, TransitionSolve{}}, stored_, settings_);
   ASSERT_EQ(d.fresh.size(), 1u);
   EXPECT_FALSE(d.fresh[0].config.expandable);  // 1.5 N > F_max
   EXPECT_EQ(d.transitions[1].outcome, TransitionOutcome::kFailed);
   EXPECT_FALSE(d.transitions[1].target.valid());
-  EXPECT_EQ(d.transitions[1].failure_reason, std::string(failure_name(SolveFailure::kLineSearch)) +
-                                                 ": no descent");
+  EXPECT_EQ(d.transitions[1].failure_reason,
+            std::string(failure_name(SolveFailure::kLineSearch)) + ": no descent");
   EXPECT_EQ(d.transitions[2].outcome, TransitionOutcome::kOutsideGrid);
   EXPECT_EQ(d.counts.decided, 3);
   EXPECT_EQ(d.counts.solved, 2);

@@ -24,7 +24,8 @@ SceneGrid unit_box_dims3() {
 
 TEST(GridSpec, RestPositionIsCheckpointZero) {
   const Eigen::Vector3d rest(4.0, 0.5, 1.0);
-  const GridSpec g = resolve_grid(spacing_grid(0.1, Box{{3.8, 0.4, 0.9}, {4.2, 0.6, 1.1}}), rest, "s");
+  const GridSpec g =
+      resolve_grid(spacing_grid(0.1, Box{{3.8, 0.4, 0.9}, {4.2, 0.6, 1.1}}), rest, "s");
   EXPECT_EQ(g.position({0, 0, 0}), rest);
   EXPECT_EQ(g.lo, (GridIndex{-2, -1, -1}));
   EXPECT_EQ(g.hi, (GridIndex{2, 1, 1}));
@@ -93,7 +94,9 @@ TEST(GridSpec, ShortAxisIsReported) {
   const std::vector<std::string> notes = grid_short_axes(s, g, "scene.toml");
   ASSERT_EQ(notes.size(), 1u);
   EXPECT_NE(notes[0].find("scene.toml: [grid] dims asks for 3 check-points along y but box holds "
-                          "2"), std::string::npos) << notes[0];
+                          "2"),
+            std::string::npos)
+      << notes[0];
   EXPECT_NE(notes[0].find("rest position y = 0.3"), std::string::npos) << notes[0];
   EXPECT_NE(notes[0].find("0.4 spacings off"), std::string::npos) << notes[0];
   EXPECT_NE(notes[0].find("shift grid.box by -0.2 along y"), std::string::npos) << notes[0];
@@ -101,8 +104,10 @@ TEST(GridSpec, ShortAxisIsReported) {
 
 TEST(GridSpec, EnlargingTheWorkspaceKeepsPositionsAndHash) {
   const Eigen::Vector3d rest(0.3, 0.1, 0.2);
-  const GridSpec small = resolve_grid(spacing_grid(0.1, Box{{0.1, 0.0, 0.0}, {0.5, 0.2, 0.4}}), rest, "s");
-  const GridSpec large = resolve_grid(spacing_grid(0.1, Box{{0.0, -0.1, 0.0}, {0.6, 0.3, 0.4}}), rest, "s");
+  const GridSpec small =
+      resolve_grid(spacing_grid(0.1, Box{{0.1, 0.0, 0.0}, {0.5, 0.2, 0.4}}), rest, "s");
+  const GridSpec large =
+      resolve_grid(spacing_grid(0.1, Box{{0.0, -0.1, 0.0}, {0.6, 0.3, 0.4}}), rest, "s");
   for (int i = small.lo[0]; i <= small.hi[0]; ++i)
     EXPECT_EQ(small.position({i, 1, 0}), large.position({i, 1, 0}));
   EXPECT_LT(large.lo[0], small.lo[0]);
@@ -112,23 +117,28 @@ TEST(GridSpec, EnlargingTheWorkspaceKeepsPositionsAndHash) {
 
 TEST(GridSpec, AbsurdlyManyCheckpointsIsAnError) {
   try {
-    resolve_grid(spacing_grid(1e-4, Box{{0, 0, 0}, {1, 1, 1}}), Eigen::Vector3d(0.5, 0.5, 0.5), "scene.toml");
+    resolve_grid(spacing_grid(1e-4, Box{{0, 0, 0}, {1, 1, 1}}), Eigen::Vector3d(0.5, 0.5, 0.5),
+                 "scene.toml");
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("scene.toml: [grid] spacing (0.0001, 0.0001, 0.0001) over "
                                          "the box gives 1e+12 check-points"),
-              std::string::npos) << e.what();
+              std::string::npos)
+        << e.what();
   }
 }
 
 TEST(GridSpec, RestOutsideTheBoxIsAnError) {
   try {
-    resolve_grid(spacing_grid(0.1, Box{{0, 0, 0}, {1, 1, 1}}), Eigen::Vector3d(2, 0.5, 0.5), "scene.toml");
+    resolve_grid(spacing_grid(0.1, Box{{0, 0, 0}, {1, 1, 1}}), Eigen::Vector3d(2, 0.5, 0.5),
+                 "scene.toml");
     FAIL();
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("scene.toml: [grid] box"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("does not contain the probe's rest position (2, 0.5, 0.5)"),
-              std::string::npos) << e.what();
+    EXPECT_NE(
+        std::string(e.what()).find("does not contain the probe's rest position (2, 0.5, 0.5)"),
+        std::string::npos)
+        << e.what();
   }
 }
 

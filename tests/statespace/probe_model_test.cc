@@ -2,8 +2,8 @@
 // (nodes every 0.5 on [0, 4]^2 x [0, 1], base z = 0 fixed, sphere radius 0.8): which probe
 // positions leave the body at rest, and which moves between them sweep past every node; the
 // expected answers are worked out by hand from the node lattice.
-#include "../solver/contact_problems.h"
 #include "statespace/probe_model.h"
+#include "../solver/contact_problems.h"
 
 #include <gtest/gtest.h>
 
@@ -19,8 +19,10 @@ TEST(ContactProbeModel, ZeroConfigurationWhereTheSphereTouchesNoSurfaceNode) {
   EXPECT_TRUE(probe->holds_zero_configuration(Eigen::Vector3d(2, 2, 1.85)));
   EXPECT_FALSE(probe->holds_zero_configuration(Eigen::Vector3d(2, 2, 1.75)));
   // Beside the fixed base (z = 0 nodes are not candidates): only the z = 0.5 nodes count.
-  EXPECT_TRUE(probe->holds_zero_configuration(Eigen::Vector3d(-0.6, 2, -0.5)));  // 0.78 from (0, 2, 0)
-  EXPECT_FALSE(probe->holds_zero_configuration(Eigen::Vector3d(-0.6, 2, 0.1)));  // 0.72 from (0, 2, 0.5)
+  EXPECT_TRUE(
+      probe->holds_zero_configuration(Eigen::Vector3d(-0.6, 2, -0.5)));  // 0.78 from (0, 2, 0)
+  EXPECT_FALSE(
+      probe->holds_zero_configuration(Eigen::Vector3d(-0.6, 2, 0.1)));  // 0.72 from (0, 2, 0.5)
 }
 
 TEST(ContactProbeModel, MoveIsTrivialOnlyIfTheSphereSweepsPastEveryNode) {
@@ -43,7 +45,8 @@ TEST(GrabProbeModel, NoTrivialMovesAndZeroOnlyAtRest) {
   Problem p = testing::block_problem();
   p.contact.reset();
   p.constraints.probe_nodes = {p.mesh.num_nodes() - 1};
-  for (int c = 0; c < 3; ++c) p.constraints.role[3 * (p.mesh.num_nodes() - 1) + c] = DofRole::kProbe;
+  for (int c = 0; c < 3; ++c)
+    p.constraints.role[3 * (p.mesh.num_nodes() - 1) + c] = DofRole::kProbe;
   p.probe_rest = p.mesh.nodes.col(p.mesh.num_nodes() - 1);
   const auto probe = make_probe_model(p);
   EXPECT_FALSE(probe->is_contact());

@@ -20,7 +20,8 @@ std::string beam_text() {
   return s.str();
 }
 
-NamedHashes identity_of(std::string text, const std::string& from = "", const std::string& to = "") {
+NamedHashes identity_of(std::string text, const std::string& from = "",
+                        const std::string& to = "") {
   if (!from.empty()) {
     const auto at = text.find(from);
     EXPECT_NE(at, std::string::npos) << from;
@@ -55,8 +56,9 @@ TEST(SceneIdentity, PartsThatChange) {
             (V{"scene", "solver"}));
   EXPECT_EQ(changed(base, identity_of(beam_text(), "spacing = 0.1", "spacing = 0.05")),
             (V{"grid.spacing", "scene"}));  // the box is explicit: the workspace stays
-  EXPECT_EQ(changed(base, identity_of(beam_text(), "point = [4.0, 0.5, 1.0]", "point = [4.0, 0.5, 0.0]")),
-            (V{"problem", "scene"}));
+  EXPECT_EQ(
+      changed(base, identity_of(beam_text(), "point = [4.0, 0.5, 1.0]", "point = [4.0, 0.5, 0.0]")),
+      (V{"problem", "scene"}));
   EXPECT_TRUE(is_mutable_scene_part("max_force"));
   EXPECT_TRUE(is_mutable_scene_part("workspace"));
   EXPECT_FALSE(is_mutable_scene_part("material"));

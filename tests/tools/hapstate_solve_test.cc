@@ -1,10 +1,10 @@
 // Runs the real hapstate-solve executable (path from CMake) on the bundled liver scene the
 // way a user would: exit codes, output files, and the messages of bad input.
+#include "../common/scene_variant.h"
 #include "io/probe_path.h"
 #include "scene/bind.h"
 #include "scene/scene.h"
 #include "solver/path_solver.h"
-#include "../common/scene_variant.h"
 
 #include <gtest/gtest.h>
 
@@ -25,7 +25,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kScene = HAPSTATE_SOURCE_DIR "/pipelines/liver/scene.toml";
-const std::string kHeader = "step,x,y,z,fx,fy,fz,residual,iterations,substeps,cutbacks,wall_ms,status";
+const std::string kHeader =
+    "step,x,y,z,fx,fy,fz,residual,iterations,substeps,cutbacks,wall_ms,status";
 constexpr int kLiverNodes = 181;
 
 std::string quote(const std::string& s) {
@@ -119,12 +120,13 @@ TEST_F(HapstateSolve, StraightPathWritesOneOkRowPerPoint) {
     const auto cells = split(lines[k + 1]);
     ASSERT_EQ(cells.size(), 13u) << lines[k + 1];
     EXPECT_EQ(std::stoi(cells[0]), k + 1);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(std::stod(cells[1 + c]), path[k][c], 1e-10) << lines[k + 1];
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(std::stod(cells[1 + c]), path[k][c], 1e-10) << lines[k + 1];
     EXPECT_EQ(cells[12], "ok") << lines[k + 1];
-    EXPECT_GE(std::stoi(cells[8]), 1);                       // iterations
-    EXPECT_EQ(std::stoi(cells[9]), 1);                        // substeps (fast: one, no cut-back)
-    EXPECT_EQ(std::stoi(cells[10]), 0);                       // cutbacks
-    EXPECT_GE(std::stod(cells[11]), 0.0);                     // wall_ms
+    EXPECT_GE(std::stoi(cells[8]), 1);     // iterations
+    EXPECT_EQ(std::stoi(cells[9]), 1);     // substeps (fast: one, no cut-back)
+    EXPECT_EQ(std::stoi(cells[10]), 0);    // cutbacks
+    EXPECT_GE(std::stod(cells[11]), 0.0);  // wall_ms
     ASSERT_TRUE(solver.move_to(path[k] - problem.probe_rest).ok);
     const Eigen::Vector3d f = solver.force_felt();
     const Eigen::Vector3d f_csv(std::stod(cells[4]), std::stod(cells[5]), std::stod(cells[6]));
@@ -265,8 +267,8 @@ std::vector<ContactRow> contact_rows(const fs::path& csv) {
 // (straight up from rest) and from above (around the plate's edge, then down) gives opposite
 // normal forces; untouched rows are exactly zero.
 TEST_F(HapstateSolve, ContactPlateFromBelowAndFromAbove) {
-  const Run below = solve({test_util::plate_variant(dir_, {}), "--straight", "2", "2", "0.2", "--steps", "12", "-q", "-o",
-                           p("below.csv")});
+  const Run below = solve({test_util::plate_variant(dir_, {}), "--straight", "2", "2", "0.2",
+                           "--steps", "12", "-q", "-o", p("below.csv")});
   ASSERT_EQ(below.exit_code, 0) << below.err;
   EXPECT_EQ(lines_of(p("below.csv"))[0], kContactHeader);
   {
@@ -275,7 +277,8 @@ TEST_F(HapstateSolve, ContactPlateFromBelowAndFromAbove) {
     for (double z = 1.3; z > 0.25; z -= 0.2) path << "2,2," << z << "\n";
     path << "2,2,0.2\n";
   }
-  const Run above = solve({test_util::plate_variant(dir_, {}), "--path", p("above.txt"), "-q", "-o", p("above.csv")});
+  const Run above = solve(
+      {test_util::plate_variant(dir_, {}), "--path", p("above.txt"), "-q", "-o", p("above.csv")});
   ASSERT_EQ(above.exit_code, 0) << above.err;
   const auto b = contact_rows(p("below.csv"));
   const auto a = contact_rows(p("above.csv"));
@@ -291,9 +294,9 @@ TEST_F(HapstateSolve, ContactPlateFromBelowAndFromAbove) {
       }
     }
   // First touch from below: the sphere's top (z + 0.8) passes the plate's bottom face at -0.1.
-  EXPECT_EQ(b[0].touched, 0);   // z = -0.9: top at -0.1, not inside
-  EXPECT_GT(b[1].touched, 0);   // z = -0.8
-  EXPECT_EQ(a[4].touched, 0);   // z = 1.3: bottom at 0.5, clear of the top face at 0.1
+  EXPECT_EQ(b[0].touched, 0);  // z = -0.9: top at -0.1, not inside
+  EXPECT_GT(b[1].touched, 0);  // z = -0.8
+  EXPECT_EQ(a[4].touched, 0);  // z = 1.3: bottom at 0.5, clear of the top face at 0.1
   EXPECT_GT(a.back().touched, 0);
   EXPECT_LT(b.back().fz, -0.1);  // pushed up from below: the plate pushes the probe down
   EXPECT_GT(a.back().fz, 0.1);   // pushed down from above: it pushes the probe up
@@ -303,8 +306,8 @@ TEST_F(HapstateSolve, ContactPlateFromBelowAndFromAbove) {
 // touched spot, it converges, touches, and the force pushes back out of the liver.
 TEST_F(HapstateSolve, ContactLiverPressedConvergesAndPushesBack) {
   const std::string scene = HAPSTATE_SOURCE_DIR "/pipelines/liver-contact/scene.toml";
-  const Run r = solve({scene, "--by", "0.18", "-0.4", "-0.9", "--steps", "5", "-q", "-o",
-                       p("liver.csv")});
+  const Run r =
+      solve({scene, "--by", "0.18", "-0.4", "-0.9", "--steps", "5", "-q", "-o", p("liver.csv")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rows = contact_rows(p("liver.csv"));
   ASSERT_EQ(rows.size(), 5u);
@@ -316,7 +319,8 @@ TEST_F(HapstateSolve, ContactLiverPressedConvergesAndPushesBack) {
 }
 
 TEST_F(HapstateSolve, ContactProbeCannotBeExportedToCalculix) {
-  const Run r = solve({test_util::plate_variant(dir_, {}), "--by", "0", "0", "1", "--export-ccx", p("ccx")});
+  const Run r =
+      solve({test_util::plate_variant(dir_, {}), "--by", "0", "0", "1", "--export-ccx", p("ccx")});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("--export-ccx: a contact probe cannot be exported"), std::string::npos)
       << r.err;

@@ -31,7 +31,8 @@ TEST(StressMesh, QualityOfRegularAndFlatTets) {
   EXPECT_NEAR(tet_quality(a, c, b, d), 1.0, 1e-12);
   EXPECT_NEAR(tet_quality(a, b, c, d), -1.0, 1e-12);  // inverted (negative volume): negative
   const Eigen::Vector3d o(0, 0, 0), x(1, 0, 0), xy(1, 1, 0), xyz(1, 1, 1);
-  EXPECT_NEAR(tet_quality(o, x, xy, xyz), 1.5 / (1.0 + std::sqrt(2.0)) / (std::sqrt(3.0) / 2), 1e-12);
+  EXPECT_NEAR(tet_quality(o, x, xy, xyz), 1.5 / (1.0 + std::sqrt(2.0)) / (std::sqrt(3.0) / 2),
+              1e-12);
   // A sliver: four nearly coplanar points.
   const double sliver = tet_quality(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
                                     Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 1, 1e-3));
@@ -56,7 +57,8 @@ TEST(StressMesh, StretchRangeOfAHomogeneousDeformation) {
   const Mesh box = make_box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(2, 1, 1), 2, 1, 1);
   Eigen::Matrix3Xd u(3, box.num_nodes());
   const Eigen::Matrix3d f = Eigen::Vector3d(1.5, 0.8, 0.9).asDiagonal();
-  for (int n = 0; n < box.num_nodes(); ++n) u.col(n) = (f - Eigen::Matrix3d::Identity()) * box.nodes.col(n);
+  for (int n = 0; n < box.num_nodes(); ++n)
+    u.col(n) = (f - Eigen::Matrix3d::Identity()) * box.nodes.col(n);
   const StretchRange r = stretch_range(box, u);
   EXPECT_NEAR(r.max_stretch, 1.5, 1e-12);
   EXPECT_NEAR(r.min_stretch, 0.8, 1e-12);
@@ -74,7 +76,11 @@ TEST(StressCase, NearlyIncompressibleCasesTheSolverFixesConverge) {
   // Frictionless contact at nu 0.4999: the penalty's stiffness scale is the shear share of the
   // tangent's diagonal (before: line search failures at any step size).
   for (Law law : {Law::kLinear, Law::kNeoHooke}) {
-    const StressCase c{law, 0.4999, StressLoad::kCompress, StressStep::kWhole, StressMesh::kSliver,
+    const StressCase c{law,
+                       0.4999,
+                       StressLoad::kCompress,
+                       StressStep::kWhole,
+                       StressMesh::kSliver,
                        StressProbe::kContact};
     const StressOutcome o = run_stress_case(c, 60, false);
     EXPECT_EQ(o.status, "converged") << c.id() << ": " << o.reason;
@@ -83,8 +89,9 @@ TEST(StressCase, NearlyIncompressibleCasesTheSolverFixesConverge) {
   }
   // Newton's budget while it converges: StVK at nu 0.499 compressed by 30 % in grid steps needs
   // more than 30 iterations in one solve (before: max_iterations after 11 cut-backs).
-  const StressCase c{Law::kStvk, 0.499, StressLoad::kCompress, StressStep::kGrid, StressMesh::kRegular,
-                     StressProbe::kPatch};
+  const StressCase c{
+      Law::kStvk,         0.499, StressLoad::kCompress, StressStep::kGrid, StressMesh::kRegular,
+      StressProbe::kPatch};
   const StressOutcome o = run_stress_case(c, 60, false);
   EXPECT_EQ(o.status, "converged") << o.reason;
   EXPECT_EQ(o.moves_done, 3);
@@ -116,10 +123,12 @@ int run(const std::string& command) {
 }
 
 TEST(HapstateStress, QuickSubsetConvergesOrRecordsAReason) {
-  const fs::path dir = fs::temp_directory_path() / ("hapstate_stress_test_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("hapstate_stress_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const int code = run(std::string(HAPSTATE_STRESS_EXE) + " --quick --no-retry --threads 1 --wall-cap 30 --out " +
-                       dir.string() + " > " + (dir.string() + ".log") + " 2>&1");
+  const int code = run(std::string(HAPSTATE_STRESS_EXE) +
+                       " --quick --no-retry --threads 1 --wall-cap 30 --out " + dir.string() +
+                       " > " + (dir.string() + ".log") + " 2>&1");
   EXPECT_EQ(code, 0) << "see " << dir.string() << ".log";
   std::ifstream in(dir / "stress.csv");
   ASSERT_TRUE(in) << "no stress.csv";
@@ -128,9 +137,9 @@ TEST(HapstateStress, QuickSubsetConvergesOrRecordsAReason) {
   const std::vector<std::string> header = split_csv(line);
   std::map<std::string, int> col;
   for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = static_cast<int>(i);
-  for (const char* name : {"law", "nu", "load", "step", "mesh", "probe", "status", "failure", "reason",
-                           "iterations", "max_force_N", "max_stretch", "min_stretch", "reached",
-                           "mesh_min_quality"})
+  for (const char* name :
+       {"law", "nu", "load", "step", "mesh", "probe", "status", "failure", "reason", "iterations",
+        "max_force_N", "max_stretch", "min_stretch", "reached", "mesh_min_quality"})
     ASSERT_TRUE(col.count(name)) << name;
   std::map<std::string, std::vector<std::string>> rows;
   int cases = 0, converged = 0;
@@ -142,7 +151,8 @@ TEST(HapstateStress, QuickSubsetConvergesOrRecordsAReason) {
     rows[id] = r;
     ++cases;
     const std::string& status = r[col["status"]];
-    ASSERT_TRUE(status == "converged" || status == "failed") << id << ": " << status << " " << r[col["reason"]];
+    ASSERT_TRUE(status == "converged" || status == "failed")
+        << id << ": " << status << " " << r[col["reason"]];
     if (status == "converged") {
       ++converged;
       EXPECT_EQ(r[col["reason"]], "") << id;
@@ -179,7 +189,8 @@ TEST(HapstateStress, QuickSubsetConvergesOrRecordsAReason) {
   // and every failed row names the solver's failure and its reason (checked above). If a solver
   // improvement makes them converge, pick other failing cases for the subset.
   int failed = 0;
-  for (const char* id : {"stvk/nu0.45/compress/whole/regular/contact", "neohooke/nu0.4999/compress/whole/regular/node"}) {
+  for (const char* id : {"stvk/nu0.45/compress/whole/regular/contact",
+                         "neohooke/nu0.4999/compress/whole/regular/node"}) {
     const auto& r = get(id);
     ASSERT_FALSE(r.empty());
     failed += r[col["status"]] == "failed" ? 1 : 0;
@@ -200,7 +211,9 @@ TEST(HapstateStress, QuickSubsetConvergesOrRecordsAReason) {
 
 TEST(HapstateStress, BadOptionsExitTwo) {
   EXPECT_EQ(run(std::string(HAPSTATE_STRESS_EXE) + " --quick --full > /dev/null 2>&1"), 2);
-  EXPECT_EQ(run(std::string(HAPSTATE_STRESS_EXE) + " --filter nosuchcase --out /tmp/x_stress_none > /dev/null 2>&1"), 2);
+  EXPECT_EQ(run(std::string(HAPSTATE_STRESS_EXE) +
+                " --filter nosuchcase --out /tmp/x_stress_none > /dev/null 2>&1"),
+            2);
 }
 
 }  // namespace

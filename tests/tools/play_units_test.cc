@@ -1,8 +1,8 @@
 // hapstate-play's pieces: the device path sampled at the tick rate, the latency summary and
 // the surface VTU writer for frames.
 #include "io/surface_vtu.h"
-#include "util/distribution.h"
 #include "play/tick_path.h"
+#include "util/distribution.h"
 #include "util/error.h"
 
 #include <gtest/gtest.h>
@@ -44,7 +44,8 @@ TEST(TickPath, OnePointAndRepeatedPointsGiveFiniteTicks) {
   const TickPath path({{0, 0, 0}, {0, 0, 0}, {1, 0, 0}}, 1.0, 10.0);
   EXPECT_EQ(path.num_ticks(), 11);
   TickPath::Sampler sampler(path);
-  for (std::int64_t k = 0; k < path.num_ticks(); ++k) EXPECT_NEAR(sampler.position(k)[0], 0.1 * k, 1e-12);
+  for (std::int64_t k = 0; k < path.num_ticks(); ++k)
+    EXPECT_NEAR(sampler.position(k)[0], 0.1 * k, 1e-12);
 }
 
 TEST(TickPath, RejectsEmptyPathsAndNonPositiveSpeedOrRate) {

@@ -2,13 +2,13 @@
 
 #include "play/visual.h"
 
+#include <time.h>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <cerrno>
 #include <exception>
 #include <thread>
-#include <time.h>
 
 namespace hapstate::play {
 namespace {
@@ -23,7 +23,8 @@ std::int64_t monotonic_ns() {
 }
 
 void sleep_until_ns(std::int64_t deadline) {
-  timespec ts{static_cast<time_t>(deadline / 1'000'000'000), static_cast<long>(deadline % 1'000'000'000)};
+  timespec ts{static_cast<time_t>(deadline / 1'000'000'000),
+              static_cast<long>(deadline % 1'000'000'000)};
   while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
   }
 }
@@ -82,8 +83,7 @@ void visual_realtime(FrameRenderer& renderer, Sync& sync, std::int64_t start_ns,
 
 }  // namespace
 
-SessionResult run_session(const PlaybackFile& file, const TickPath& path,
-                          const SessionOptions& o) {
+SessionResult run_session(const PlaybackFile& file, const TickPath& path, const SessionOptions& o) {
   SessionResult r;
   const std::int64_t n = path.num_ticks();
   const double rate = path.rate();
@@ -111,7 +111,8 @@ SessionResult run_session(const PlaybackFile& file, const TickPath& path,
     const auto t0 = Clock::now();
     const Force f = cursor.force(p);
     const auto t1 = Clock::now();
-    r.latency_us[static_cast<std::size_t>(k)] = std::chrono::duration<double, std::micro>(t1 - t0).count();
+    r.latency_us[static_cast<std::size_t>(k)] =
+        std::chrono::duration<double, std::micro>(t1 - t0).count();
     if (o.realtime && monotonic_ns() > start_ns + (k + 1) * tick_ns) ++r.missed_ticks;
     const double magnitude = std::hypot(f.value[0], f.value[1], f.value[2]);
     r.max_force = std::max(r.max_force, magnitude);
@@ -124,7 +125,8 @@ SessionResult run_session(const PlaybackFile& file, const TickPath& path,
     if (!o.realtime && k >= std::ceil(next_frame * frame_ticks - 1e-9)) {
       sync.request.store(next_frame);
       sync.request.notify_one();
-      for (std::int64_t t = sync.taken.load(); t < next_frame; t = sync.taken.load()) sync.taken.wait(t);
+      for (std::int64_t t = sync.taken.load(); t < next_frame; t = sync.taken.load())
+        sync.taken.wait(t);
       ++next_frame;
     }
   }

@@ -14,7 +14,8 @@ TickPath::TickPath(ProbePath points, double speed, double rate)
   if (points_.empty()) throw InputError("the probe path has no points");
   if (!(speed > 0) || !std::isfinite(speed))
     throw InputError("--speed must be a positive number of mesh units per second");
-  if (!(rate > 0) || !std::isfinite(rate)) throw InputError("--rate must be a positive number of Hz");
+  if (!(rate > 0) || !std::isfinite(rate))
+    throw InputError("--rate must be a positive number of Hz");
   arc_.resize(points_.size());
   for (std::size_t i = 0; i < points_.size(); ++i) {
     if (!points_[i].allFinite())

@@ -17,7 +17,7 @@ class TickPath {
 
   std::int64_t num_ticks() const { return num_ticks_; }  // tick 0 at the first point
   double rate() const { return rate_; }
-  double length() const { return arc_.back(); }          // mesh units
+  double length() const { return arc_.back(); }             // mesh units
   double duration() const { return arc_.back() / speed_; }  // seconds
   std::size_t num_points() const { return points_.size(); }
 

@@ -11,8 +11,12 @@ namespace hapstate::play {
 FrameRenderer::FrameRenderer(const PlaybackFile& file, const HapticCursor& cursor,
                              std::int64_t expected_frames, std::filesystem::path frames_dir,
                              int frame_every, double tick_rate)
-    : file_(file), cursor_(cursor), dir_(std::move(frames_dir)), every_(frame_every),
-      rate_(tick_rate), positions_(3 * static_cast<std::size_t>(file.num_view_nodes())) {
+    : file_(file),
+      cursor_(cursor),
+      dir_(std::move(frames_dir)),
+      every_(frame_every),
+      rate_(tick_rate),
+      positions_(3 * static_cast<std::size_t>(file.num_view_nodes())) {
   frame_us_.reserve(static_cast<std::size_t>(expected_frames));
 }
 

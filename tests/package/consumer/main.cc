@@ -14,8 +14,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   hapstate::SceneSolver solver(argv[1]);
-  const hapstate::MoveOutcome m =
-      solver.move_to(solver.probe_rest() + Eigen::Vector3d(0, 0, 0.2));
+  const hapstate::MoveOutcome m = solver.move_to(solver.probe_rest() + Eigen::Vector3d(0, 0, 0.2));
   if (!m.ok) {
     std::fprintf(stderr, "consumer: move failed: %s: %s\n", m.failure.c_str(), m.reason.c_str());
     return 1;
