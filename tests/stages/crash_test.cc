@@ -48,8 +48,8 @@ TEST_F(Crash, KilledAndResumedRunEqualsAnUninterruptedOne) {
   ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
 
   std::mt19937 rng(20261122);
-  std::uniform_int_distribution<int> delay_ms(80, 500);  // process start-up included (a whole
-                                                         // run takes about 0.8 s on one thread)
+  std::uniform_int_distribution<int> delay_ms(10, 150);  // process start-up included (a whole
+                                                         // run of the beam takes well under 0.5 s)
   int kills = 0, finished_early = 0;
   for (int round = 0; round < 5; ++round) {
     const pid_t pid = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), dir_);
