@@ -7,6 +7,7 @@
 #include "scene/scene.h"
 #include "solver/path_solver.h"
 #include "statespace/math_threads.h"
+#include "statespace/probe_model.h"
 #include "util/main_guard.h"
 #include "util/progress.h"
 
@@ -116,6 +117,9 @@ int run(const Options& o) {
 
   PathSolver solver(problem);
   solver.set_algorithm(o.algorithm);
+  // The probe as the state space sees it: a contact path may start anywhere clear of the body.
+  const std::unique_ptr<ProbeModel> probe = make_probe_model(problem);
+  if (!path.empty()) probe->start_path_at(solver, path.front());
   const int threads = o.threads > 0 ? o.threads : threads_for(solver.num_dofs());
   set_math_threads(threads);
   solver.set_threads(threads);
@@ -125,7 +129,7 @@ int run(const Options& o) {
   std::vector<double> wall_ms;
   for (std::size_t k = 0; k < path.size(); ++k) {
     const int step = static_cast<int>(k) + 1;
-    const MoveResult r = solver.move_to(path[k] - problem.probe_rest);
+    const MoveResult r = probe->move_to(solver, path[k]);
     wall_ms.push_back(r.wall_ms);
     if (!r.ok) {
       ++failures;

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace hapstate {
 namespace {
@@ -110,10 +111,7 @@ EvalResult run_eval(const EvalOptions& options) {
   for (Scheme s : result.schemes) cursors.push_back(std::make_unique<HapticCursor>(file, s));
   // A contact path may start anywhere the sphere is clear of the body: the body at rest, the
   // probe there (the precise solver and the cursors alike). Otherwise both start at rest.
-  if (!path.empty() && probe->is_contact() && probe->holds_zero_configuration(path.front())) {
-    ConfigVectors rest;
-    rest.u.assign(3 * ctx.problem.mesh.nodes.cols(), 0.0);
-    probe->set_state(solver, rest, path.front());
+  if (!path.empty() && probe->start_path_at(solver, path.front())) {
     for (auto& cursor : cursors)
       cursor->reset({path.front().x(), path.front().y(), path.front().z()});
   }
@@ -123,8 +121,8 @@ EvalResult run_eval(const EvalOptions& options) {
 
   Progress progress("hapstate-eval: precise solves", static_cast<long long>(path.size()));
   long long failures = 0;
-  const bool contact = probe->is_contact();
-  double travel_in_contact = 0;  // path length since the last step off the body
+  // Path length since the last step with the probe clear of the body (none yet: infinite).
+  double travel_in_contact = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < path.size(); ++k) {
     const Eigen::Vector3d& p = path[k];
     EvalStep step;
@@ -135,11 +133,11 @@ EvalResult run_eval(const EvalOptions& options) {
     step.solve_ms = move.wall_ms;
     failures += move.ok ? 0 : 1;
     step.exact_force = solver.force_felt();
-    if (contact) {
-      const bool free = step.exact_force.norm() == 0;
-      travel_in_contact = free || k == 0 ? 0 : travel_in_contact + (p - path[k - 1]).norm();
-      step.contact_onset = !free && travel_in_contact < result.spacing.minCoeff();
-    }
+    // The first cell after the probe comes onto the body (contact): left out of the
+    // deformation errors, whose reference u* is there a small indentation.
+    const bool free = probe->clear_of_body(p);
+    travel_in_contact = free ? 0 : travel_in_contact + (k > 0 ? (p - path[k - 1]).norm() : 0);
+    step.contact_onset = !free && travel_in_contact < result.spacing.minCoeff();
     const Eigen::Matrix3Xd exact_u = solver.displacements();
     for (std::size_t s = 0; s < cursors.size(); ++s) {
       SchemeResult r;

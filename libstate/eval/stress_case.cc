@@ -227,6 +227,7 @@ StressOutcome run_once(const StressCase& c, double wall_cap_s) {
       o.substeps += r.substeps;
       o.cutbacks += r.cutbacks;
       o.factorisations += r.factorisations;
+      o.split_moves += r.ok && r.split_pieces > 1;
       if (!r.ok) {
         o.status = "failed";
         o.failure = failure_name(r.failure);

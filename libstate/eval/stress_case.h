@@ -68,6 +68,7 @@ struct StressOutcome {
   double reached = 0;  // fraction of the path's length reached (1 if converged)
   int iterations = 0, substeps = 0, cutbacks = 0, factorisations = 0;
   long long psd_fallbacks = 0;
+  int split_moves = 0;  // moves that converged only split into pieces (MoveResult::split_pieces)
   double wall_ms = 0;
   double max_force = 0;  // N, over the converged moves
   StretchRange strain;   // at the last converged state

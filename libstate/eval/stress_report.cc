@@ -66,7 +66,8 @@ void write_stress_csv(const std::vector<StressOutcome>& outcomes,
   std::ofstream out(file);
   if (!out) throw EnvironmentError("cannot write " + file.string());
   out << "law,nu,load,step,mesh,probe,status,failure,reason,moves,moves_done,reached,iterations,"
-         "substeps,cutbacks,factorisations,psd_fallbacks,wall_ms,max_force_N,max_stretch,"
+         "substeps,cutbacks,factorisations,psd_fallbacks,split_moves,wall_ms,max_force_N,max_"
+         "stretch,"
          "min_stretch,min_jacobian,mesh_min_quality,retry_fine_step\n";
   for (const StressOutcome& o : outcomes) {
     out << law_name(o.c.law) << "," << o.c.poisson << "," << stress_name(o.c.load) << ","
@@ -74,7 +75,7 @@ void write_stress_csv(const std::vector<StressOutcome>& outcomes,
         << "," << o.status << "," << o.failure << "," << quoted(o.reason) << "," << o.moves << ","
         << o.moves_done << "," << fmt("%.4f", o.reached) << "," << o.iterations << "," << o.substeps
         << "," << o.cutbacks << "," << o.factorisations << "," << o.psd_fallbacks << ","
-        << fmt("%.1f", o.wall_ms) << "," << fmt("%.6g", o.max_force) << ","
+        << o.split_moves << "," << fmt("%.1f", o.wall_ms) << "," << fmt("%.6g", o.max_force) << ","
         << fmt("%.4f", o.strain.max_stretch) << "," << fmt("%.4f", o.strain.min_stretch) << ","
         << fmt("%.4f", o.strain.min_jacobian) << "," << fmt("%.4f", o.mesh_min_quality) << ","
         << o.retry << "\n";
@@ -163,6 +164,19 @@ std::string stress_markdown(const std::vector<StressOutcome>& outcomes) {
   s << "\nMesh min quality q = 3 r_in / r_circ:";
   for (const auto& [name, q] : quality) s << " " << name << " " << fmt("%.3f", q) << ";";
   s << "\n\n";
+
+  // Moves rescued by the split fallback.
+  int rescued = 0;
+  std::string rescued_ids;
+  for (const StressOutcome& o : outcomes)
+    if (o.split_moves > 0) {
+      ++rescued;
+      rescued_ids +=
+          (rescued_ids.empty() ? "" : ", ") + o.c.id() + " (" + std::to_string(o.split_moves) + ")";
+    }
+  s << "Cases in which a failed move converged split into 4 or 16 moves (the solver's fallback; "
+       "moves so rescued in brackets): "
+    << rescued << (rescued ? ": " + rescued_ids : std::string()) << ".\n\n";
 
   // Failures.
   s << "Failures (retry: the same case with moves of a quarter grid spacing):\n\n"

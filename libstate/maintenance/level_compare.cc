@@ -1,6 +1,7 @@
 #include "maintenance/level_compare.h"
 
 #include "blobs/blob_store.h"
+#include "statespace/config_vectors.h"
 
 #include <algorithm>
 #include <limits>
@@ -20,10 +21,9 @@ ConfigVectors read_level_vectors(const BlobStore& blobs, const Configuration& c)
   if (!c.blob) return v;
   v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
   v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
-  // Contact probe: the touched set is part of the configuration (never merge different sets).
+  // Sticking contact: the touched set is part of the configuration (never merge different sets).
   if (blobs.contains(c.blob->segment, c.blob->name + "/touched"))
-    for (double n : blobs.read(c.blob->segment, c.blob->name + "/touched"))
-      v.touched.push_back(static_cast<int>(n));
+    v.touched = read_touched_set(blobs, c, static_cast<int>(v.u.size() / 3));
   return v;
 }
 

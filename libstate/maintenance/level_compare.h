@@ -14,10 +14,10 @@ namespace hapstate {
 
 class BlobStore;
 
-// The vectors u and h of `c` ("<blob>/u", "/h"; t is not compared) and, for a contact probe,
-// its touched set ("/touched": configurations with different sets are never merged); empty when `c`
-// has no blob (a zero state). Throws InputError naming the segment and vector if one is missing or
-// unreadable.
+// The vectors u and h of `c` ("<blob>/u", "/h"; t is not compared) and, for a sticking contact
+// probe, its touched set ("/touched", read_touched_set: configurations with different sets are
+// never merged); empty when `c` has no blob (a zero state). Throws InputError naming the segment
+// and vector if one is missing, unreadable or (the touched set) not ascending node ids.
 ConfigVectors read_level_vectors(const BlobStore& blobs, const Configuration& c);
 
 // level_distance of two configurations' vectors; an empty u or h (no blob) counts as zeros of

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "problem/problem.h"
+#include "solver/contact_timings.h"
 
 #include <Eigen/Core>
 
@@ -26,12 +27,6 @@ struct ContactChange {
   std::vector<int> released;  // adhesive touched nodes, ascending
   std::vector<int> added;     // penetrating free nodes, ascending
   bool empty() const { return released.empty() && added.empty(); }
-};
-
-// Collision-detection cost, for benchmarks.
-struct ContactTimings {
-  double detection = 0;  // seconds spent building the index and querying it
-  long long queries = 0;
 };
 
 class ContactSet {

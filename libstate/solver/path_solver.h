@@ -7,18 +7,17 @@
 // Sign: force_felt() is the force the user feels, -sum over probe DOFs of the internal force
 // (h = dPi/du_P is the force the probe applies to the body; the user feels its opposite).
 // Contact probe (Problem::contact): the probe is a rigid sphere and t the displacement of its
-// centre (docs/contact.md). Frictionless (default): no DOF is prescribed; the sphere loads the
-// surface triangles through the augmented Lagrangian of solver/sliding_contact.h, whose
-// multipliers are updated after each Newton solve until the gaps close. Sticking: the
-// prescribed DOFs are those of the touched nodes, decided at the end of every sub-step by the
-// active-set loop of solver/contact_set.h.
+// centre (docs/contact.md). What differs between the grab, the frictionless and the sticking
+// probe (prescribed DOFs, the sphere's energy, the active set settled after each Newton solve)
+// is the ProbeBoundary's (solver/probe_boundary.h); the solver never asks which probe it has.
 // Not thread-safe: one PathSolver per thread.
 #pragma once
 
 #include "fem/assembler.h"
 #include "problem/problem.h"
 #include "solver/contact_set.h"
-#include "solver/sliding_contact.h"
+#include "solver/move_result.h"
+#include "solver/probe_boundary.h"
 #include "solver/sparse_cholesky.h"
 
 #include <Eigen/Core>
@@ -28,37 +27,6 @@
 #include <vector>
 
 namespace hapstate {
-
-enum class SolveFailure {
-  kNone = 0,
-  kMaxIterations = 1,     // Newton did not reach the tolerance within max_iterations
-  kInverted = 2,          // every trial step inverted an element (J <= 0)
-  kNotFinite = 3,         // NaN or infinity in the residual
-  kLineSearch = 4,        // no step along the Newton direction reduced energy or residual
-  kCutbackLimit = 5,      // the sub-step was halved max_cutbacks times and still failed
-  kContactCycle = 6,      // contact: the touched set came back to an earlier set (oscillates)
-  kContactUnsettled = 7,  // contact: the touched set still changed after the iteration cap
-};
-const char* failure_name(SolveFailure f);
-
-struct MoveResult {
-  bool ok = true;
-  SolveFailure failure = SolveFailure::kNone;
-  std::string reason;      // human-readable failure reason (empty if ok)
-  int substeps = 0;        // accepted sub-steps
-  int cutbacks = 0;        // sub-step halvings
-  int iterations = 0;      // Newton iterations (linear solves, predictors included)
-  int factorisations = 0;  // numeric factorisations, PSD fallbacks included
-  // Of those, the factorisations of the move's start state that the fast algorithm keeps for the
-  // next move from the same state (0 when this move reused them): shared by every direction of
-  // a configuration's expansion, so the expansion records them apart from the transition's own.
-  int start_factorisations = 0;
-  double residual = 0;  // final ||r_free|| [N]
-  double wall_ms = 0;
-  int active_set_iterations = 0;  // contact: touched-set changes (stick) or multiplier updates
-                                  // followed by a re-solve (frictionless) over the whole move
-  std::vector<double> residual_history;  // ||r_free|| of the last Newton solve, per iteration
-};
 
 // Cumulative time spent in each phase (seconds) and counts, for benchmarks.
 struct SolverTimings {
@@ -96,7 +64,9 @@ class PathSolver {
   // Back to the rest state (u = 0, t = 0).
   void reset();
   // Moves the probe to displacement t_target (mesh units, relative to Problem::probe_rest)
-  // from the current state. On failure the state is left at the start of the move.
+  // from the current state. A move that fails is tried again as 4, then 16 equal moves, each
+  // converged to the full tolerance (MoveResult::split_pieces; the counts of the failed
+  // attempts are included). On failure the state is left at the start of the move.
   MoveResult move_to(const Eigen::Vector3d& t_target);
 
   Eigen::Vector3d probe_displacement() const { return t_; }  // mesh units
@@ -112,13 +82,12 @@ class PathSolver {
   void set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t,
                  const std::vector<int>& touched = {}, const std::vector<double>& multipliers = {});
   // Frictionless contact: the non-zero multipliers, pairs (surface triangle, N); else empty.
-  std::vector<double> contact_multipliers() const {
-    return sliding_ ? sliding_->sparse_multipliers() : std::vector<double>{};
-  }
-  // Contact mode: the nodes the sphere holds, ascending (empty in grab mode).
-  std::vector<int> touched_nodes() const;
+  std::vector<double> contact_multipliers() const { return boundary_->stored_multipliers(); }
+  // Contact mode: the nodes the sphere holds (sticking) or presses (frictionless: the corners
+  // of the loaded triangles), ascending (empty in grab mode).
+  std::vector<int> touched_nodes() const { return boundary_->touched_nodes(u_, t_); }
   // Contact mode: collision-detection cost so far (nullptr in grab mode).
-  const ContactTimings* contact_timings() const;
+  const ContactTimings* contact_timings() const { return boundary_->timings(); }
   // Force felt by the user [N] at the current state.
   Eigen::Vector3d force_felt() const;
   // Reactions h at the probe DOFs [N]: the internal force the body resists the probe with, one
@@ -141,7 +110,14 @@ class PathSolver {
   void set_threads(int threads) { assembler_->set_threads(threads); }
 
  private:
-  struct Newton;
+  // One move: sub-steps with cut-backs; on failure the state is left at the start.
+  MoveResult move_once(const Eigen::Vector3d& t_target);
+  struct StartState;
+  StartState start_state() const;
+  void restore(const StartState& start);
+  class Host;  // the SettleHost the boundary's settling works through
+  // Roles, probe components and bases: the scene's, then the boundary's probe DOFs.
+  void apply_prescription();
   bool substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t_to, double rel_tol,
                bool move_start, MoveResult* result);
   // have_factor: factor_ is of a nearby state (the predictor's) and may precondition the
@@ -155,20 +131,17 @@ class PathSolver {
   // state, as every direction of a configuration's expansion does.
   bool predictor_factor(const Eigen::Vector3d& t_from, const Eigen::VectorXd& dt, bool move_start,
                         Eigen::VectorXd* k_dt, MoveResult* result);
-  bool inexact_newton() const { return options_.algorithm == SolverAlgorithm::kFast && !contact_; }
+  bool inexact_newton() const {
+    return options_.algorithm == SolverAlgorithm::kFast && boundary_->allows_inexact_newton();
+  }
   void assemble(const Eigen::VectorXd& u, bool project_psd, double* energy);
   void constrain_values();
   bool factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target);
-  bool settle_contact(const Eigen::Vector3d& t, double rel_tol, MoveResult* result);
-  void apply_contact_roles();
   void set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const;
   void set_probe_translation(const Eigen::Vector3d& dt, Eigen::VectorXd* v) const;
   double free_norm(const Eigen::VectorXd& v) const;
   double reaction_norm(const Eigen::VectorXd& f) const;
-  Eigen::Vector3d centre_m(const Eigen::Vector3d& t) const { return (probe_rest_ + t) * unit_; }
   double total_energy_and_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const;
-  bool settle_sliding(double rel_tol, bool last, MoveResult* result);
-  Eigen::Matrix3d sliding_stiffness(Eigen::MatrixX3d* du_dp);
   // The internal force at u_: state_force_ when valid, else assembled into *scratch.
   const Eigen::VectorXd& state_force(Eigen::VectorXd* scratch) const;
 
@@ -180,22 +153,18 @@ class PathSolver {
   // The state source_cholesky_ factorises, and f and the tangent's values there.
   bool source_valid_ = false;
   Eigen::VectorXd source_u_, source_f_;
-  std::vector<double> source_multipliers_;  // frictionless contact
+  BoundaryState source_boundary_;
   Eigen::Vector3d source_t_ = Eigen::Vector3d::Zero();
   std::vector<double> source_k_;
-  // Grab probe: the force at u_ after a successful move (the converged Newton's), so that
+  // Grab probe (ProbeBoundary::keeps_newton_force): the force at u_ after a successful move
+  // (the converged Newton's), so that
   // force_felt() and probe_reactions() need no assembly; invalid after any other change of u_.
   bool state_force_valid_ = false;
   Eigen::VectorXd state_force_;
-  std::vector<DofRole> role_;
-  std::vector<int> probe_dof_component_;     // per DOF: component 0..2 if probe DOF, else -1
-  std::vector<DofRole> base_role_;           // roles without touched nodes (contact mode)
-  Eigen::VectorXd probe_base_;               // per probe DOF: u = probe_base_ + t (metres)
-  std::unique_ptr<ContactSet> contact_;      // sticking contact only
-  std::unique_ptr<SlidingContact> sliding_;  // frictionless contact only
-  mutable ContactTimings sliding_timings_;
+  std::unique_ptr<ProbeBoundary> boundary_;
+  Prescription scene_;  // the scene's roles (nodes used by no tet fixed), no probe component
+  Prescription now_;    // scene_ with the boundary's probe DOFs in the current state
 
-  Eigen::Vector3d probe_rest_;
   double unit_;
   int num_nodes_;
   SolverOptions options_;

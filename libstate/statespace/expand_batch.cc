@@ -11,43 +11,6 @@
 
 namespace hapstate {
 
-ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
-                                  const VectorLayout& layout) {
-  ConfigVectors v;
-  if (!c.blob) {
-    v.u.assign(num_dofs, 0.0);
-    v.t.assign(layout.t_size(0), 0.0);
-    v.h.assign(layout.h_size(0), 0.0);
-    return v;
-  }
-  v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
-  v.t = blobs.read(c.blob->segment, c.blob->name + "/t");
-  v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
-  if (layout.touched) {
-    const int num_nodes = num_dofs / 3;
-    for (double n : blobs.read(c.blob->segment, c.blob->name + "/touched")) {
-      if (n < 0 || n >= num_nodes || n != static_cast<int>(n) ||
-          (!v.touched.empty() && n <= v.touched.back())) {
-        throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() + ": '" +
-                         c.blob->name + "/touched' of configuration " +
-                         std::to_string(c.id.value()) + " is not an ascending list of node ids");
-      }
-      v.touched.push_back(static_cast<int>(n));
-    }
-  }
-  if (layout.multipliers)
-    v.multipliers = blobs.read(c.blob->segment, c.blob->name + "/multipliers");
-  const int num_reactions = layout.h_size(v.touched.size());
-  if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_reactions) {
-    throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
-                     ": vectors of configuration " + std::to_string(c.id.value()) + " ('" +
-                     c.blob->name + "') have " + std::to_string(v.u.size()) + " / " +
-                     std::to_string(v.h.size()) + " values, the problem needs " +
-                     std::to_string(num_dofs) + " / " + std::to_string(num_reactions));
-  }
-  return v;
-}
-
 SourceLoader blob_source_loader(const BlobStore& blobs, int num_dofs, const VectorLayout& layout) {
   return [&blobs, num_dofs, layout](const Configuration& c) {
     return load_config_vectors(blobs, c, num_dofs, layout);

@@ -8,6 +8,7 @@
 #include "blobs/blob_store.h"
 #include "catalogue/records.h"
 #include "solver/path_solver.h"
+#include "statespace/config_vectors.h"
 #include "statespace/level_match.h"
 #include "statespace/probe_model.h"
 
@@ -63,13 +64,6 @@ StiffnessResult stiffness_result(const Eigen::Matrix3d& stiffness, const Eigen::
 // The stiffness and displacement slopes of the body at rest, the probe at rest: the zero
 // configurations' (they store no blob; one factorisation).
 StiffnessResult rest_stiffness(const Problem& problem);
-
-// The vectors of a stored configuration: from its blob, or zeros for one without a blob (the
-// zero configuration: nothing touched), laid out as `layout` says (the touched set read from
-// <name>/touched where it is stored). Throws InputError naming the segment and vector if they
-// cannot be read or have the wrong sizes.
-ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
-                                  const VectorLayout& layout);
 
 // Who solves the expand stage's transitions. The stage hands it a wave's tasks (canonical
 // order), then asks for the results of consecutive ranges of them (its batches), and for the

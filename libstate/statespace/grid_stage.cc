@@ -8,6 +8,7 @@
 #include "statespace/stage_record.h"
 #include "util/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -101,17 +102,16 @@ GridReport run_grid(const GridOptions& options) {
         c.ijk = ijk;
         const Eigen::Vector3d p = grid.position(ijk);
         c.position = {p.x(), p.y(), p.z()};
-        c.classification = !grid.in_workspace(p) ? CheckpointClass::kOutsideWorkspace
-                           : probe->is_contact() && probe->holds_zero_configuration(p)
-                               ? CheckpointClass::kFree
-                               : CheckpointClass::kWorkspace;
+        c.classification = !grid.in_workspace(p)     ? CheckpointClass::kOutsideWorkspace
+                           : probe->clear_of_body(p) ? CheckpointClass::kFree
+                                                     : CheckpointClass::kWorkspace;
         c.id = cat.insert_checkpoint(c);
         if (in_workspace(c.classification)) workspace_ids.emplace(ijk, c.id);
         if (c.classification == CheckpointClass::kFree) free_ids.push_back(c.id);
         ++report.checkpoints_added;
       }
   report.checkpoints_total = cat.num_checkpoints();
-  if (probe->is_contact() && free_ids.size() == workspace_ids.size()) {
+  if (!free_ids.empty() && free_ids.size() == workspace_ids.size()) {
     throw InputError(ctx.scene.path.string() + ": grid.box: the sphere (probe.radius " +
                      std::to_string(ctx.problem.contact->radius) +
                      ") is clear of the body at "
@@ -128,23 +128,21 @@ GridReport run_grid(const GridOptions& options) {
                      ": the rest check-point (0, 0, 0) is not in the "
                      "workspace (internal inconsistency)");
   }
-  if (!probe->is_contact() && cat.configurations_at(rest->second).empty()) {
-    cat.insert_configuration(zero_configuration(ctx, rest->second));
-    report.zero_configuration_added = true;
+  // The rest check-point and every free one (contact: the sphere clear of the body) hold the
+  // zero configuration (no blob), inserted once.
+  std::vector<CheckpointId> zero_ids = free_ids;
+  if (std::find(zero_ids.begin(), zero_ids.end(), rest->second) == zero_ids.end())
+    zero_ids.insert(zero_ids.begin(), rest->second);
+  std::optional<Configuration> zero;
+  for (CheckpointId id : zero_ids) {
+    if (!cat.configurations_at(id).empty()) continue;
+    if (!zero) zero = zero_configuration(ctx, id);
+    Configuration c = *zero;
+    c.checkpoint = id;
+    cat.insert_configuration(c);
+    ++report.zero_configurations;
   }
-  // Contact: every free check-point holds the shared zero configuration (no blob).
-  if (probe->is_contact()) {
-    std::optional<Configuration> zero;
-    for (CheckpointId id : free_ids) {
-      if (!cat.configurations_at(id).empty()) continue;
-      if (!zero) zero = zero_configuration(ctx, id);
-      Configuration c = *zero;
-      c.checkpoint = id;
-      cat.insert_configuration(c);
-      ++report.zero_configurations;
-    }
-    report.zero_configuration_added = report.zero_configurations > 0;
-  }
+  report.zero_configuration_added = report.zero_configurations > 0;
 
   // Reopen decisions "outside the grid" whose neighbour is now a workspace check-point.
   if (report.checkpoints_added > 0) {
@@ -169,12 +167,12 @@ GridReport run_grid(const GridOptions& options) {
   report.message =
       std::to_string(report.checkpoints_added) + " check-points added (" +
       std::to_string(report.checkpoints_total) + " in all)" +
-      (report.zero_configurations > 0
+      (free_ids.empty()
+           ? (report.zero_configuration_added ? ", zero configuration at (0, 0, 0)" : "")
+       : report.zero_configurations > 0
            ? ", " + std::to_string(report.zero_configurations) +
-                 " free check-points (sphere clear of the body) with the zero "
-                 "configuration"
-       : report.zero_configuration_added ? ", zero configuration at (0, 0, 0)"
-                                         : "") +
+                 " free check-points (sphere clear of the body) with the zero configuration"
+           : "") +
       (report.transitions_reopened ? ", " + std::to_string(report.transitions_reopened) +
                                          " transitions reopened into the enlarged workspace"
                                    : "");

@@ -20,7 +20,8 @@ struct GridReport {
   std::int64_t checkpoints_added = 0;
   std::int64_t checkpoints_total = 0;
   bool zero_configuration_added = false;
-  std::int64_t zero_configurations = 0;   // contact: zero configurations added at free check-points
+  // Zero configurations added: at the rest check-point and (contact) at the free check-points.
+  std::int64_t zero_configurations = 0;
   std::int64_t transitions_reopened = 0;  // kOutsideGrid decisions now inside the workspace
   std::string message;
 };

@@ -36,11 +36,8 @@ class GrabProbe final : public ProbeModel {
     solver.set_state(metres(v.u, problem_.unit), p - problem_.probe_rest);
   }
 
-  bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
-    return p == problem_.probe_rest;
-  }
+  bool clear_of_body(const Eigen::Vector3d&) const override { return false; }
   bool trivial_move(const Eigen::Vector3d&, const Eigen::Vector3d&) const override { return false; }
-  bool is_contact() const override { return false; }
   VectorLayout layout() const override {
     return {false, static_cast<int>(dofs_.size()), static_cast<int>(dofs_.size())};
   }
@@ -81,14 +78,14 @@ class ContactProbe final : public ProbeModel {
     solver.set_state(metres(v.u, problem_.unit), p - problem_.probe_rest, v.touched);
   }
 
-  bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
+  bool clear_of_body(const Eigen::Vector3d& p) const override {
     std::vector<int> inside;
     index_.inside(p, reach_, &inside);
     return inside.empty();
   }
 
   bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override {
-    if (!holds_zero_configuration(a) || !holds_zero_configuration(b)) return false;
+    if (!clear_of_body(a) || !clear_of_body(b)) return false;
     // Nodes near the segment: within reach + half its length of its midpoint.
     const Eigen::Vector3d ab = b - a;
     if (ab.squaredNorm() == 0.0) return true;
@@ -101,7 +98,6 @@ class ContactProbe final : public ProbeModel {
     }
     return true;
   }
-  bool is_contact() const override { return true; }
   VectorLayout layout() const override { return {true, 0, 0}; }
 
  private:
@@ -139,9 +135,7 @@ class SlidingProbe final : public ProbeModel {
     solver.set_state(metres(v.u, problem_.unit), p - problem_.probe_rest, {}, v.multipliers);
   }
 
-  bool holds_zero_configuration(const Eigen::Vector3d& p) const override {
-    return trivial_move(p, p);
-  }
+  bool clear_of_body(const Eigen::Vector3d& p) const override { return trivial_move(p, p); }
 
   // Both ends free and the segment farther than the radius from every surface triangle.
   bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override {
@@ -156,7 +150,6 @@ class SlidingProbe final : public ProbeModel {
     }
     return true;
   }
-  bool is_contact() const override { return true; }
   VectorLayout layout() const override { return {false, 0, 3, true}; }
 
  private:

@@ -39,16 +39,28 @@ class ProbeModel {
   MoveResult move_to(PathSolver& solver, const Eigen::Vector3d& p) const {
     return solver.move_to(p - rest_position());
   }
-  // Whether the probe at p leaves the body undeformed: such a check-point holds a zero
-  // configuration (grab: only the rest position; contact: every p whose sphere touches nothing
-  // of the rest shape: no surface triangle within the radius when frictionless, no candidate
-  // node when sticking).
-  virtual bool holds_zero_configuration(const Eigen::Vector3d& p) const = 0;
+  // Whether the probe at p is clear of the body at rest (grab: never; contact: the sphere touches
+  // nothing of the rest shape: no surface triangle within the radius when frictionless, no
+  // candidate node when sticking). Such a check-point is free: it holds the zero configuration.
+  virtual bool clear_of_body(const Eigen::Vector3d& p) const = 0;
+  // Whether the probe at p leaves the body undeformed: the rest position and every position
+  // clear of the body. Such a check-point holds a zero configuration.
+  bool holds_zero_configuration(const Eigen::Vector3d& p) const {
+    return p == rest_position() || clear_of_body(p);
+  }
+  // The start of a path at p: where the probe at p is clear of the body, `solver` is put at rest
+  // with its probe there (a contact path may start anywhere clear of the body) and true is
+  // returned; else nothing changes (the path starts from the solver's state, at rest: the probe
+  // at its rest position).
+  bool start_path_at(PathSolver& solver, const Eigen::Vector3d& p) const {
+    if (!clear_of_body(p)) return false;
+    solver.set_state(Eigen::VectorXd::Zero(solver.num_dofs()), p - rest_position());
+    return true;
+  }
   // Whether moving the probe from a to b with the body at rest keeps it at rest, so the move
   // needs no solve (grab: never; contact: the sphere sweeps past the rest shape: every surface
   // triangle when frictionless, every candidate node when sticking).
   virtual bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const = 0;
-  virtual bool is_contact() const = 0;
 
   // What a configuration stores besides u (statespace/level_match.h).
   virtual VectorLayout layout() const = 0;

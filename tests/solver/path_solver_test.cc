@@ -132,6 +132,29 @@ TEST(PathSolver, HugeStepIsCutBackAndConverges) {
             1e-6 * reference.force_felt().norm());
 }
 
+// A move that fails as one move (no cut-back allowed, few Newton iterations) converges split
+// into equal moves (PathSolver::move_to's fallback), at the same equilibrium as a careful solve.
+TEST(PathSolver, FailedMoveConvergesSplitIntoPieces) {
+  Problem problem = cantilever_problem(Law::kNeoHooke);
+  problem.solver.substeps = 1;
+  problem.solver.max_cutbacks = 0;
+  problem.solver.max_iterations = 6;
+  PathSolver solver(problem);
+  const MoveResult r = solver.move_to(Eigen::Vector3d(-2.0, 5.0, 0));
+  ASSERT_TRUE(r.ok) << r.reason;
+  EXPECT_GT(r.split_pieces, 1);
+  EXPECT_EQ(r.failure, SolveFailure::kNone);
+  EXPECT_TRUE(r.reason.empty());
+  EXPECT_EQ(solver.probe_displacement(), Eigen::Vector3d(-2.0, 5.0, 0));
+  Problem careful = cantilever_problem(Law::kNeoHooke);
+  careful.solver.substeps = 20;
+  PathSolver reference(careful);
+  ASSERT_TRUE(reference.move_to(Eigen::Vector3d(-2.0, 5.0, 0)).ok);
+  EXPECT_EQ(reference.move_to(Eigen::Vector3d(-2.0, 5.0, 0)).split_pieces, 1);
+  EXPECT_LE((solver.force_felt() - reference.force_felt()).norm(),
+            1e-6 * reference.force_felt().norm());
+}
+
 TEST(PathSolver, ImpossibleMoveReportsReasonAndKeepsState) {
   Problem problem = cantilever_problem(Law::kNeoHooke);
   problem.solver.max_cutbacks = 2;

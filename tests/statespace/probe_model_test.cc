@@ -13,11 +13,12 @@ namespace {
 TEST(ContactProbeModel, ZeroConfigurationWhereTheSphereTouchesNoSurfaceNode) {
   const Problem p = testing::block_problem();
   const auto probe = make_probe_model(p);
-  ASSERT_TRUE(probe->is_contact());
+  EXPECT_TRUE(probe->clear_of_body(p.probe_rest));
   EXPECT_TRUE(probe->holds_zero_configuration(p.probe_rest));
   // Above the top-face node (2, 2, 1): 0.85 away is clear, 0.75 away touches.
   EXPECT_TRUE(probe->holds_zero_configuration(Eigen::Vector3d(2, 2, 1.85)));
   EXPECT_FALSE(probe->holds_zero_configuration(Eigen::Vector3d(2, 2, 1.75)));
+  EXPECT_FALSE(probe->clear_of_body(Eigen::Vector3d(2, 2, 1.75)));
   // Beside the fixed base (z = 0 nodes are not candidates): only the z = 0.5 nodes count.
   EXPECT_TRUE(
       probe->holds_zero_configuration(Eigen::Vector3d(-0.6, 2, -0.5)));  // 0.78 from (0, 2, 0)
@@ -49,7 +50,7 @@ TEST(GrabProbeModel, NoTrivialMovesAndZeroOnlyAtRest) {
     p.constraints.role[3 * (p.mesh.num_nodes() - 1) + c] = DofRole::kProbe;
   p.probe_rest = p.mesh.nodes.col(p.mesh.num_nodes() - 1);
   const auto probe = make_probe_model(p);
-  EXPECT_FALSE(probe->is_contact());
+  EXPECT_FALSE(probe->clear_of_body(p.probe_rest));  // the grabbed node is never clear
   EXPECT_TRUE(probe->holds_zero_configuration(p.probe_rest));
   EXPECT_FALSE(probe->holds_zero_configuration(p.probe_rest + Eigen::Vector3d(0, 0, 0.1)));
   EXPECT_FALSE(probe->trivial_move(p.probe_rest, p.probe_rest));

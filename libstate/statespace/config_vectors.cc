@@ -1,0 +1,50 @@
+#include "statespace/config_vectors.h"
+
+#include "util/error.h"
+
+#include <string>
+
+namespace hapstate {
+
+std::vector<int> read_touched_set(const BlobStore& blobs, const Configuration& c, int num_nodes) {
+  std::vector<int> touched;
+  if (!c.blob) return touched;
+  for (double n : blobs.read(c.blob->segment, c.blob->name + "/touched")) {
+    if (n < 0 || n >= num_nodes || n != static_cast<int>(n) ||
+        (!touched.empty() && n <= touched.back())) {
+      throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() + ": '" +
+                       c.blob->name + "/touched' of configuration " + std::to_string(c.id.value()) +
+                       " is not an ascending list of node ids");
+    }
+    touched.push_back(static_cast<int>(n));
+  }
+  return touched;
+}
+
+ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
+                                  const VectorLayout& layout) {
+  ConfigVectors v;
+  if (!c.blob) {
+    v.u.assign(num_dofs, 0.0);
+    v.t.assign(layout.t_size(0), 0.0);
+    v.h.assign(layout.h_size(0), 0.0);
+    return v;
+  }
+  v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
+  v.t = blobs.read(c.blob->segment, c.blob->name + "/t");
+  v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
+  if (layout.touched) v.touched = read_touched_set(blobs, c, num_dofs / 3);
+  if (layout.multipliers)
+    v.multipliers = blobs.read(c.blob->segment, c.blob->name + "/multipliers");
+  const int num_reactions = layout.h_size(v.touched.size());
+  if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_reactions) {
+    throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +
+                     ": vectors of configuration " + std::to_string(c.id.value()) + " ('" +
+                     c.blob->name + "') have " + std::to_string(v.u.size()) + " / " +
+                     std::to_string(v.h.size()) + " values, the problem needs " +
+                     std::to_string(num_dofs) + " / " + std::to_string(num_reactions));
+  }
+  return v;
+}
+
+}  // namespace hapstate
