@@ -89,12 +89,13 @@ std::vector<StressCase> stress_matrix(bool full) {
               for (StressProbe probe : probes) cases.push_back({law, nu, load, step, mesh, probe});
     return cases;
   }
-  // Quick (CI, about 25 s): every law, load and probe at nu 0.3 with the whole path in one move
-  // on the sliver mesh (the hardest step and mesh), and grid-spacing steps on the regular mesh
-  // for the patch; the grabbed node and patch at nu 0.4999 in one move on the slivers; two cases
-  // that fail with a reason in the full matrix (docs/benchmarks.md: StVK pressed past its limit
-  // point, neo-Hooke at nu 0.4999 on a saddle of the locked mesh), so that the failure path is
-  // exercised too.
+  // Quick (CI, about 35 s on one thread, 22 s of it the two failing cases, whose failed move is
+  // tried again split into pieces): every law, load and probe at nu 0.3 with the whole path in
+  // one move on the sliver mesh (the hardest step and mesh), and grid-spacing steps on the
+  // regular mesh for the patch; the grabbed node and patch at nu 0.4999 in one move on the
+  // slivers (StVK stretched there fails with a reason: past its limit point); and neo-Hooke at
+  // nu 0.4999 compressed in one move, which fails on a saddle of the locked mesh
+  // (docs/benchmarks.md), so that the failure path is exercised too.
   for (Law law : laws)
     for (StressLoad load : loads) {
       for (StressProbe probe : probes)
@@ -104,8 +105,6 @@ std::vector<StressCase> stress_matrix(bool full) {
       for (StressProbe probe : {StressProbe::kNode, StressProbe::kPatch})
         cases.push_back({law, 0.4999, load, StressStep::kWhole, StressMesh::kSliver, probe});
     }
-  cases.push_back({Law::kStvk, 0.45, StressLoad::kCompress, StressStep::kWhole,
-                   StressMesh::kRegular, StressProbe::kContact});
   cases.push_back({Law::kNeoHooke, 0.4999, StressLoad::kCompress, StressStep::kWhole,
                    StressMesh::kRegular, StressProbe::kNode});
   return cases;
