@@ -139,6 +139,8 @@ class PathSolver {
   bool factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target);
   void set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const;
   void set_probe_translation(const Eigen::Vector3d& dt, Eigen::VectorXd* v) const;
+  // The largest displacement of one node in du [m].
+  double longest_node_step(const Eigen::VectorXd& du) const;
   double free_norm(const Eigen::VectorXd& v) const;
   double reaction_norm(const Eigen::VectorXd& f) const;
   double total_energy_and_force(const Eigen::VectorXd& u, Eigen::VectorXd* f) const;

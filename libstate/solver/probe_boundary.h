@@ -115,8 +115,8 @@ class ProbeBoundary {
   virtual bool allows_inexact_newton() const { return true; }
   // Whether every sub-step is solved to the full tolerance (sticking), not only the last.
   virtual bool converges_every_substep() const { return false; }
-  // The longest probe step of one sub-step [m].
-  virtual double longest_substep_m() const { return std::numeric_limits<double>::infinity(); }
+  // The longest step [m] of the probe in one sub-step, and of any node in one Newton iteration.
+  virtual double longest_step_m() const { return std::numeric_limits<double>::infinity(); }
   // Whether a converged move's last Newton force is the state's internal force (grab).
   virtual bool keeps_newton_force() const { return true; }
   // At the start of a sub-step from (u, t_from) to t_to: true when it needs no predictor and
