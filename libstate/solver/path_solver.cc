@@ -360,7 +360,8 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       // Backtracking line search on the potential energy; in the round-off regime near the
       // solution energy differences are meaningless, so a residual decrease is accepted too.
       const double slope = r_.dot(du_);
-      double alpha = std::min(1.0, boundary_->longest_step_m() / longest_node_step(du_));
+      const double longest = longest_node_step(du_), most = boundary_->longest_step_m();
+      double alpha = longest > most ? most / longest : 1.0;
       bool accepted = false;
       bool any_finite = false;
       for (int ls = 0; ls < kMaxLineSearch; ++ls, alpha *= 0.5) {
