@@ -135,6 +135,10 @@ class PathSolver {
     return options_.algorithm == SolverAlgorithm::kFast && boundary_->allows_inexact_newton();
   }
   void assemble(const Eigen::VectorXd& u, bool project_psd, double* energy);
+  // A probe with its own energy (frictionless contact): k_values_ = the elastic tangent of the
+  // last assemble() + the probe's tangent at u (psd_only: its positive semi-definite part).
+  // False (nothing changed) if that assembly kept no elastic tangent.
+  bool probe_tangent_on_elastic(const Eigen::VectorXd& u, bool psd_only);
   void constrain_values();
   bool factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target);
   void set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const;
@@ -179,6 +183,12 @@ class PathSolver {
   Eigen::VectorXd f_, r_, du_, trial_, f_trial_;
   Eigen::VectorXd cg_r_, cg_z_, cg_p_, cg_q_;
   std::vector<double> k_values_;
+  // A probe with its own energy: the elastic part of the last non-projected assembly, whose
+  // probe part alone is projected first when the tangent is indefinite (the probe's curvature
+  // term is what makes it so, almost always; the elastic projection costs an eigen-decomposition
+  // per element).
+  std::vector<double> k_elastic_;
+  bool k_elastic_valid_ = false;
 };
 
 }  // namespace hapstate

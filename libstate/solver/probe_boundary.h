@@ -131,6 +131,10 @@ class ProbeBoundary {
   virtual void add_predictor_load(const Eigen::VectorXd& /*u_m*/, const Eigen::Vector3d& /*t*/,
                                   const Eigen::Vector3d& /*dc_m*/,
                                   Eigen::VectorXd* /*k_dt*/) const {}
+  // The relative tolerance of a sub-step's first Newton solve, before settle() (rel_tol: the
+  // sub-step's; last: the move's last sub-step). A boundary whose settling re-solves anyway may
+  // ask for less; settle() then ends with a solve to rel_tol.
+  virtual double first_solve_tolerance(double rel_tol, bool /*last*/) const { return rel_tol; }
   // After the Newton solve of a sub-step at t: the active set (touched nodes or multipliers)
   // is updated and re-solved until it is stable; last: the move's last sub-step.
   virtual bool settle(SettleHost& /*host*/, const Eigen::Vector3d& /*t*/, double /*rel_tol*/,
