@@ -52,6 +52,10 @@ constexpr double kMaxStepPerRadius = 0.5;
 // random walk (hapstate-solve --random 1000 --seed 3, 486 steps in contact): linear solves per
 // contact step 15.0 with the first solve to the full tolerance, 12.9 with this (and
 // path_solver.cc's kElasticDrift); the felt forces differ by at most 1.1e-7 N (of 0.087 N).
+// Only up to nu = 0.45 (incompressible_share 1): past it, in hapstate-stress's contact cases
+// (--full --filter contact), it made 3 more nearly incompressible StVK cases fail at
+// max_iterations (51 of 60 StVK contact cases converged, 54 without it); with this rule 234 of
+// the 240 contact cases converge (232 before these changes).
 constexpr double kLooseSolveTolerance = 1e-3;
 
 // The share of the contact penalty's stiffness scale (surface_stiffness) that resists an
@@ -116,7 +120,8 @@ class SlidingBoundary final : public ProbeBoundary {
                      surface_stiffness(assembler, problem.mesh, role),
                  assembler.pattern()),
         rest_(problem.probe_rest),
-        unit_(problem.unit) {}
+        unit_(problem.unit),
+        loose_first_solve_(incompressible_share(problem.material) == 1.0) {}
 
   void reset() override { contact_.reset_multipliers(); }
   void set_state(const Eigen::VectorXd&, const Eigen::Vector3d&, const std::vector<int>&,
@@ -185,7 +190,7 @@ class SlidingBoundary final : public ProbeBoundary {
     *k_dt += k_uc * dc_m;
   }
   double first_solve_tolerance(double rel_tol, bool last) const override {
-    return last ? std::max(rel_tol, kLooseSolveTolerance) : rel_tol;
+    return last && loose_first_solve_ ? std::max(rel_tol, kLooseSolveTolerance) : rel_tol;
   }
   bool settle(SettleHost& host, const Eigen::Vector3d& t, double rel_tol, bool last,
               const SolverOptions& options, MoveResult* result) override;
@@ -199,6 +204,7 @@ class SlidingBoundary final : public ProbeBoundary {
   SlidingContact contact_;
   Eigen::Vector3d rest_;
   double unit_;
+  bool loose_first_solve_;  // kLooseSolveTolerance applies (up to nu = 0.45)
   mutable ContactTimings timings_;
 };
 
