@@ -269,21 +269,20 @@ void PathSolver::constrain_values() {
 // re-assembles with element stiffnesses projected to PSD (a descent direction) and retries.
 bool PathSolver::factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target) {
   factor_ = target;
+  auto factorize = [&] {
+    const auto start = Clock::now();
+    const bool ok = target->factorize(k_values_);
+    timings_.factorize += seconds_since(start);
+    ++timings_.factorizations;
+    return ok;
+  };
   constrain_values();
-  auto start = Clock::now();
-  bool ok = target->factorize(k_values_);
-  timings_.factorize += seconds_since(start);
-  ++timings_.factorizations;
-  if (ok) return true;
+  if (factorize()) return true;
   ++timings_.psd_fallbacks;
   // The probe's curvature projected away first (cheap); then every element's.
   if (probe_tangent_on_elastic(u, /*psd_only=*/true)) {
     constrain_values();
-    start = Clock::now();
-    ok = target->factorize(k_values_);
-    timings_.factorize += seconds_since(start);
-    ++timings_.factorizations;
-    if (ok) return true;
+    if (factorize()) return true;
   }
   double energy = 0;
   Eigen::VectorXd f_keep = f_;
@@ -296,11 +295,7 @@ bool PathSolver::factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesk
   for (int c = 0; c < p.n; ++c) max_diag = std::max(max_diag, std::abs(k_values_[p.diag[c]]));
   for (int c = 0; c < p.n; ++c)
     if (now_.role[c] == DofRole::kFree) k_values_[p.diag[c]] += 1e-10 * max_diag;
-  start = Clock::now();
-  ok = target->factorize(k_values_);
-  timings_.factorize += seconds_since(start);
-  ++timings_.factorizations;
-  return ok;
+  return factorize();
 }
 
 // Newton iterations at the current probe position until ||r_free|| <= abs + rel * ||reactions||.
@@ -363,7 +358,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       }
       tangent_current = true;
     }
-    double e_trial = 0, accepted_alpha = 0;
+    double e_trial = 0, accepted_step = 0;  // the accepted step's longest node move [m]
     for (;;) {
       ++result->iterations;  // a linear solve (a retry after a preconditioned one is another)
       bool solved = false;
@@ -413,7 +408,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       bool accepted = false;
       bool any_finite = false;
       for (int ls = 0; ls < kMaxLineSearch; ++ls, alpha *= 0.5) {
-        accepted_alpha = alpha;
+        accepted_step = alpha * longest;
         trial_ = u_ + alpha * du_;
         e_trial = total_energy_and_force(trial_, &f_trial_);
         if (!std::isfinite(e_trial)) continue;
@@ -438,7 +433,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       return false;
     }
     factor_current = tangent_current = false;
-    drift += accepted_alpha * longest_node_step(du_);
+    drift += accepted_step;
     u_ = trial_;
     if (inexact) {  // the line search already evaluated the new iterate
       std::swap(f_, f_trial_);
