@@ -54,7 +54,7 @@ constexpr double kMaxStepPerRadius = 0.5;
 // path_solver.cc's kElasticDrift); the felt forces differ by at most 1.1e-7 N (of 0.087 N).
 // Only up to nu = 0.45 (incompressible_share 1): past it, in hapstate-stress's contact cases
 // (--full --filter contact), it made 3 more nearly incompressible StVK cases fail at
-// max_iterations (51 of 60 StVK contact cases converged, 54 without it); with this rule 234 of
+// max_iterations (51 of 60 StVK contact cases converged, 54 without it); with this rule 233 of
 // the 240 contact cases converge (232 before these changes).
 constexpr double kLooseSolveTolerance = 1e-3;
 
