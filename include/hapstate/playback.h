@@ -118,6 +118,11 @@ struct Snapshot {
   // extended corner: its displacements are extended from the source's by its slopes).
   std::array<std::array<std::int32_t, 3>, 8> corner_shift{};
   Scheme scheme = Scheme::kTrilinear;
+  // The free corners of a contact-onset cell (bit c; docs/playback.md, "Contact onset"): their
+  // displacements are secant[c][0] x their source's, their slope along axis a secant[c][1 + a]
+  // x their source's displacements (per mesh unit).
+  std::int32_t secant_corners = 0;
+  std::array<std::array<double, 4>, 8> secant{};
 };
 
 // Result of one haptic query.
@@ -168,6 +173,10 @@ class HapticCursor {
     CornerSource source = CornerSource::kExtended;
     std::array<double, 3> force{};
     std::array<double, 9> stiffness{};
+    // A free corner of a contact-onset cell: displacements = secant[0] x the source's, their
+    // slope along axis a = secant[1 + a] x the source's displacements.
+    bool secant = false;
+    std::array<double, 4> secant_terms{};
   };
 
  private:
@@ -177,19 +186,28 @@ class HapticCursor {
   // derivatives (two k = 1); zero for k = 111.
   using CellCoefficients = std::array<std::array<std::array<std::array<double, 4>, 3>, 4>, 4>;
   void update_coefficients();
+  void prepare_onset();
+  double clearance_at(const double (&B)[3][4]) const;
   void anchor_at(std::int32_t configuration);
   void enter_cell(const std::array<std::int32_t, 3>& base);
   void resolve_corner(int corner, const std::array<Corner, 8>& old,
                       const std::array<std::int32_t, 3>& old_base);
   void walk_to(const std::array<double, 3>& q);
-  void publish(const std::array<double, 3>& probe, const Force& f, const std::array<double, 3>& s);
+  void publish(const std::array<double, 3>& probe, const Force& f, const std::array<double, 3>& s,
+               bool at_rest);
 
   const PlaybackFile& file_;
   Scheme scheme_;
   std::array<std::int32_t, 3> base_{};  // grid index of corner 0 of the current cell
   std::array<Corner, 8> corners_{};     // corner c at base + ((c>>2)&1, (c>>1)&1, c&1)
-  CellCoefficients coef_{};             // of corners_, updated whenever they change
-  std::array<double, 3> last_q_{};      // last probe position, grid units, clamped to the grid
+  // The corners as interpolated: corners_, except that in a contact-onset cell (some corners
+  // free, the others touching the body at rest) each free corner holds the nearest touching
+  // corners' force and displacements extended to it (docs/playback.md, "Contact onset").
+  std::array<Corner, 8> cell_{};
+  CellCoefficients coef_{};  // of cell_, updated whenever corners_ change
+  bool onset_ = false;       // a contact-onset cell: the force is 0 where the clearance is >= 0
+  std::array<std::array<std::array<double, 4>, 4>, 4> clearance_coef_{};  // [x][y][z]
+  std::array<double, 3> last_q_{};  // last probe position, grid units, clamped to the grid
   std::uint64_t calls_ = 0;
   std::uint64_t cells_walked_ = 0;
 

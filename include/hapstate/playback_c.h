@@ -33,7 +33,9 @@ typedef struct hs_snapshot {
   double weight[8];
   double cell_position[3];
   int32_t corner_shift[8][3];
-  int32_t scheme; /* HS_SCHEME_*: how hs_deform interpolates the displacements */
+  int32_t scheme;         /* HS_SCHEME_*: how hs_deform interpolates the displacements */
+  int32_t secant_corners; /* bit c: corner c takes its source's displacements scaled by secant[c] */
+  double secant[8][4];
 } hs_snapshot;
 
 int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size);

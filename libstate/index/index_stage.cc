@@ -4,6 +4,7 @@
 #include "hapstate/playback.h"
 #include "playback/writer.h"
 #include "statespace/expand_batch.h"
+#include "statespace/probe_model.h"
 #include "statespace/stage_context.h"
 #include "statespace/stage_record.h"
 #include "util/error.h"
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -45,6 +47,29 @@ ContentHash fingerprint_of(const std::vector<Configuration>& configs,
         .update(t.target.valid() ? t.target.value() : -1);
   }
   return h.value();
+}
+
+// The contact probe's clearance from the rest body at every grid point, 4 per point (gap,
+// gradient; x-major), for the cursor's contact-onset cells (docs/playback.md). Exact within
+// two cell diagonals of the surface, which covers every corner of a cell the sphere enters
+// the body in (the gap changes by at most a cell diagonal across a cell).
+std::vector<double> clearance_table(const Problem& problem, const playback::Meta& m) {
+  const auto probe = make_probe_model(problem);
+  double diagonal = 0;
+  for (int a = 0; a < 3; ++a) diagonal += m.spacing[a] * m.spacing[a];
+  const double range = 2.0 * std::sqrt(diagonal);
+  std::vector<double> out;
+  for (int i = 0; i < m.dims[0]; ++i)
+    for (int j = 0; j < m.dims[1]; ++j)
+      for (int k = 0; k < m.dims[2]; ++k) {
+        const int ijk[3] = {m.lo[0] + i, m.lo[1] + j, m.lo[2] + k};
+        Eigen::Vector3d p;
+        for (int a = 0; a < 3; ++a) p[a] = m.origin[a] + ijk[a] * m.spacing[a];
+        const auto c = probe->clearance(p, range);
+        out.push_back(c ? c->gap : range);
+        for (int a = 0; a < 3; ++a) out.push_back(c ? c->gradient[a] : 0.0);
+      }
+  return out;
 }
 
 Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
@@ -155,6 +180,7 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
   }
   for (Eigen::Index t = 0; t < mesh.surface.cols(); ++t)
     for (int r = 0; r < 3; ++r) c.triangles.push_back(view_of[mesh.surface(r, t)]);
+  if (ctx.scene.probe.mode == ProbeMode::kContact) c.clearance = clearance_table(ctx.problem, m);
   g.fingerprint = fingerprint_of(g.configs, transitions, inputs, view);
   m.source_hash = g.fingerprint.value;
   return g;

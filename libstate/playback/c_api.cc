@@ -23,6 +23,9 @@ static_assert(offsetof(hs_snapshot, corner_configuration) ==
 static_assert(offsetof(hs_snapshot, cell_position) == offsetof(hapstate::Snapshot, cell_position));
 static_assert(offsetof(hs_snapshot, corner_shift) == offsetof(hapstate::Snapshot, corner_shift));
 static_assert(offsetof(hs_snapshot, scheme) == offsetof(hapstate::Snapshot, scheme));
+static_assert(offsetof(hs_snapshot, secant_corners) ==
+              offsetof(hapstate::Snapshot, secant_corners));
+static_assert(offsetof(hs_snapshot, secant) == offsetof(hapstate::Snapshot, secant));
 
 namespace {
 

@@ -3,6 +3,7 @@
 #include "playback/file_impl.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace hapstate {
@@ -89,7 +90,7 @@ void HapticCursor::anchor_at(std::int32_t rest) {
   for (int a = 0; a < 3; ++a) p[a] = m.origin[a] + ijk[a] * m.spacing[a];
   zero.value = root.force;
   zero.stiffness = root.stiffness;
-  publish(p, zero, s);
+  publish(p, zero, s, false);
 }
 
 // Fills corners_[c] of the cell at base_ from the corners of the previous cell `old` (at
@@ -156,40 +157,133 @@ void HapticCursor::resolve_corner(int c, const std::array<Corner, 8>& old,
   out = e;
 }
 
-// The Hermite coefficients of the current cell: each corner's force and stiffness columns, and
-// its cross derivatives estimated from the stiffness of the corners on the same cell face
-// (average of both difference quotients).
-void HapticCursor::update_coefficients() {
-  const double* h = file_.impl().meta->spacing;
+namespace {
+
+// The Hermite coefficients [x][y][z] of a scalar with `value` and `gradient` (physical units)
+// at the 8 corners: value (k = 000), gradient components (one k = 1) and the cross derivatives
+// estimated from the gradients of the corners on the same cell face (average of both difference
+// quotients); zero for k = 111. `at(kx, ky, kz)` is the coefficient of the basis with those
+// indices (2 o + k per axis).
+template <class Value, class Gradient, class At>
+void scalar_coefficients(const double* h, Value value, Gradient gradient, At at) {
   static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-  coef_ = {};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
-    const Corner& cc = corners_[c];
-    auto col = [&](int corner, int r, int axis) {
-      return corners_[corner].stiffness[3 * r + axis];
+    auto coef = [&](int kx, int ky, int kz) -> double& {
+      return at(2 * o[0] + kx, 2 * o[1] + ky, 2 * o[2] + kz);
     };
-    auto partner = [&](int axis) { return c ^ (4 >> axis); };
     auto sgn = [&](int axis) { return o[axis] ? 1.0 : -1.0; };
-    // The coefficient of the bases with derivative flags (kx, ky, kz) of this corner.
-    auto at = [&](int kx, int ky, int kz, int r) -> double& {
-      return coef_[2 * o[0] + kx][2 * o[1] + ky][r][2 * o[2] + kz];
-    };
-    for (int r = 0; r < 3; ++r) {
-      at(0, 0, 0, r) = cc.force[r];
-      at(1, 0, 0, r) = cc.stiffness[3 * r];
-      at(0, 1, 0, r) = cc.stiffness[3 * r + 1];
-      at(0, 0, 1, r) = cc.stiffness[3 * r + 2];
-      for (int pair = 0; pair < 3; ++pair) {
-        const int a = kPair[pair][0], bb = kPair[pair][1];
-        const double dab = sgn(bb) * (col(c, r, a) - col(partner(bb), r, a)) / h[bb];
-        const double dba = sgn(a) * (col(c, r, bb) - col(partner(a), r, bb)) / h[a];
-        int k[3] = {0, 0, 0};
-        k[a] = k[bb] = 1;
-        at(k[0], k[1], k[2], r) = 0.5 * (dab + dba);
-      }
+    coef(0, 0, 0) = value(c);
+    coef(1, 0, 0) = gradient(c, 0);
+    coef(0, 1, 0) = gradient(c, 1);
+    coef(0, 0, 1) = gradient(c, 2);
+    for (const auto& pair : kPair) {
+      const int a = pair[0], b = pair[1];
+      const double dab = sgn(b) * (gradient(c, a) - gradient(c ^ (4 >> b), a)) / h[b];
+      const double dba = sgn(a) * (gradient(c, b) - gradient(c ^ (4 >> a), b)) / h[a];
+      int k[3] = {0, 0, 0};
+      k[a] = k[b] = 1;
+      coef(k[0], k[1], k[2]) = 0.5 * (dab + dba);
     }
   }
+}
+
+}  // namespace
+
+// A contact-onset cell: every corner stored, the free ones (zero configurations) where the
+// sphere is clear of the body at rest, the others touching it there. The force there is 0 up to
+// the onset (clearance 0) and grows from it; interpolating the free corners' zeros would smooth
+// that kink over the cell. Instead each free corner takes the secant model of its nearest
+// touching corners, f = f_src depth / depth_src (depth = -clearance: negative at the free corner,
+// zero at the onset), with its gradient f_src (grad depth)^T / depth_src, averaged over the
+// touching corners at the same grid distance; its displacements follow the same model from the
+// first of them. force() returns exactly 0 (and the snapshot the body at rest) where the
+// interpolated clearance is >= 0. A cell whose touching corners are clear of the rest body (a
+// state that depends on the path, such as a plate pushed through) is not one.
+void HapticCursor::prepare_onset() {
+  const PlaybackFile::Impl& f = file_.impl();
+  cell_ = corners_;
+  onset_ = false;
+  if (!f.clearance) return;
+  // Along an axis with one check-point the cell is flat (s = 0): its far corners weigh nothing
+  // and take the data of their partners on the grid.
+  int flat = 0;
+  for (int a = 0; a < 3; ++a) flat |= f.meta->dims[a] == 1 ? 4 >> a : 0;
+  double gap[8][4];
+  bool free[8];
+  int touching = 0;
+  for (int c = 0; c < 8; ++c) {
+    if (c & flat) continue;
+    if (corners_[c].configuration < 0) return;
+    const auto o = corner_offset(c);
+    const std::int32_t g = f.point_index({base_[0] + o[0], base_[1] + o[1], base_[2] + o[2]});
+    if (g < 0) return;
+    for (int k = 0; k < 4; ++k) gap[c][k] = f.clearance[4 * std::int64_t(g) + k];
+    free[c] = f.config_zero[corners_[c].configuration] == 1;
+    if (free[c] != (gap[c][0] >= 0.0)) return;
+    touching += free[c] ? 0 : 1;
+  }
+  if (touching == 0 || touching == 8 >> std::popcount(unsigned(flat))) return;
+  onset_ = true;
+  for (int c = 0; c < 8; ++c) {
+    if (!(c & flat)) continue;
+    free[c] = free[c & ~flat];
+    std::copy_n(gap[c & ~flat], 4, gap[c]);
+  }
+  for (int c = 0; c < 8; ++c) {
+    if (!free[c]) continue;
+    int nearest = 4;
+    for (int s = 0; s < 8; ++s)
+      if (!free[s] && !(s & flat)) nearest = std::min(nearest, std::popcount(unsigned(c ^ s)));
+    Corner v = corners_[c];
+    v.force = {};
+    v.stiffness = {};
+    v.shift = {};
+    v.secant = true;
+    int sources = 0;
+    for (int s = 0; s < 8; ++s) {
+      if (free[s] || (s & flat) || std::popcount(unsigned(c ^ s)) != nearest) continue;
+      const Corner& src = corners_[s];
+      for (int r = 0; r < 3; ++r) {
+        v.force[r] += src.force[r] * gap[c][0] / gap[s][0];
+        for (int a = 0; a < 3; ++a)
+          v.stiffness[3 * r + a] += src.force[r] * gap[c][1 + a] / gap[s][0];
+      }
+      if (sources++ == 0) {  // the displacements follow the same model from one source
+        v.displacement = src.displacement;
+        v.secant_terms[0] = gap[c][0] / gap[s][0];
+        for (int a = 0; a < 3; ++a) v.secant_terms[1 + a] = gap[c][1 + a] / gap[s][0];
+      }
+    }
+    for (double& x : v.force) x /= sources;
+    for (double& x : v.stiffness) x /= sources;
+    cell_[c] = v;
+  }
+  scalar_coefficients(
+      f.meta->spacing, [&](int c) { return gap[c][0]; },
+      [&](int c, int a) { return gap[c][1 + a]; },
+      [&](int x, int y, int z) -> double& { return clearance_coef_[x][y][z]; });
+}
+
+// The Hermite coefficients of the current cell's force: per component, each corner's force and
+// stiffness row.
+void HapticCursor::update_coefficients() {
+  prepare_onset();
+  coef_ = {};
+  for (int r = 0; r < 3; ++r)
+    scalar_coefficients(
+        file_.impl().meta->spacing, [&](int c) { return cell_[c].force[r]; },
+        [&](int c, int a) { return cell_[c].stiffness[3 * r + a]; },
+        [&](int x, int y, int z) -> double& { return coef_[x][y][r][z]; });
+}
+
+// The interpolated clearance at the point whose per-axis Hermite bases are B (onset cells).
+double HapticCursor::clearance_at(const double (&B)[3][4]) const {
+  double v = 0;
+  for (int x = 0; x < 4; ++x)
+    for (int y = 0; y < 4; ++y)
+      for (int z = 0; z < 4; ++z) v += B[0][x] * B[1][y] * B[2][z] * clearance_coef_[x][y][z];
+  return v;
 }
 
 void HapticCursor::enter_cell(const std::array<std::int32_t, 3>& base) {
@@ -282,9 +376,9 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
-    for (int r = 0; r < 9; ++r) k_blend[r] += w * corners_[c].stiffness[r];
+    for (int r = 0; r < 9; ++r) k_blend[r] += w * cell_[c].stiffness[r];
     if (scheme_ == Scheme::kTrilinear)
-      for (int r = 0; r < 3; ++r) value[r] += w * corners_[c].force[r];
+      for (int r = 0; r < 3; ++r) value[r] += w * cell_[c].force[r];
   }
   if (scheme_ == Scheme::kHermite) {
     // Contract the tensor product axis by axis: z (value and derivative), then y, then x.
@@ -311,6 +405,9 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
       }
   }
   if (scheme_ == Scheme::kTrilinear || !out.inside_grid) slope = k_blend;
+  // Contact onset: the sphere clear of the body at rest touches nothing.
+  const bool at_rest = onset_ && out.inside_grid && clearance_at(B) >= 0.0;
+  if (at_rest) value = {}, slope = {};
   if (!out.inside_grid) {
     for (int r = 0; r < 3; ++r)
       for (int a = 0; a < 3; ++a) value[r] += k_blend[3 * r + a] * (probe[a] - p_clamped[a]);
@@ -318,23 +415,26 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
   for (int r = 0; r < 3; ++r) out.value[r] = std::isfinite(value[r]) ? value[r] : 0.0;
   for (int r = 0; r < 9; ++r) out.stiffness[r] = std::isfinite(slope[r]) ? slope[r] : 0.0;
   ++calls_;
-  publish(probe, out, s);
+  publish(probe, out, s, at_rest);
   return out;
 }
 
 void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
-                           const std::array<double, 3>& s) {
+                           const std::array<double, 3>& s, bool at_rest) {
   Snapshot& slot = slots_[back_];
   slot.sequence = calls_;
   slot.probe = probe;
   slot.force = f.value;
   slot.cell_position = s;
   slot.scheme = scheme_;
+  slot.secant_corners = 0;
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
+    if (cell_[c].secant) slot.secant_corners |= 1 << c;
+    slot.secant[c] = cell_[c].secant_terms;
     slot.weight[c] = (o[0] ? s[0] : 1 - s[0]) * (o[1] ? s[1] : 1 - s[1]) * (o[2] ? s[2] : 1 - s[2]);
-    slot.corner_configuration[c] = corners_[c].displacement;
-    slot.corner_shift[c] = corners_[c].shift;
+    slot.corner_configuration[c] = at_rest ? -1 : cell_[c].displacement;
+    slot.corner_shift[c] = cell_[c].shift;
   }
   back_ = middle_.exchange(back_ | kFresh, std::memory_order_acq_rel) & 3u;
 }

@@ -3,7 +3,8 @@
 // the same tensor-product cubic as the force (docs/playback.md), with each corner's
 // displacement slopes d u / d p as the derivatives and the cross derivatives estimated from
 // the slopes of the corners on the same cell face; an extended corner's displacements are its
-// source's extended by the source's slopes. Either way the result is a sum over at most 32
+// source's extended by the source's slopes, a secant corner's (a free corner of a contact-onset
+// cell, cursor.cc) its source's scaled. Either way the result is a sum over at most 32
 // arrays (8 configurations x value and 3 slopes) with weights computed once per frame.
 #include "playback/file_impl.h"
 
@@ -78,18 +79,46 @@ class Blend {
 
 std::array<int, 3> corner_side(int c) { return {(c >> 2) & 1, (c >> 1) & 1, c & 1}; }
 
-void add_trilinear(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
-  for (int c = 0; c < 8; ++c) {
-    const std::int32_t k = s.corner_configuration[c];
-    if (k >= f.meta->num_configurations) continue;
-    blend->add(k, 0, s.weight[c]);
+// Corner c of a snapshot as sums of stored arrays: its displacements (value) and their slope
+// along an axis, each added to a Blend with a weight.
+class Corners {
+ public:
+  Corners(const PlaybackFile::Impl& f, const Snapshot& s) : f_(f), s_(s) {
+    for (int c = 0; c < 8; ++c) {
+      config_[c] = s.corner_configuration[c];
+      if (config_[c] >= f.meta->num_configurations) config_[c] = -1;
+    }
   }
+  bool secant(int c) const { return (s_.secant_corners >> c) & 1; }
+  // The source's displacements plus (extended corner) its slopes times the shift; a secant
+  // corner: the source's displacements times secant[0].
+  void add_value(int c, double w, bool with_shift, Blend* blend) const {
+    if (secant(c)) return blend->add(config_[c], 0, w * s_.secant[c][0]);
+    blend->add(config_[c], 0, w);
+    if (!with_shift) return;
+    for (int a = 0; a < 3; ++a)
+      blend->add(config_[c], 1 + a, w * s_.corner_shift[c][a] * f_.meta->spacing[a]);
+  }
+  // The slope along axis a: the source's; a secant corner: its displacements x secant[1 + a].
+  void add_slope(int c, int a, double w, Blend* blend) const {
+    if (secant(c)) return blend->add(config_[c], 0, w * s_.secant[c][1 + a]);
+    blend->add(config_[c], 1 + a, w);
+  }
+
+ private:
+  const PlaybackFile::Impl& f_;
+  const Snapshot& s_;
+  std::int32_t config_[8];
+};
+
+void add_trilinear(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
+  const Corners corners(f, s);
+  for (int c = 0; c < 8; ++c) corners.add_value(c, s.weight[c], false, blend);
 }
 
-// The Hermite interpolant's weights: corner c contributes its value (the source's
-// displacements plus the slopes times its shift), its slopes along each axis, and the cross
-// derivatives of each face pair (a, b): half the difference quotients of the slopes along a
-// across b and along b across a (the force's estimate, cursor.cc).
+// The Hermite interpolant's weights: corner c contributes its value, its slopes along each axis,
+// and the cross derivatives of each face pair (a, b): half the difference quotients of the
+// slopes along a across b and along b across a (the force's estimate, cursor.cc).
 void add_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
   const double* h = f.meta->spacing;
   double B[3][4];  // per axis: value and derivative bases of side 0 and side 1 (derivative x h)
@@ -100,23 +129,18 @@ void add_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
     B[a][1] = t * (1.0 - t) * (1.0 - t) * h[a];
     B[a][3] = -t * t * (1.0 - t) * h[a];
   }
-  std::int32_t config[8];
-  for (int c = 0; c < 8; ++c) {
-    config[c] = s.corner_configuration[c];
-    if (config[c] >= f.meta->num_configurations) config[c] = -1;
-  }
+  const Corners corners(f, s);
   static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_side(c);
     auto weight = [&](int kx, int ky, int kz) {
       return B[0][2 * o[0] + kx] * B[1][2 * o[1] + ky] * B[2][2 * o[2] + kz];
     };
-    const double w0 = weight(0, 0, 0);
-    blend->add(config[c], 0, w0);
+    corners.add_value(c, weight(0, 0, 0), true, blend);
     for (int a = 0; a < 3; ++a) {
       int k[3] = {0, 0, 0};
       k[a] = 1;
-      blend->add(config[c], 1 + a, w0 * s.corner_shift[c][a] * h[a] + weight(k[0], k[1], k[2]));
+      corners.add_slope(c, a, weight(k[0], k[1], k[2]), blend);
     }
     for (const auto& pair : kPair) {
       const int a = pair[0], b = pair[1];
@@ -124,11 +148,10 @@ void add_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
       k[a] = k[b] = 1;
       const double w = 0.5 * weight(k[0], k[1], k[2]);
       const double sa = o[a] ? 1.0 : -1.0, sb = o[b] ? 1.0 : -1.0;
-      const int partner_b = c ^ (4 >> b), partner_a = c ^ (4 >> a);
-      blend->add(config[c], 1 + a, w * sb / h[b]);
-      blend->add(config[partner_b], 1 + a, -w * sb / h[b]);
-      blend->add(config[c], 1 + b, w * sa / h[a]);
-      blend->add(config[partner_a], 1 + b, -w * sa / h[a]);
+      corners.add_slope(c, a, w * sb / h[b], blend);
+      corners.add_slope(c ^ (4 >> b), a, -w * sb / h[b], blend);
+      corners.add_slope(c, b, w * sa / h[a], blend);
+      corners.add_slope(c ^ (4 >> a), b, -w * sa / h[a], blend);
     }
   }
 }

@@ -48,8 +48,16 @@ std::string section_name(SectionId id) {
       return "zero configurations";
     case SectionId::kDisplacementSlopes:
       return "displacement slopes";
+    case SectionId::kClearance:
+      return "clearance";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
+}
+
+bool finite(const double* v, int n) {
+  for (int k = 0; k < n; ++k)
+    if (!std::isfinite(v[k])) return false;
+  return true;
 }
 
 }  // namespace
@@ -161,7 +169,10 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
       {SectionId::kReference, 12 * v},
       {SectionId::kTriangles, 12 * std::uint64_t(m2.num_triangles)},
       {SectionId::kDisplacements, 12 * v * n},
-      {SectionId::kDisplacementSlopes, m2.has_displacement_slopes ? 36 * v * n : 0}};
+      {SectionId::kDisplacementSlopes, m2.has_displacement_slopes ? 36 * v * n : 0},
+      {SectionId::kClearance,
+       m2.probe_mode == static_cast<std::int32_t>(playback::ProbeModeCode::kContact) ? 32 * points
+                                                                                     : 0}};
   for (const auto& [id, size] : expected)
     if (bytes[static_cast<int>(id)] != size)
       fail("section '" + section_name(id) + "' has " + std::to_string(bytes[static_cast<int>(id)]) +
@@ -180,6 +191,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   f.displacements = reinterpret_cast<const float*>(section(SectionId::kDisplacements));
   if (m2.has_displacement_slopes)
     f.slopes = reinterpret_cast<const float*>(section(SectionId::kDisplacementSlopes));
+  if (bytes[static_cast<int>(SectionId::kClearance)] > 0)
+    f.clearance = reinterpret_cast<const double*>(section(SectionId::kClearance));
 }
 
 PlaybackFile::~PlaybackFile() {
@@ -226,6 +239,9 @@ void PlaybackFile::verify() const {
              ": transition target " + std::to_string(t) + " out of range");
     }
   }
+  for (std::int64_t g = 0; f.clearance && g < points; ++g)
+    if (!finite(f.clearance + 4 * g, 4))
+      fail("check-point " + std::to_string(g) + ": clearance not finite");
   for (std::int64_t k = 0; k < 3 * std::int64_t(m.num_triangles); ++k)
     if (f.triangles[k] < 0 || f.triangles[k] >= m.num_view_nodes)
       fail("triangle " + std::to_string(k / 3) + ": view node out of range");

@@ -1,5 +1,5 @@
 // The playback file's layout on disk (docs/playback.md): little-endian, a 64-byte header,
-// a table of sections, every section's data 64-byte aligned. Version 3 (kVersion).
+// a table of sections, every section's data 64-byte aligned. Version 4 (kVersion).
 //
 //   header | section table | section data ...
 //
@@ -17,7 +17,7 @@ static_assert(std::endian::native == std::endian::little,
               "the playback file is little-endian and mapped as is");
 
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
-inline constexpr std::uint32_t kVersion = 3;  // 3: displacement slopes
+inline constexpr std::uint32_t kVersion = 4;  // 3: displacement slopes, 4: clearance
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -50,8 +50,11 @@ enum class SectionId : std::uint32_t {
   // float32 per configuration: 3 arrays (probe axis x, y, z) of 3 per view node, d u / d p,
   // dimensionless; empty when Meta::has_displacement_slopes is 0.
   kDisplacementSlopes = 13,
+  // float64 x 4 per grid point (contact; empty for grab): the sphere's clearance from the body
+  // at rest there (mesh units, > 0 clear) and its gradient (docs/playback.md, "Contact onset").
+  kClearance = 14,
 };
-inline constexpr int kSectionCount = 13;
+inline constexpr int kSectionCount = 14;
 
 struct SectionEntry {
   std::uint32_t id;             // SectionId

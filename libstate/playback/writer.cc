@@ -83,6 +83,8 @@ void check_content(const Content& c, const std::filesystem::path& file) {
   if (c.meta.rest_configuration < 0 || static_cast<std::size_t>(c.meta.rest_configuration) >= n)
     bad("no rest configuration");
   if (!c.displacements) bad("no displacement source");
+  const bool contact = c.meta.probe_mode == static_cast<std::int32_t>(ProbeModeCode::kContact);
+  if (c.clearance.size() != (contact ? 4 * points : 0)) bad("clearance table size");
 }
 
 }  // namespace
@@ -163,6 +165,7 @@ void write_file(Content c, const std::filesystem::path& file) {
        4 * slope_floats * n,
        &c.displacement_slopes,
        slope_floats},
+      {SectionId::kClearance, 32, bytes_of(c.clearance), 8 * c.clearance.size()},
   };
 
   std::filesystem::path tmp = file;

@@ -38,6 +38,9 @@ class GrabProbe final : public ProbeModel {
 
   bool clear_of_body(const Eigen::Vector3d&) const override { return false; }
   bool trivial_move(const Eigen::Vector3d&, const Eigen::Vector3d&) const override { return false; }
+  std::optional<Clearance> clearance(const Eigen::Vector3d&, double) const override {
+    return std::nullopt;
+  }
   VectorLayout layout() const override {
     return {false, static_cast<int>(dofs_.size()), static_cast<int>(dofs_.size())};
   }
@@ -98,6 +101,18 @@ class ContactProbe final : public ProbeModel {
     }
     return true;
   }
+  std::optional<Clearance> clearance(const Eigen::Vector3d& p, double range) const override {
+    std::vector<int> near;
+    index_.inside(p, reach_ + range, &near);
+    Clearance c{range, Eigen::Vector3d::Zero()};
+    for (int k : near) {
+      const Eigen::Vector3d d = p - rest_.col(k);
+      const double gap = d.norm() - reach_;
+      if (gap < c.gap)
+        c = {gap, d.norm() > 0 ? Eigen::Vector3d(d / d.norm()) : Eigen::Vector3d::Zero()};
+    }
+    return c;
+  }
   VectorLayout layout() const override { return {true, 0, 0}; }
 
  private:
@@ -149,6 +164,22 @@ class SlidingProbe final : public ProbeModel {
       if (d < radius_) return false;
     }
     return true;
+  }
+  std::optional<Clearance> clearance(const Eigen::Vector3d& p, double range) const override {
+    std::vector<int> near;
+    index_.inside(p, radius_ + spread_ + range, &near);
+    const Triangles& tri = problem_.mesh.surface;
+    const Eigen::Matrix3Xd& x = problem_.mesh.nodes;
+    Clearance c{range, Eigen::Vector3d::Zero()};
+    for (int t : near) {
+      const TrianglePoint tp =
+          closest_point(x.col(tri(0, t)), x.col(tri(1, t)), x.col(tri(2, t)), p);
+      const Eigen::Vector3d d = p - tp.closest;
+      const double gap = d.norm() - radius_;
+      if (gap < c.gap)
+        c = {gap, d.norm() > 0 ? Eigen::Vector3d(d / d.norm()) : Eigen::Vector3d::Zero()};
+    }
+    return c;
   }
   VectorLayout layout() const override { return {false, 0, 3, true}; }
 

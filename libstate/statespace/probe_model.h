@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace hapstate {
@@ -61,6 +62,16 @@ class ProbeModel {
   // needs no solve (grab: never; contact: the sphere sweeps past the rest shape: every surface
   // triangle when frictionless, every candidate node when sticking).
   virtual bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const = 0;
+  // The probe's clearance from the body at rest at p (contact): the distance from p to the rest
+  // surface triangles (sticking: to the candidate nodes) minus the radius (sticking: the reach),
+  // > 0 where the probe is clear of the body, and its gradient (the unit vector from the
+  // closest surface point to p). Exact where the nearest surface point is within `range` of
+  // the sphere; farther, {range, 0}. Grab: nothing (the probe is never clear of the body).
+  struct Clearance {
+    double gap = 0;
+    Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+  };
+  virtual std::optional<Clearance> clearance(const Eigen::Vector3d& p, double range) const = 0;
 
   // What a configuration stores besides u (statespace/level_match.h).
   virtual VectorLayout layout() const = 0;

@@ -101,9 +101,9 @@ TEST_F(PlaybackFormat, DamagedHeaderIsRefusedAtOpen) {
   b[0] = 'X';
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "bad magic");
   b = bytes_;
-  b[8] = 2;  // version 2: no displacement slopes
+  b[8] = 3;  // version 3: no clearance
   expect_input_error([&] { PlaybackFile p(damaged(b)); },
-                     "format version 2, this build reads version 3 (run hapstate-index again)");
+                     "format version 3, this build reads version 4 (run hapstate-index again)");
   b = bytes_;
   b[30] ^= 1;  // section table offset, covered by the header checksum
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "header checksum mismatch");

@@ -116,10 +116,23 @@ TEST_F(PlatePlayback, KeepsTheLevelOfItsSideAndLeavesToRest) {
     for (const double side : {-1.0, 1.0}) {
       HapticCursor cursor(file, scheme);
       cursor.reset({kColumn, kColumn, side});
+      // The sphere (radius 0.8 cm) is clear of the plate at rest (|z| <= 0.1 cm) where
+      // |z| > 0.9: the force is exactly zero there, also inside the cell where it reaches the
+      // plate (z between 0.8 and 1: docs/playback.md, "Contact onset").
+      auto clear = [](double z) { return std::abs(z) > 0.9 + 1e-9; };
+      int clear_steps = 0;
       for (int s = 0; s <= 100; ++s) {  // in to the mid-plane, 1 ms steps of 0.01 cm
-        const Force f = cursor.force({kColumn, kColumn, side * (1.0 - s / 100.0)});
+        const double z = side * (1.0 - s / 100.0);
+        const Force f = cursor.force({kColumn, kColumn, z});
         ASSERT_TRUE(std::isfinite(f.value[2]));
+        if (clear(z)) {
+          ++clear_steps;
+          for (int r = 0; r < 3; ++r) EXPECT_EQ(f.value[r], 0.0) << z;
+        } else if (std::abs(z) < 0.89) {
+          EXPECT_GT(std::abs(f.value[2]), 0.0) << z;
+        }
       }
+      EXPECT_EQ(clear_steps, 10);
       const Force mid = cursor.force({kColumn, kColumn, 0.0});
       EXPECT_NEAR(mid.value[2], side < 0 ? down : up, 1e-9 * std::abs(down));
       Force out{};

@@ -1,0 +1,185 @@
+// The cursor in a contact-onset cell (docs/playback.md, "Contact onset"): a synthetic contact
+// file whose body is a tilted plane, clear of the sphere where the clearance g(P) = n . (P - x0)
+// is >= 0, with force f = k max(0, -g) d and displacements u_v = max(0, -g) U_v (d, U_v fixed
+// vectors). The force is linear in the depth from the onset on and 0 before it, so with the
+// onset handled the cursor reproduces it exactly in every cell, the cells the plane cuts
+// included; interpolating the free corners' zeros (the same file with the clearance hidden)
+// smooths the kink over the cell.
+#include "hapstate/playback.h"
+#include "synthetic.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <algorithm>
+#include <cstdio>
+#include <random>
+
+namespace hapstate {
+namespace {
+
+namespace fs = std::filesystem;
+
+Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+std::array<double, 3> arr(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
+
+struct Plane {
+  test_util::Field grid;  // only its origin (the rest position) is used
+  Eigen::Vector3d h{0.5, 0.4, 0.6};
+  Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();
+  Eigen::Vector3d x0 = grid.origin - Eigen::Vector3d(0.1, 0.2, 0.75);  // the rest clear of it
+  Eigen::Vector3d d{0.2, -0.1, 1.0};                                   // force per unit depth / k
+  double k = 2.5;                                                      // N per mesh unit of depth
+
+  double gap(const Eigen::Vector3d& p) const { return n.dot(p - x0); }
+  double depth(const Eigen::Vector3d& p) const { return std::max(0.0, -gap(p)); }
+  Eigen::Vector3d force(const Eigen::Vector3d& p) const { return k * depth(p) * d; }
+  Eigen::Vector3d u(int v, const Eigen::Vector3d& p) const {
+    return depth(p) * Eigen::Vector3d(0.1 * (v + 1), 0.05, -0.02 * v);
+  }
+};
+
+// The synthetic grid with the plane's data: free check-points (g >= 0) hold zero
+// configurations; `hide_clearance`: every check-point reported touching (no onset cells).
+playback::Content plane_content(const Plane& plane, bool hide_clearance) {
+  playback::Content c = test_util::synthetic_content(plane.grid, plane.h);
+  c.meta.probe_mode = static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
+  const std::size_t n = c.config_checkpoint.size();
+  // Configuration g is at grid point g (x-major, indices -2..2).
+  auto position = [plane](std::size_t g) {
+    const Eigen::Vector3i ijk(int(g / 25) - 2, int(g / 5) % 5 - 2, int(g % 5) - 2);
+    return Eigen::Vector3d(plane.grid.origin + ijk.cast<double>().cwiseProduct(plane.h));
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d p = position(k);
+    const bool free = plane.gap(p) >= 0;
+    c.config_zero[k] = free ? 1 : 0;
+    const Eigen::Matrix3d jac =
+        free ? Eigen::Matrix3d::Zero() : Eigen::Matrix3d(-plane.k * plane.d * plane.n.transpose());
+    for (int r = 0; r < 3; ++r) c.force[3 * k + r] = plane.force(p)[r];
+    for (int r = 0; r < 9; ++r) c.stiffness[9 * k + r] = jac(r / 3, r % 3);
+    c.clearance.push_back(hide_clearance ? -1.0 : plane.gap(p));
+    for (int a = 0; a < 3; ++a) c.clearance.push_back(plane.n[a]);
+  }
+  c.displacements = [plane, position](std::int32_t config, std::span<float> out) {
+    for (int v = 0; v < test_util::kSyntheticViewNodes; ++v)
+      for (int r = 0; r < 3; ++r)
+        out[3 * v + r] = static_cast<float>(plane.u(v, position(config))[r]);
+  };
+  c.displacement_slopes = [plane, position](std::int32_t config, std::span<float> out) {
+    const Eigen::Vector3d p = position(config);
+    if (plane.gap(p) >= 0) return;
+    for (int v = 0; v < test_util::kSyntheticViewNodes; ++v) {
+      const Eigen::Vector3d du = plane.u(v, p) / plane.depth(p);  // d u / d depth
+      for (int a = 0; a < 3; ++a)
+        for (int r = 0; r < 3; ++r)
+          out[3 * (a * test_util::kSyntheticViewNodes + v) + r] =
+              static_cast<float>(-du[r] * plane.n[a]);
+    }
+  };
+  return c;
+}
+
+struct Errors {
+  double force = 0, stiffness = 0, displacement = 0, clear_force = 0;
+  int clear_points = 0, cut_cells = 0;
+};
+
+// Walks from rest to 400 random points of the grid in small steps; the largest errors there.
+Errors walk(const PlaybackFile& file, const Plane& plane, Scheme scheme) {
+  HapticCursor cursor(file, scheme);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  Errors e;
+  Eigen::Vector3d p = plane.grid.origin;
+  std::vector<float> d(3 * test_util::kSyntheticViewNodes);
+  for (int step = 0; step < 400; ++step) {
+    const Eigen::Vector3d target =
+        plane.grid.origin + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(plane.h);
+    for (int s = 1; s < 8; ++s) cursor.force(arr(p + (target - p) * s / 8.0));
+    p = target;
+    const Force f = cursor.force(arr(p));
+    e.force = std::max(e.force, (vec(f.value) - plane.force(p)).norm());
+    const Eigen::Matrix3d k = plane.gap(p) >= 0
+                                  ? Eigen::Matrix3d::Zero()
+                                  : Eigen::Matrix3d(-plane.k * plane.d * plane.n.transpose());
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> got(f.stiffness.data());
+    if (std::abs(plane.gap(p)) > 1e-9) e.stiffness = std::max(e.stiffness, (got - k).norm());
+    if (plane.gap(p) >= 0) {
+      ++e.clear_points;
+      e.clear_force = std::max(e.clear_force, vec(f.value).norm());
+    }
+    // Does the plane cut this cell? (its corners on both sides)
+    int below = 0;
+    for (int c = 0; c < 8; ++c) {
+      Eigen::Vector3d corner;
+      for (int a = 0; a < 3; ++a)
+        corner[a] = plane.grid.origin[a] + (std::floor((p[a] - plane.grid.origin[a]) / plane.h[a]) +
+                                            ((c >> (2 - a)) & 1)) *
+                                               plane.h[a];
+      below += plane.gap(corner) < 0;
+    }
+    e.cut_cells += below > 0 && below < 8;
+    Snapshot snap;
+    cursor.snapshot(&snap);
+    displacements(file, snap, d);
+    for (int v = 0; v < test_util::kSyntheticViewNodes; ++v)
+      e.displacement =
+          std::max(e.displacement,
+                   (Eigen::Vector3d(d[3 * v], d[3 * v + 1], d[3 * v + 2]) - plane.u(v, p)).norm());
+  }
+  return e;
+}
+
+class ContactOnset : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("hapstate_onset_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path write(playback::Content content, const std::string& name) {
+    const fs::path f = dir_ / name;
+    playback::write_file(std::move(content), f);
+    return f;
+  }
+  fs::path dir_;
+};
+
+TEST_F(ContactOnset, ForceAndDisplacementsAreExactAcrossTheOnset) {
+  const Plane plane;
+  PlaybackFile file(write(plane_content(plane, false), "onset.bin"));
+  const double f_max = plane.k * 2.0 * plane.d.norm();  // the order of the largest force
+  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    const Errors e = walk(file, plane, scheme);
+    std::printf(
+        "onset handled: force %.3g, clear %.3g, stiffness %.3g, displacement %.3g N/-/mesh units; "
+        "%d clear points, %d in cut cells\n",
+        e.force, e.clear_force, e.stiffness, e.displacement, e.clear_points, e.cut_cells);
+    SCOPED_TRACE(scheme == Scheme::kHermite ? "hermite" : "trilinear");
+    EXPECT_GT(e.clear_points, 50);
+    EXPECT_GT(e.cut_cells, 50);
+    EXPECT_EQ(e.clear_force, 0.0);  // exactly 0 where the sphere is clear of the body at rest
+    EXPECT_LE(e.force, 1e-12 * f_max);
+    if (scheme == Scheme::kHermite) EXPECT_LE(e.stiffness, 1e-10 * plane.k);
+    EXPECT_LE(e.displacement, 1e-6);  // float32 storage
+  }
+}
+
+TEST_F(ContactOnset, WithoutTheClearanceTheKinkIsSmoothedOverTheCell) {
+  // The check that the test above can fail: the same data with every check-point reported
+  // touching interpolates the free corners' zeros across the onset.
+  const Plane plane;
+  PlaybackFile file(write(plane_content(plane, true), "hidden.bin"));
+  const double f_max = plane.k * 2.0 * plane.d.norm();
+  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    const Errors e = walk(file, plane, scheme);
+    std::printf("clearance hidden: force %.3g, clear %.3g (f_max %.3g)\n", e.force, e.clear_force,
+                f_max);
+    EXPECT_GT(e.force, 0.02 * f_max);
+    EXPECT_GT(e.clear_force, 0.01 * f_max);
+  }
+}
+
+}  // namespace
+}  // namespace hapstate
