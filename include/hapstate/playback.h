@@ -118,11 +118,17 @@ struct Snapshot {
   // extended corner: its displacements are extended from the source's by its slopes).
   std::array<std::array<std::int32_t, 3>, 8> corner_shift{};
   Scheme scheme = Scheme::kTrilinear;
-  // The free corners of a contact-onset cell (bit c; docs/playback.md, "Contact onset"): their
-  // displacements are secant[c][0] x their source's, their slope along axis a secant[c][1 + a]
-  // x their source's displacements (per mesh unit).
+  // The corners that are free check-points beside the contact onset (bit c; docs/playback.md,
+  // "Contact onset"): their displacements are secant[c][0] x their source's, their slope along
+  // axis a secant[c][1 + a] x their source's displacements (per mesh unit).
   std::int32_t secant_corners = 0;
   std::array<std::array<double, 4>, 8> secant{};
+  // Just past the contact onset the displacements are (1 - onset_weight) x the interpolation
+  // above + onset_weight x onset_depth x sum_c weight[c] per_depth[c] x (the displacements of
+  // corner_configuration[c]): the depth model (docs/playback.md, "Contact onset").
+  double onset_weight = 0;
+  double onset_depth = 0;
+  std::array<double, 8> per_depth{};
 };
 
 // Result of one haptic query.
@@ -173,10 +179,16 @@ class HapticCursor {
     CornerSource source = CornerSource::kExtended;
     std::array<double, 3> force{};
     std::array<double, 9> stiffness{};
-    // A free corner of a contact-onset cell: displacements = secant[0] x the source's, their
-    // slope along axis a = secant[1 + a] x the source's displacements.
+    // A free check-point beside the contact onset (playback::OnsetCorner): displacements =
+    // secant[0] x the source's, their slope along axis a = secant[1 + a] x the source's.
     bool secant = false;
     std::array<double, 4> secant_terms{};
+    // Contact: the force per unit depth of the sphere into the rest body
+    // (playback::OnsetCorner::per_depth) if defined, and the factor that gives the
+    // displacements per unit depth from those of `displacement`.
+    bool depth_model = false;
+    std::array<double, 3> per_depth{};
+    double displacement_per_depth = 0;
   };
 
  private:
@@ -186,27 +198,34 @@ class HapticCursor {
   // derivatives (two k = 1); zero for k = 111.
   using CellCoefficients = std::array<std::array<std::array<std::array<double, 4>, 3>, 4>, 4>;
   void update_coefficients();
+  Corner stored_corner(std::int32_t configuration) const;
   void prepare_onset();
-  double clearance_at(const double (&B)[3][4]) const;
   void anchor_at(std::int32_t configuration);
   void enter_cell(const std::array<std::int32_t, 3>& base);
   void resolve_corner(int corner, const std::array<Corner, 8>& old,
                       const std::array<std::int32_t, 3>& old_base);
   void walk_to(const std::array<double, 3>& q);
+  struct OnsetBlend {
+    bool at_rest = false;  // the sphere clear of the rest body: force and displacements 0
+    double weight = 0;     // of the depth model
+    double depth = 0;
+  };
+  OnsetBlend apply_onset(const double (&B)[3][4], const double (&dB)[3][4],
+                         const double (&lin)[3][2], std::array<double, 3>* value,
+                         std::array<double, 9>* slope) const;
   void publish(const std::array<double, 3>& probe, const Force& f, const std::array<double, 3>& s,
-               bool at_rest);
+               const OnsetBlend& onset);
 
   const PlaybackFile& file_;
   Scheme scheme_;
   std::array<std::int32_t, 3> base_{};  // grid index of corner 0 of the current cell
   std::array<Corner, 8> corners_{};     // corner c at base + ((c>>2)&1, (c>>1)&1, c&1)
-  // The corners as interpolated: corners_, except that in a contact-onset cell (some corners
-  // free, the others touching the body at rest) each free corner holds the nearest touching
-  // corners' force and displacements extended to it (docs/playback.md, "Contact onset").
-  std::array<Corner, 8> cell_{};
-  CellCoefficients coef_{};  // of cell_, updated whenever corners_ change
-  bool onset_ = false;       // a contact-onset cell: the force is 0 where the clearance is >= 0
+  CellCoefficients coef_{};             // of corners_, updated whenever they change
+  // Contact: every corner has a depth model and the sphere may be shallower than the blending
+  // band somewhere in the cell (docs/playback.md, "Contact onset").
+  bool onset_ = false;
   std::array<std::array<std::array<double, 4>, 4>, 4> clearance_coef_{};  // [x][y][z]
+  std::array<std::array<double, 3>, 8> per_depth_{};  // the corners' force per unit depth
   std::array<double, 3> last_q_{};  // last probe position, grid units, clamped to the grid
   std::uint64_t calls_ = 0;
   std::uint64_t cells_walked_ = 0;

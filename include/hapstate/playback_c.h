@@ -36,6 +36,9 @@ typedef struct hs_snapshot {
   int32_t scheme;         /* HS_SCHEME_*: how hs_deform interpolates the displacements */
   int32_t secant_corners; /* bit c: corner c takes its source's displacements scaled by secant[c] */
   double secant[8][4];
+  double onset_weight;
+  double onset_depth;
+  double per_depth[8];
 } hs_snapshot;
 
 int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size);

@@ -2,6 +2,7 @@
 
 #include "blobs/blob_store.h"
 #include "hapstate/playback.h"
+#include "playback/onset_model.h"
 #include "playback/writer.h"
 #include "statespace/expand_batch.h"
 #include "statespace/probe_model.h"
@@ -180,7 +181,10 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
   }
   for (Eigen::Index t = 0; t < mesh.surface.cols(); ++t)
     for (int r = 0; r < 3; ++r) c.triangles.push_back(view_of[mesh.surface(r, t)]);
-  if (ctx.scene.probe.mode == ProbeMode::kContact) c.clearance = clearance_table(ctx.problem, m);
+  if (ctx.scene.probe.mode == ProbeMode::kContact) {
+    c.clearance = clearance_table(ctx.problem, m);
+    c.onset = playback::onset_corners(c);
+  }
   g.fingerprint = fingerprint_of(g.configs, transitions, inputs, view);
   m.source_hash = g.fingerprint.value;
   return g;

@@ -26,6 +26,7 @@ static_assert(offsetof(hs_snapshot, scheme) == offsetof(hapstate::Snapshot, sche
 static_assert(offsetof(hs_snapshot, secant_corners) ==
               offsetof(hapstate::Snapshot, secant_corners));
 static_assert(offsetof(hs_snapshot, secant) == offsetof(hapstate::Snapshot, secant));
+static_assert(offsetof(hs_snapshot, per_depth) == offsetof(hapstate::Snapshot, per_depth));
 
 namespace {
 

@@ -3,11 +3,15 @@
 #include "playback/file_impl.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
+#include <limits>
 
 namespace hapstate {
 namespace {
+
+// The band above the contact onset, in units of the smallest spacing, over which the force
+// blends from the depth model into the interpolated force (apply_onset).
+constexpr double kOnsetBand = 0.5;
 
 constexpr std::uint32_t kFresh = 4;  // triple buffer: the middle slot holds an unread snapshot
 
@@ -51,18 +55,41 @@ void HapticCursor::reset(const std::array<double, 3>& probe) {
   anchor_at(best);
 }
 
+// Configuration t as a cell corner: its force, stiffness and displacements; a zero
+// configuration beside the contact onset: its OnsetCorner (playback/format.h).
+HapticCursor::Corner HapticCursor::stored_corner(std::int32_t t) const {
+  const PlaybackFile::Impl& f = file_.impl();
+  Corner r;
+  r.configuration = t;
+  r.displacement = t;
+  r.source = CornerSource::kStored;
+  const playback::OnsetCorner* onset = f.onset && f.onset[t].source >= 0 ? &f.onset[t] : nullptr;
+  const double* force = onset ? onset->force : f.force + 3 * std::int64_t(t);
+  const double* stiffness = onset ? onset->stiffness : f.stiffness + 9 * std::int64_t(t);
+  std::copy_n(force, 3, r.force.begin());
+  std::copy_n(stiffness, 9, r.stiffness.begin());
+  if (onset && onset->source < f.meta->num_configurations) {
+    r.displacement = onset->source;
+    r.secant = true;
+    std::copy_n(onset->secant, 4, r.secant_terms.begin());
+  }
+  if (f.onset && f.onset[t].has_depth_model == 1) {
+    r.depth_model = true;
+    std::copy_n(f.onset[t].per_depth, 3, r.per_depth.begin());
+    // The displacements per unit depth: those of the touching configuration shown, / its depth.
+    const double gap = f.clearance[4 * std::int64_t(f.config_checkpoint[r.displacement])];
+    r.displacement_per_depth = gap < 0.0 ? -1.0 / gap : 0.0;
+  }
+  return r;
+}
+
 // The cursor at the check-point of configuration `rest` (a zero configuration), that corner
 // from it and the others resolved around it.
 void HapticCursor::anchor_at(std::int32_t rest) {
   const PlaybackFile::Impl& f = file_.impl();
   const playback::Meta& m = *f.meta;
   const std::array<std::int32_t, 3> ijk = f.point_ijk(f.config_checkpoint[rest]);
-  Corner root;
-  root.configuration = rest;
-  root.displacement = rest;
-  root.source = CornerSource::kStored;
-  for (int r = 0; r < 3; ++r) root.force[r] = f.force[3 * rest + r];
-  for (int r = 0; r < 9; ++r) root.stiffness[r] = f.stiffness[9 * rest + r];
+  Corner root = stored_corner(rest);
   if (!finite(root.force.data(), 3) || !finite(root.stiffness.data(), 9)) {
     root.force = {};
     root.stiffness = {};
@@ -88,9 +115,14 @@ void HapticCursor::anchor_at(std::int32_t rest) {
   for (int a = 0; a < 3; ++a) s[a] = ijk[a] - base_[a];
   std::array<double, 3> p{};
   for (int a = 0; a < 3; ++a) p[a] = m.origin[a] + ijk[a] * m.spacing[a];
-  zero.value = root.force;
-  zero.stiffness = root.stiffness;
-  publish(p, zero, s, false);
+  // The stored force there (a zero configuration beside the contact onset holds the onset model
+  // as a corner, but the sphere is clear of the body at its check-point).
+  std::copy_n(f.force + 3 * std::int64_t(rest), 3, zero.value.begin());
+  std::copy_n(f.stiffness + 9 * std::int64_t(rest), 9, zero.stiffness.begin());
+  if (!finite(zero.value.data(), 3) || !finite(zero.stiffness.data(), 9)) zero = Force{};
+  OnsetBlend rest_state;  // a zero configuration: the body at rest
+  rest_state.at_rest = true;
+  publish(p, zero, s, rest_state);
 }
 
 // Fills corners_[c] of the cell at base_ from the corners of the previous cell `old` (at
@@ -128,12 +160,7 @@ void HapticCursor::resolve_corner(int c, const std::array<Corner, 8>& old,
                                   target[2] - old_base[2] - ok[2]);
     const std::int32_t t = f.transition(src.configuration, d);
     if (t < 0) continue;
-    Corner r;
-    r.configuration = t;
-    r.displacement = t;
-    r.source = CornerSource::kStored;
-    for (int q = 0; q < 3; ++q) r.force[q] = f.force[3 * std::int64_t(t) + q];
-    for (int q = 0; q < 9; ++q) r.stiffness[q] = f.stiffness[9 * std::int64_t(t) + q];
+    const Corner r = stored_corner(t);
     if (!finite(r.force.data(), 3) || !finite(r.stiffness.data(), 9)) continue;
     out = r;
     return;
@@ -190,79 +217,99 @@ void scalar_coefficients(const double* h, Value value, Gradient gradient, At at)
 
 }  // namespace
 
-// A contact-onset cell: every corner stored, the free ones (zero configurations) where the
-// sphere is clear of the body at rest, the others touching it there. The force there is 0 up to
-// the onset (clearance 0) and grows from it; interpolating the free corners' zeros would smooth
-// that kink over the cell. Instead each free corner takes the secant model of its nearest
-// touching corners, f = f_src depth / depth_src (depth = -clearance: negative at the free corner,
-// zero at the onset), with its gradient f_src (grad depth)^T / depth_src, averaged over the
-// touching corners at the same grid distance; its displacements follow the same model from the
-// first of them. force() returns exactly 0 (and the snapshot the body at rest) where the
-// interpolated clearance is >= 0. A cell whose touching corners are clear of the rest body (a
-// state that depends on the path, such as a plate pushed through) is not one.
+// Contact: whether the cell blends in the depth model near the onset (every corner has one,
+// so no corner is extended or touching while clear of the rest body, and some corner is within
+// the band plus a cell diagonal of the onset: the clearance changes by at most the distance);
+// the clearance's Hermite coefficients.
 void HapticCursor::prepare_onset() {
   const PlaybackFile::Impl& f = file_.impl();
-  cell_ = corners_;
   onset_ = false;
   if (!f.clearance) return;
+  const double* h = f.meta->spacing;
   // Along an axis with one check-point the cell is flat (s = 0): its far corners weigh nothing
   // and take the data of their partners on the grid.
   int flat = 0;
   for (int a = 0; a < 3; ++a) flat |= f.meta->dims[a] == 1 ? 4 >> a : 0;
   double gap[8][4];
-  bool free[8];
-  int touching = 0;
+  double shallowest = std::numeric_limits<double>::infinity();
   for (int c = 0; c < 8; ++c) {
-    if (c & flat) continue;
-    if (corners_[c].configuration < 0) return;
+    if (!corners_[c & ~flat].depth_model) return;
+    per_depth_[c] = corners_[c & ~flat].per_depth;
     const auto o = corner_offset(c);
-    const std::int32_t g = f.point_index({base_[0] + o[0], base_[1] + o[1], base_[2] + o[2]});
+    std::array<std::int32_t, 3> ijk{};
+    for (int a = 0; a < 3; ++a)
+      ijk[a] = std::min(base_[a] + o[a], f.meta->lo[a] + f.meta->dims[a] - 1);
+    const std::int32_t g = f.point_index(ijk);
     if (g < 0) return;
     for (int k = 0; k < 4; ++k) gap[c][k] = f.clearance[4 * std::int64_t(g) + k];
-    free[c] = f.config_zero[corners_[c].configuration] == 1;
-    if (free[c] != (gap[c][0] >= 0.0)) return;
-    touching += free[c] ? 0 : 1;
+    shallowest = std::min(shallowest, -gap[c][0]);
   }
-  if (touching == 0 || touching == 8 >> std::popcount(unsigned(flat))) return;
+  const double diagonal = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+  if (shallowest > kOnsetBand * std::min({h[0], h[1], h[2]}) + diagonal) return;
   onset_ = true;
-  for (int c = 0; c < 8; ++c) {
-    if (!(c & flat)) continue;
-    free[c] = free[c & ~flat];
-    std::copy_n(gap[c & ~flat], 4, gap[c]);
-  }
-  for (int c = 0; c < 8; ++c) {
-    if (!free[c]) continue;
-    int nearest = 4;
-    for (int s = 0; s < 8; ++s)
-      if (!free[s] && !(s & flat)) nearest = std::min(nearest, std::popcount(unsigned(c ^ s)));
-    Corner v = corners_[c];
-    v.force = {};
-    v.stiffness = {};
-    v.shift = {};
-    v.secant = true;
-    int sources = 0;
-    for (int s = 0; s < 8; ++s) {
-      if (free[s] || (s & flat) || std::popcount(unsigned(c ^ s)) != nearest) continue;
-      const Corner& src = corners_[s];
-      for (int r = 0; r < 3; ++r) {
-        v.force[r] += src.force[r] * gap[c][0] / gap[s][0];
-        for (int a = 0; a < 3; ++a)
-          v.stiffness[3 * r + a] += src.force[r] * gap[c][1 + a] / gap[s][0];
-      }
-      if (sources++ == 0) {  // the displacements follow the same model from one source
-        v.displacement = src.displacement;
-        v.secant_terms[0] = gap[c][0] / gap[s][0];
-        for (int a = 0; a < 3; ++a) v.secant_terms[1 + a] = gap[c][1 + a] / gap[s][0];
-      }
-    }
-    for (double& x : v.force) x /= sources;
-    for (double& x : v.stiffness) x /= sources;
-    cell_[c] = v;
-  }
   scalar_coefficients(
-      f.meta->spacing, [&](int c) { return gap[c][0]; },
-      [&](int c, int a) { return gap[c][1 + a]; },
+      h, [&](int c) { return gap[c][0]; }, [&](int c, int a) { return gap[c][1 + a]; },
       [&](int x, int y, int z) -> double& { return clearance_coef_[x][y][z]; });
+}
+
+// Near the contact onset: with d the interpolated depth of the sphere into the rest body
+// (Hermite, from the clearance at the corners), the force is 0 where d <= 0 and
+// R F + (1 - R) d q for 0 < d < band, F the interpolated force, q the trilinear interpolation of
+// the corners' force per unit depth and R = smoothstep(d / band): continuous at the onset and at
+// the band's edge, exact at check-points (q d = f there) and for a force proportional to the
+// depth. `value` and `slope` hold F and its derivative on entry.
+HapticCursor::OnsetBlend HapticCursor::apply_onset(const double (&B)[3][4],
+                                                   const double (&dB)[3][4],
+                                                   const double (&lin)[3][2],
+                                                   std::array<double, 3>* value,
+                                                   std::array<double, 9>* slope) const {
+  const double* h = file_.impl().meta->spacing;
+  double g = 0, grad[3] = {0, 0, 0};
+  for (int x = 0; x < 4; ++x)
+    for (int y = 0; y < 4; ++y)
+      for (int z = 0; z < 4; ++z) {
+        const double c = clearance_coef_[x][y][z];
+        g += B[0][x] * B[1][y] * B[2][z] * c;
+        grad[0] += dB[0][x] * B[1][y] * B[2][z] * c;
+        grad[1] += B[0][x] * dB[1][y] * B[2][z] * c;
+        grad[2] += B[0][x] * B[1][y] * dB[2][z] * c;
+      }
+  OnsetBlend blend;
+  blend.depth = -g;
+  if (blend.depth <= 0.0) {
+    *value = {};
+    *slope = {};
+    blend.at_rest = true;
+    return blend;
+  }
+  const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
+  if (blend.depth >= band) return blend;
+  // q and dq/dp (trilinear).
+  double q[3] = {0, 0, 0}, dq[3][3] = {};
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    const double w[3] = {lin[0][o[0]], lin[1][o[1]], lin[2][o[2]]};
+    const double dw[3] = {(o[0] ? 1.0 : -1.0) / h[0] * w[1] * w[2],
+                          (o[1] ? 1.0 : -1.0) / h[1] * w[0] * w[2],
+                          (o[2] ? 1.0 : -1.0) / h[2] * w[0] * w[1]};
+    for (int r = 0; r < 3; ++r) {
+      q[r] += w[0] * w[1] * w[2] * per_depth_[c][r];
+      for (int a = 0; a < 3; ++a) dq[r][a] += dw[a] * per_depth_[c][r];
+    }
+  }
+  const double x = blend.depth / band;
+  const double R = x * x * (3.0 - 2.0 * x), dR = 6.0 * x * (1.0 - x) / band;  // dR / d(depth)
+  for (int r = 0; r < 3; ++r) {
+    const double model = blend.depth * q[r];
+    for (int a = 0; a < 3; ++a) {
+      const double dmodel = -q[r] * grad[a] + blend.depth * dq[r][a];
+      (*slope)[3 * r + a] =
+          R * (*slope)[3 * r + a] + (1.0 - R) * dmodel - ((*value)[r] - model) * dR * grad[a];
+    }
+    (*value)[r] = R * (*value)[r] + (1.0 - R) * model;
+  }
+  blend.weight = 1.0 - R;
+  return blend;
 }
 
 // The Hermite coefficients of the current cell's force: per component, each corner's force and
@@ -272,18 +319,9 @@ void HapticCursor::update_coefficients() {
   coef_ = {};
   for (int r = 0; r < 3; ++r)
     scalar_coefficients(
-        file_.impl().meta->spacing, [&](int c) { return cell_[c].force[r]; },
-        [&](int c, int a) { return cell_[c].stiffness[3 * r + a]; },
+        file_.impl().meta->spacing, [&](int c) { return corners_[c].force[r]; },
+        [&](int c, int a) { return corners_[c].stiffness[3 * r + a]; },
         [&](int x, int y, int z) -> double& { return coef_[x][y][r][z]; });
-}
-
-// The interpolated clearance at the point whose per-axis Hermite bases are B (onset cells).
-double HapticCursor::clearance_at(const double (&B)[3][4]) const {
-  double v = 0;
-  for (int x = 0; x < 4; ++x)
-    for (int y = 0; y < 4; ++y)
-      for (int z = 0; z < 4; ++z) v += B[0][x] * B[1][y] * B[2][z] * clearance_coef_[x][y][z];
-  return v;
 }
 
 void HapticCursor::enter_cell(const std::array<std::int32_t, 3>& base) {
@@ -376,9 +414,9 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
-    for (int r = 0; r < 9; ++r) k_blend[r] += w * cell_[c].stiffness[r];
+    for (int r = 0; r < 9; ++r) k_blend[r] += w * corners_[c].stiffness[r];
     if (scheme_ == Scheme::kTrilinear)
-      for (int r = 0; r < 3; ++r) value[r] += w * cell_[c].force[r];
+      for (int r = 0; r < 3; ++r) value[r] += w * corners_[c].force[r];
   }
   if (scheme_ == Scheme::kHermite) {
     // Contract the tensor product axis by axis: z (value and derivative), then y, then x.
@@ -405,22 +443,20 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
       }
   }
   if (scheme_ == Scheme::kTrilinear || !out.inside_grid) slope = k_blend;
-  // Contact onset: the sphere clear of the body at rest touches nothing.
-  const bool at_rest = onset_ && out.inside_grid && clearance_at(B) >= 0.0;
-  if (at_rest) value = {}, slope = {};
+  const OnsetBlend onset = onset_ ? apply_onset(B, dB, lin, &value, &slope) : OnsetBlend{};
   if (!out.inside_grid) {
     for (int r = 0; r < 3; ++r)
-      for (int a = 0; a < 3; ++a) value[r] += k_blend[3 * r + a] * (probe[a] - p_clamped[a]);
+      for (int a = 0; a < 3; ++a) value[r] += slope[3 * r + a] * (probe[a] - p_clamped[a]);
   }
   for (int r = 0; r < 3; ++r) out.value[r] = std::isfinite(value[r]) ? value[r] : 0.0;
   for (int r = 0; r < 9; ++r) out.stiffness[r] = std::isfinite(slope[r]) ? slope[r] : 0.0;
   ++calls_;
-  publish(probe, out, s, at_rest);
+  publish(probe, out, s, onset);
   return out;
 }
 
 void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
-                           const std::array<double, 3>& s, bool at_rest) {
+                           const std::array<double, 3>& s, const OnsetBlend& onset) {
   Snapshot& slot = slots_[back_];
   slot.sequence = calls_;
   slot.probe = probe;
@@ -428,13 +464,16 @@ void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
   slot.cell_position = s;
   slot.scheme = scheme_;
   slot.secant_corners = 0;
+  slot.onset_weight = onset.weight;
+  slot.onset_depth = onset.depth;
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
-    if (cell_[c].secant) slot.secant_corners |= 1 << c;
-    slot.secant[c] = cell_[c].secant_terms;
+    if (corners_[c].secant) slot.secant_corners |= 1 << c;
+    slot.secant[c] = corners_[c].secant_terms;
     slot.weight[c] = (o[0] ? s[0] : 1 - s[0]) * (o[1] ? s[1] : 1 - s[1]) * (o[2] ? s[2] : 1 - s[2]);
-    slot.corner_configuration[c] = at_rest ? -1 : cell_[c].displacement;
-    slot.corner_shift[c] = cell_[c].shift;
+    slot.corner_configuration[c] = onset.at_rest ? -1 : corners_[c].displacement;
+    slot.per_depth[c] = corners_[c].displacement_per_depth;
+    slot.corner_shift[c] = corners_[c].shift;
   }
   back_ = middle_.exchange(back_ | kFresh, std::memory_order_acq_rel) & 3u;
 }

@@ -3,8 +3,9 @@
 // the same tensor-product cubic as the force (docs/playback.md), with each corner's
 // displacement slopes d u / d p as the derivatives and the cross derivatives estimated from
 // the slopes of the corners on the same cell face; an extended corner's displacements are its
-// source's extended by the source's slopes, a secant corner's (a free corner of a contact-onset
-// cell, cursor.cc) its source's scaled. Either way the result is a sum over at most 32
+// source's extended by the source's slopes, a secant corner's (a free check-point beside the
+// contact onset, cursor.cc) its source's scaled; just past the onset the depth model is blended
+// in (Snapshot::onset_weight). Either way the result is a sum over at most 32
 // arrays (8 configurations x value and 3 slopes) with weights computed once per frame.
 #include "playback/file_impl.h"
 
@@ -17,8 +18,11 @@ namespace {
 class Blend {
  public:
   static constexpr int kMax = 32;
+  explicit Blend(double scale) : scale_(scale) {}
+  void set_scale(double scale) { scale_ = scale; }  // of the weights added from now on
   // kind 0: the displacements of configuration k, kind 1 + a: its slopes along axis a.
   void add(std::int32_t k, int kind, double w) {
+    w *= scale_;
     if (k < 0 || w == 0.0) return;  // -1: a zero corner, nothing to add
     for (int j = 0; j < count_; ++j)
       if (config_[j] == k && kind_[j] == kind) {
@@ -75,6 +79,7 @@ class Blend {
   int kind_[kMax];
   double weight_[kMax];
   int count_ = 0;
+  double scale_ = 1;
 };
 
 std::array<int, 3> corner_side(int c) { return {(c >> 2) & 1, (c >> 1) & 1, c & 1}; }
@@ -157,11 +162,16 @@ void add_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
 }
 
 void blend(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float> out) {
-  Blend blend;
+  Blend blend(1.0 - s.onset_weight);
   if (s.scheme == Scheme::kHermite && f.slopes)
     add_hermite(f, s, &blend);
   else
     add_trilinear(f, s, &blend);
+  // Just past the contact onset: the depth model's share.
+  blend.set_scale(s.onset_weight * s.onset_depth);
+  for (int c = 0; c < 8; ++c)
+    if (s.onset_weight != 0.0 && s.corner_configuration[c] < f.meta->num_configurations)
+      blend.add(s.corner_configuration[c], 0, s.weight[c] * s.per_depth[c]);
   blend.apply(f, out);
 }
 

@@ -50,6 +50,8 @@ std::string section_name(SectionId id) {
       return "displacement slopes";
     case SectionId::kClearance:
       return "clearance";
+    case SectionId::kOnset:
+      return "onset corners";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -157,6 +159,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   const std::uint64_t n = static_cast<std::uint64_t>(m2.num_configurations);
   const std::uint64_t v = static_cast<std::uint64_t>(m2.num_view_nodes);
   const std::uint64_t points = std::uint64_t(m2.dims[0]) * m2.dims[1] * m2.dims[2];
+  const bool contact =
+      m2.probe_mode == static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
   const std::pair<SectionId, std::uint64_t> expected[] = {
       {SectionId::kCheckpoints, 8 * points},
       {SectionId::kConfigCheckpoint, 4 * n},
@@ -170,9 +174,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
       {SectionId::kTriangles, 12 * std::uint64_t(m2.num_triangles)},
       {SectionId::kDisplacements, 12 * v * n},
       {SectionId::kDisplacementSlopes, m2.has_displacement_slopes ? 36 * v * n : 0},
-      {SectionId::kClearance,
-       m2.probe_mode == static_cast<std::int32_t>(playback::ProbeModeCode::kContact) ? 32 * points
-                                                                                     : 0}};
+      {SectionId::kClearance, contact ? 32 * points : 0},
+      {SectionId::kOnset, contact ? sizeof(playback::OnsetCorner) * n : 0}};
   for (const auto& [id, size] : expected)
     if (bytes[static_cast<int>(id)] != size)
       fail("section '" + section_name(id) + "' has " + std::to_string(bytes[static_cast<int>(id)]) +
@@ -191,8 +194,10 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   f.displacements = reinterpret_cast<const float*>(section(SectionId::kDisplacements));
   if (m2.has_displacement_slopes)
     f.slopes = reinterpret_cast<const float*>(section(SectionId::kDisplacementSlopes));
-  if (bytes[static_cast<int>(SectionId::kClearance)] > 0)
+  if (contact) {
     f.clearance = reinterpret_cast<const double*>(section(SectionId::kClearance));
+    f.onset = reinterpret_cast<const playback::OnsetCorner*>(section(SectionId::kOnset));
+  }
 }
 
 PlaybackFile::~PlaybackFile() {
@@ -229,6 +234,10 @@ void PlaybackFile::verify() const {
     for (int r = 0; r < 9; ++r)
       if (!std::isfinite(f.stiffness[9 * c + r]))
         fail("configuration " + std::to_string(c) + ": stiffness not finite");
+    if (f.onset &&
+        (!finite(f.onset[c].force, 3) || !finite(f.onset[c].stiffness, 9) ||
+         !finite(f.onset[c].secant, 4) || f.onset[c].source < -1 || f.onset[c].source >= n))
+      fail("configuration " + std::to_string(c) + ": onset corner not finite or out of range");
     if (f.config_zero[c] != 0 && f.config_zero[c] != 1)
       fail("configuration " + std::to_string(c) + ": zero flag " +
            std::to_string(f.config_zero[c]) + " is not 0 or 1");

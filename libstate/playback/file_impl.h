@@ -27,8 +27,9 @@ struct PlaybackFile::Impl {
   const float* reference = nullptr;
   const std::int32_t* triangles = nullptr;
   const float* displacements = nullptr;
-  const float* slopes = nullptr;      // nullptr: the file has none
-  const double* clearance = nullptr;  // 4 per grid point; nullptr: a grab file
+  const float* slopes = nullptr;                 // nullptr: the file has none
+  const double* clearance = nullptr;             // 4 per grid point; nullptr: a grab file
+  const playback::OnsetCorner* onset = nullptr;  // 1 per configuration; nullptr: a grab file
 
   // Linear index of grid point ijk (absolute grid indices), or -1 outside the grid.
   std::int32_t point_index(const std::array<std::int32_t, 3>& ijk) const {

@@ -53,8 +53,11 @@ enum class SectionId : std::uint32_t {
   // float64 x 4 per grid point (contact; empty for grab): the sphere's clearance from the body
   // at rest there (mesh units, > 0 clear) and its gradient (docs/playback.md, "Contact onset").
   kClearance = 14,
+  // OnsetCorner per configuration (contact; empty for grab): what a zero configuration beside the
+  // contact onset holds as a cell corner (docs/playback.md, "Contact onset").
+  kOnset = 15,
 };
-inline constexpr int kSectionCount = 14;
+inline constexpr int kSectionCount = 15;
 
 struct SectionEntry {
   std::uint32_t id;             // SectionId
@@ -64,6 +67,27 @@ struct SectionEntry {
   std::uint64_t checksum;  // XXH64 of the section's bytes
 };
 static_assert(sizeof(SectionEntry) == 32);
+
+// A configuration's data for the contact onset (docs/playback.md, "Contact onset"), with d the
+// sphere's depth into the body at rest at its check-point (minus the clearance).
+// - per_depth: q = f / d, the force per unit depth, of a touching configuration (d > 0); of a
+//   zero configuration at a free check-point (d <= 0), or a touching one shallower than 1e-6 of
+//   a spacing, the average q of the touching configurations its transitions lead to (0 if
+//   none); has_depth_model 0 where q is undefined (a touching configuration clear of the rest
+//   body: a state that depends on the path).
+// - A zero configuration at a free check-point with such neighbours (source >= 0) is, as a cell
+//   corner, their secant model extended to it: force q d, stiffness q (grad d)^T (averaged), and
+//   displacements secant[0] x those of configuration `source`, their slope along axis a
+//   secant[1 + a] x them (per mesh unit).
+struct OnsetCorner {
+  double force[3];      // N
+  double stiffness[9];  // N per mesh unit, row-major
+  double secant[4];
+  double per_depth[3];  // N per mesh unit
+  std::int32_t source;
+  std::int32_t has_depth_model;
+};
+static_assert(sizeof(OnsetCorner) == 160);
 
 // Transition table entries that are not a configuration index.
 enum TransitionCode : std::int32_t {

@@ -85,6 +85,7 @@ void check_content(const Content& c, const std::filesystem::path& file) {
   if (!c.displacements) bad("no displacement source");
   const bool contact = c.meta.probe_mode == static_cast<std::int32_t>(ProbeModeCode::kContact);
   if (c.clearance.size() != (contact ? 4 * points : 0)) bad("clearance table size");
+  if (c.onset.size() != (contact ? n : 0)) bad("onset table size");
 }
 
 }  // namespace
@@ -166,6 +167,8 @@ void write_file(Content c, const std::filesystem::path& file) {
        &c.displacement_slopes,
        slope_floats},
       {SectionId::kClearance, 32, bytes_of(c.clearance), 8 * c.clearance.size()},
+      {SectionId::kOnset, sizeof(OnsetCorner), bytes_of(c.onset),
+       sizeof(OnsetCorner) * c.onset.size()},
   };
 
   std::filesystem::path tmp = file;

@@ -6,14 +6,31 @@
 // included; interpolating the free corners' zeros (the same file with the clearance hidden)
 // smooths the kink over the cell.
 #include "hapstate/playback.h"
+#include "playback/onset_model.h"
 #include "synthetic.h"
 
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
+#include <cstdlib>
+#include <new>
 #include <random>
+
+// Counts heap allocations while `g_counting` is set (GCC cannot see that the replaced delete
+// matches the replaced new and warns falsely).
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+static std::atomic<bool> g_counting{false};
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  if (g_counting.load(std::memory_order_relaxed)) ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace hapstate {
 namespace {
@@ -61,6 +78,7 @@ playback::Content plane_content(const Plane& plane, bool hide_clearance) {
     c.clearance.push_back(hide_clearance ? -1.0 : plane.gap(p));
     for (int a = 0; a < 3; ++a) c.clearance.push_back(plane.n[a]);
   }
+  c.onset = playback::onset_corners(c);
   c.displacements = [plane, position](std::int32_t config, std::span<float> out) {
     for (int v = 0; v < test_util::kSyntheticViewNodes; ++v)
       for (int r = 0; r < 3; ++r)
@@ -161,7 +179,9 @@ TEST_F(ContactOnset, ForceAndDisplacementsAreExactAcrossTheOnset) {
     EXPECT_GT(e.cut_cells, 50);
     EXPECT_EQ(e.clear_force, 0.0);  // exactly 0 where the sphere is clear of the body at rest
     EXPECT_LE(e.force, 1e-12 * f_max);
-    if (scheme == Scheme::kHermite) EXPECT_LE(e.stiffness, 1e-10 * plane.k);
+    if (scheme == Scheme::kHermite) {
+      EXPECT_LE(e.stiffness, 1e-10 * plane.k);
+    }
     EXPECT_LE(e.displacement, 1e-6);  // float32 storage
   }
 }
@@ -179,6 +199,35 @@ TEST_F(ContactOnset, WithoutTheClearanceTheKinkIsSmoothedOverTheCell) {
     EXPECT_GT(e.force, 0.02 * f_max);
     EXPECT_GT(e.clear_force, 0.01 * f_max);
   }
+}
+
+TEST_F(ContactOnset, ForceAndSnapshotDoNotAllocate) {
+  // The onset cells' clearance, blend and secant corners are fixed-size data too.
+  const Plane plane;
+  PlaybackFile file(write(plane_content(plane, false), "alloc.bin"));
+  std::vector<float> pos(3 * test_util::kSyntheticViewNodes);
+  Snapshot snap;
+  int onset_steps = 0;
+  g_allocations = 0;
+  g_counting = true;
+  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    HapticCursor cursor(file, scheme);
+    for (int n = 0; n < 20000; ++n) {
+      const double t = 1e-3 * n;
+      const Eigen::Vector3d p =
+          plane.grid.origin + Eigen::Vector3d(0.8 * std::sin(t), 0.6 * std::cos(1.3 * t),
+                                              -0.7 + 0.6 * std::sin(0.7 * t));
+      cursor.force(arr(p));
+      onset_steps += std::abs(plane.gap(p)) < 0.25 ? 1 : 0;
+      if (n % 16 == 0) {
+        cursor.snapshot(&snap);
+        deform(file, snap, pos);
+      }
+    }
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(onset_steps, 1000);
 }
 
 }  // namespace
