@@ -20,6 +20,9 @@
 #include <string>
 
 namespace hapstate {
+namespace playback {
+struct OnsetCorner;
+}
 
 struct Snapshot;
 
@@ -118,17 +121,18 @@ struct Snapshot {
   // extended corner: its displacements are extended from the source's by its slopes).
   std::array<std::array<std::int32_t, 3>, 8> corner_shift{};
   Scheme scheme = Scheme::kTrilinear;
-  // The corners that are free check-points beside the contact onset (bit c; docs/playback.md,
-  // "Contact onset"): their displacements are secant[c][0] x their source's, their slope along
-  // axis a secant[c][1 + a] x their source's displacements (per mesh unit).
+  // The corners that are free check-points beside the contact onset, in a cell near it (bit c;
+  // docs/playback.md, "Contact onset"): their displacements are secant[c][0] x those of
+  // corner_configuration[c], their slope along axis a secant[c][1 + a] x them (per mesh unit).
   std::int32_t secant_corners = 0;
   std::array<std::array<double, 4>, 8> secant{};
   // Just past the contact onset the displacements are (1 - onset_weight) x the interpolation
   // above + onset_weight x onset_depth x sum_c weight[c] per_depth[c] x (the displacements of
-  // corner_configuration[c]): the depth model (docs/playback.md, "Contact onset").
+  // depth_source[c]): the depth model (docs/playback.md, "Contact onset").
   double onset_weight = 0;
   double onset_depth = 0;
   std::array<double, 8> per_depth{};
+  std::array<std::int32_t, 8> depth_source{};
 };
 
 // Result of one haptic query.
@@ -179,16 +183,13 @@ class HapticCursor {
     CornerSource source = CornerSource::kExtended;
     std::array<double, 3> force{};
     std::array<double, 9> stiffness{};
-    // A free check-point beside the contact onset (playback::OnsetCorner): displacements =
-    // secant[0] x the source's, their slope along axis a = secant[1 + a] x the source's.
+    // Contact: the configuration's onset data in the file (playback::OnsetCorner; nullptr:
+    // none, as for an extended corner), used in a cell near the onset: `secant` a free
+    // check-point beside it with a secant model, `depth_model` one with a depth model (their
+    // configuration indices checked).
+    const playback::OnsetCorner* onset = nullptr;
     bool secant = false;
-    std::array<double, 4> secant_terms{};
-    // Contact: the force per unit depth of the sphere into the rest body
-    // (playback::OnsetCorner::per_depth) if defined, and the factor that gives the
-    // displacements per unit depth from those of `displacement`.
     bool depth_model = false;
-    std::array<double, 3> per_depth{};
-    double displacement_per_depth = 0;
   };
 
  private:
@@ -224,8 +225,13 @@ class HapticCursor {
   // Contact: every corner has a depth model and the sphere may be shallower than the blending
   // band somewhere in the cell (docs/playback.md, "Contact onset").
   bool onset_ = false;
+  bool clear_cell_ = false;  // onset_ and the sphere clear of the rest body in the whole cell
   std::array<std::array<std::array<double, 4>, 4>, 4> clearance_coef_{};  // [x][y][z]
   std::array<std::array<double, 3>, 8> per_depth_{};  // the corners' force per unit depth
+  // The force and stiffness of corner c as interpolated: the secant model's in a cell near the
+  // onset (onset_), else the stored ones.
+  const double* force_of(int c) const;
+  const double* stiffness_of(int c) const;
   std::array<double, 3> last_q_{};  // last probe position, grid units, clamped to the grid
   std::uint64_t calls_ = 0;
   std::uint64_t cells_walked_ = 0;

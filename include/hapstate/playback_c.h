@@ -39,6 +39,7 @@ typedef struct hs_snapshot {
   double onset_weight;
   double onset_depth;
   double per_depth[8];
+  int32_t depth_source[8];
 } hs_snapshot;
 
 int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size);

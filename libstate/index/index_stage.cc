@@ -53,7 +53,7 @@ ContentHash fingerprint_of(const std::vector<Configuration>& configs,
 // The contact probe's clearance from the rest body at every grid point, 4 per point (gap,
 // gradient; x-major), for the cursor's contact-onset cells (docs/playback.md). Exact within
 // two cell diagonals of the surface, which covers every corner of a cell the sphere enters
-// the body in (the gap changes by at most a cell diagonal across a cell).
+// the body in (the clearance changes by at most a cell diagonal across a cell).
 std::vector<double> clearance_table(const Problem& problem, const playback::Meta& m) {
   const auto probe = make_probe_model(problem);
   double diagonal = 0;
@@ -66,9 +66,9 @@ std::vector<double> clearance_table(const Problem& problem, const playback::Meta
         const int ijk[3] = {m.lo[0] + i, m.lo[1] + j, m.lo[2] + k};
         Eigen::Vector3d p;
         for (int a = 0; a < 3; ++a) p[a] = m.origin[a] + ijk[a] * m.spacing[a];
-        const auto c = probe->clearance(p, range);
-        out.push_back(c ? c->gap : range);
-        for (int a = 0; a < 3; ++a) out.push_back(c ? c->gradient[a] : 0.0);
+        const ProbeModel::Clearance c = probe->clearance(p, range).value();  // a contact probe
+        out.push_back(c.gap);
+        for (int a = 0; a < 3; ++a) out.push_back(c.gradient[a]);
       }
   return out;
 }

@@ -26,7 +26,10 @@ static_assert(offsetof(hs_snapshot, scheme) == offsetof(hapstate::Snapshot, sche
 static_assert(offsetof(hs_snapshot, secant_corners) ==
               offsetof(hapstate::Snapshot, secant_corners));
 static_assert(offsetof(hs_snapshot, secant) == offsetof(hapstate::Snapshot, secant));
+static_assert(offsetof(hs_snapshot, onset_weight) == offsetof(hapstate::Snapshot, onset_weight));
+static_assert(offsetof(hs_snapshot, onset_depth) == offsetof(hapstate::Snapshot, onset_depth));
 static_assert(offsetof(hs_snapshot, per_depth) == offsetof(hapstate::Snapshot, per_depth));
+static_assert(offsetof(hs_snapshot, depth_source) == offsetof(hapstate::Snapshot, depth_source));
 
 namespace {
 

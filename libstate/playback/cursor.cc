@@ -55,31 +55,22 @@ void HapticCursor::reset(const std::array<double, 3>& probe) {
   anchor_at(best);
 }
 
-// Configuration t as a cell corner: its force, stiffness and displacements; a zero
-// configuration beside the contact onset: its OnsetCorner (playback/format.h).
+// Configuration t as a cell corner: its force, stiffness and displacements, and in a contact
+// file its onset data (playback/format.h, OnsetCorner; indices out of range: none).
 HapticCursor::Corner HapticCursor::stored_corner(std::int32_t t) const {
   const PlaybackFile::Impl& f = file_.impl();
   Corner r;
   r.configuration = t;
   r.displacement = t;
   r.source = CornerSource::kStored;
-  const playback::OnsetCorner* onset = f.onset && f.onset[t].source >= 0 ? &f.onset[t] : nullptr;
-  const double* force = onset ? onset->force : f.force + 3 * std::int64_t(t);
-  const double* stiffness = onset ? onset->stiffness : f.stiffness + 9 * std::int64_t(t);
-  std::copy_n(force, 3, r.force.begin());
-  std::copy_n(stiffness, 9, r.stiffness.begin());
-  if (onset && onset->source < f.meta->num_configurations) {
-    r.displacement = onset->source;
-    r.secant = true;
-    std::copy_n(onset->secant, 4, r.secant_terms.begin());
-  }
-  if (f.onset && f.onset[t].has_depth_model == 1) {
-    r.depth_model = true;
-    std::copy_n(f.onset[t].per_depth, 3, r.per_depth.begin());
-    // The displacements per unit depth: those of the touching configuration shown, / its depth.
-    const double gap = f.clearance[4 * std::int64_t(f.config_checkpoint[r.displacement])];
-    r.displacement_per_depth = gap < 0.0 ? -1.0 / gap : 0.0;
-  }
+  std::copy_n(f.force + 3 * std::int64_t(t), 3, r.force.begin());
+  std::copy_n(f.stiffness + 9 * std::int64_t(t), 9, r.stiffness.begin());
+  if (!f.onset) return r;
+  const playback::OnsetCorner& o = f.onset[t];
+  auto valid = [&](std::int32_t k) { return k >= 0 && k < f.meta->num_configurations; };
+  r.onset = &o;
+  r.secant = valid(o.source);
+  r.depth_model = valid(o.depth_source);
   return r;
 }
 
@@ -231,10 +222,10 @@ void HapticCursor::prepare_onset() {
   int flat = 0;
   for (int a = 0; a < 3; ++a) flat |= f.meta->dims[a] == 1 ? 4 >> a : 0;
   double gap[8][4];
-  double shallowest = std::numeric_limits<double>::infinity();
+  double shallowest = std::numeric_limits<double>::infinity(), deepest = -shallowest;
   for (int c = 0; c < 8; ++c) {
     if (!corners_[c & ~flat].depth_model) return;
-    per_depth_[c] = corners_[c & ~flat].per_depth;
+    std::copy_n(corners_[c & ~flat].onset->per_depth, 3, per_depth_[c].begin());
     const auto o = corner_offset(c);
     std::array<std::int32_t, 3> ijk{};
     for (int a = 0; a < 3; ++a)
@@ -243,10 +234,15 @@ void HapticCursor::prepare_onset() {
     if (g < 0) return;
     for (int k = 0; k < 4; ++k) gap[c][k] = f.clearance[4 * std::int64_t(g) + k];
     shallowest = std::min(shallowest, -gap[c][0]);
+    deepest = std::max(deepest, -gap[c][0]);
   }
   const double diagonal = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
   if (shallowest > kOnsetBand * std::min({h[0], h[1], h[2]}) + diagonal) return;
   onset_ = true;
+  // Every point of the cell is within a diagonal of every corner and the clearance changes by
+  // at most the distance: clear by a diagonal at every corner, the sphere is clear of the rest
+  // body in the whole cell (and so is the interpolated clearance).
+  clear_cell_ = -deepest >= diagonal;
   scalar_coefficients(
       h, [&](int c) { return gap[c][0]; }, [&](int c, int a) { return gap[c][1 + a]; },
       [&](int x, int y, int z) -> double& { return clearance_coef_[x][y][z]; });
@@ -264,19 +260,28 @@ HapticCursor::OnsetBlend HapticCursor::apply_onset(const double (&B)[3][4],
                                                    std::array<double, 3>* value,
                                                    std::array<double, 9>* slope) const {
   const double* h = file_.impl().meta->spacing;
-  double g = 0, grad[3] = {0, 0, 0};
-  for (int x = 0; x < 4; ++x)
-    for (int y = 0; y < 4; ++y)
-      for (int z = 0; z < 4; ++z) {
-        const double c = clearance_coef_[x][y][z];
-        g += B[0][x] * B[1][y] * B[2][z] * c;
-        grad[0] += dB[0][x] * B[1][y] * B[2][z] * c;
-        grad[1] += B[0][x] * dB[1][y] * B[2][z] * c;
-        grad[2] += B[0][x] * B[1][y] * dB[2][z] * c;
-      }
   OnsetBlend blend;
+  double g = 0, grad[3] = {0, 0, 0};
+  if (!clear_cell_) {
+    // The clearance's tensor product contracted axis by axis (z, then y, then x).
+    for (int x = 0; x < 4; ++x) {
+      double v = 0, vy = 0, vz = 0;
+      for (int y = 0; y < 4; ++y) {
+        const std::array<double, 4>& t = clearance_coef_[x][y];
+        const double a = B[2][0] * t[0] + B[2][1] * t[1] + B[2][2] * t[2] + B[2][3] * t[3];
+        const double az = dB[2][0] * t[0] + dB[2][1] * t[1] + dB[2][2] * t[2] + dB[2][3] * t[3];
+        v += B[1][y] * a;
+        vy += dB[1][y] * a;
+        vz += B[1][y] * az;
+      }
+      g += B[0][x] * v;
+      grad[0] += dB[0][x] * v;
+      grad[1] += B[0][x] * vy;
+      grad[2] += B[0][x] * vz;
+    }
+  }
   blend.depth = -g;
-  if (blend.depth <= 0.0) {
+  if (clear_cell_ || blend.depth <= 0.0) {
     *value = {};
     *slope = {};
     blend.at_rest = true;
@@ -312,6 +317,13 @@ HapticCursor::OnsetBlend HapticCursor::apply_onset(const double (&B)[3][4],
   return blend;
 }
 
+const double* HapticCursor::force_of(int c) const {
+  return onset_ && corners_[c].secant ? corners_[c].onset->force : corners_[c].force.data();
+}
+const double* HapticCursor::stiffness_of(int c) const {
+  return onset_ && corners_[c].secant ? corners_[c].onset->stiffness : corners_[c].stiffness.data();
+}
+
 // The Hermite coefficients of the current cell's force: per component, each corner's force and
 // stiffness row.
 void HapticCursor::update_coefficients() {
@@ -319,8 +331,8 @@ void HapticCursor::update_coefficients() {
   coef_ = {};
   for (int r = 0; r < 3; ++r)
     scalar_coefficients(
-        file_.impl().meta->spacing, [&](int c) { return corners_[c].force[r]; },
-        [&](int c, int a) { return corners_[c].stiffness[3 * r + a]; },
+        file_.impl().meta->spacing, [&](int c) { return force_of(c)[r]; },
+        [&](int c, int a) { return stiffness_of(c)[3 * r + a]; },
         [&](int x, int y, int z) -> double& { return coef_[x][y][r][z]; });
 }
 
@@ -414,9 +426,9 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
-    for (int r = 0; r < 9; ++r) k_blend[r] += w * corners_[c].stiffness[r];
+    for (int r = 0; r < 9; ++r) k_blend[r] += w * stiffness_of(c)[r];
     if (scheme_ == Scheme::kTrilinear)
-      for (int r = 0; r < 3; ++r) value[r] += w * corners_[c].force[r];
+      for (int r = 0; r < 3; ++r) value[r] += w * force_of(c)[r];
   }
   if (scheme_ == Scheme::kHermite) {
     // Contract the tensor product axis by axis: z (value and derivative), then y, then x.
@@ -467,13 +479,19 @@ void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
   slot.onset_weight = onset.weight;
   slot.onset_depth = onset.depth;
   for (int c = 0; c < 8; ++c) {
+    const Corner& k = corners_[c];
+    const bool secant = onset_ && k.secant;
     const auto o = corner_offset(c);
-    if (corners_[c].secant) slot.secant_corners |= 1 << c;
-    slot.secant[c] = corners_[c].secant_terms;
     slot.weight[c] = (o[0] ? s[0] : 1 - s[0]) * (o[1] ? s[1] : 1 - s[1]) * (o[2] ? s[2] : 1 - s[2]);
-    slot.corner_configuration[c] = onset.at_rest ? -1 : corners_[c].displacement;
-    slot.per_depth[c] = corners_[c].displacement_per_depth;
-    slot.corner_shift[c] = corners_[c].shift;
+    slot.corner_configuration[c] = onset.at_rest ? -1 : secant ? k.onset->source : k.displacement;
+    slot.corner_shift[c] = k.shift;
+    if (!onset_) continue;  // the onset arrays are read only with these flags set
+    if (secant) slot.secant_corners |= 1 << c;
+    // Every corner has onset data but the far ones of a flat cell, which weigh nothing.
+    slot.secant[c] = {};
+    if (secant) std::copy_n(k.onset->secant, 4, slot.secant[c].begin());
+    slot.per_depth[c] = k.depth_model ? k.onset->displacement_per_depth : 0.0;
+    slot.depth_source[c] = k.depth_model ? k.onset->depth_source : -1;
   }
   back_ = middle_.exchange(back_ | kFresh, std::memory_order_acq_rel) & 3u;
 }

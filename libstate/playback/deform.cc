@@ -170,8 +170,8 @@ void blend(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float> out)
   // Just past the contact onset: the depth model's share.
   blend.set_scale(s.onset_weight * s.onset_depth);
   for (int c = 0; c < 8; ++c)
-    if (s.onset_weight != 0.0 && s.corner_configuration[c] < f.meta->num_configurations)
-      blend.add(s.corner_configuration[c], 0, s.weight[c] * s.per_depth[c]);
+    if (s.onset_weight != 0.0 && s.depth_source[c] < f.meta->num_configurations)
+      blend.add(s.depth_source[c], 0, s.weight[c] * s.per_depth[c]);
   blend.apply(f, out);
 }
 

@@ -53,8 +53,8 @@ enum class SectionId : std::uint32_t {
   // float64 x 4 per grid point (contact; empty for grab): the sphere's clearance from the body
   // at rest there (mesh units, > 0 clear) and its gradient (docs/playback.md, "Contact onset").
   kClearance = 14,
-  // OnsetCorner per configuration (contact; empty for grab): what a zero configuration beside the
-  // contact onset holds as a cell corner (docs/playback.md, "Contact onset").
+  // OnsetCorner per configuration (contact; empty for grab): its depth model, and for a free
+  // check-point beside the contact onset its secant model (docs/playback.md, "Contact onset").
   kOnset = 15,
 };
 inline constexpr int kSectionCount = 15;
@@ -70,24 +70,29 @@ static_assert(sizeof(SectionEntry) == 32);
 
 // A configuration's data for the contact onset (docs/playback.md, "Contact onset"), with d the
 // sphere's depth into the body at rest at its check-point (minus the clearance).
-// - per_depth: q = f / d, the force per unit depth, of a touching configuration (d > 0); of a
-//   zero configuration at a free check-point (d <= 0), or a touching one shallower than 1e-6 of
-//   a spacing, the average q of the touching configurations its transitions lead to (0 if
-//   none); has_depth_model 0 where q is undefined (a touching configuration clear of the rest
-//   body: a state that depends on the path).
-// - A zero configuration at a free check-point with such neighbours (source >= 0) is, as a cell
-//   corner, their secant model extended to it: force q d, stiffness q (grad d)^T (averaged), and
-//   displacements secant[0] x those of configuration `source`, their slope along axis a
-//   secant[1 + a] x them (per mesh unit).
+// - The depth model: per_depth q = f / d, the force per unit depth, and the displacements per
+//   unit depth, displacement_per_depth x those of configuration depth_source. A touching
+//   configuration deeper than 1e-3 of a spacing: its own (depth_source itself, factor 1 / d).
+//   A zero configuration at a free check-point, or a touching one shallower than that: the mean
+//   q of the deeper touching configurations its transitions lead to (the nearest grid distance
+//   that has any) and the displacements of the first of them (q = 0, factor 0 if none).
+//   depth_source = -1: none (a touching configuration clear of the rest body, a state that
+//   depends on the path).
+// - The secant model (source >= 0: a free check-point's zero configuration with such
+//   neighbours): as a cell corner next to the onset it holds their force in proportion to the
+//   depth extended to it, force q d, stiffness q (grad d)^T (averaged), and the displacements
+//   secant[0] x those of configuration `source`, their slope along axis a secant[1 + a] x them
+//   (per mesh unit).
 struct OnsetCorner {
   double force[3];      // N
   double stiffness[9];  // N per mesh unit, row-major
   double secant[4];
   double per_depth[3];  // N per mesh unit
+  double displacement_per_depth;
   std::int32_t source;
-  std::int32_t has_depth_model;
+  std::int32_t depth_source;
 };
-static_assert(sizeof(OnsetCorner) == 160);
+static_assert(sizeof(OnsetCorner) == 168);
 
 // Transition table entries that are not a configuration index.
 enum TransitionCode : std::int32_t {

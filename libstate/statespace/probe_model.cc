@@ -1,5 +1,6 @@
 #include "statespace/probe_model.h"
 
+#include "mesh/winding_number.h"
 #include "solver/sphere_query.h"
 #include "solver/triangle_distance.h"
 #include "util/error.h"
@@ -12,6 +13,44 @@ namespace {
 Eigen::VectorXd metres(const std::vector<double>& u, double unit) {
   return Eigen::Map<const Eigen::VectorXd>(u.data(), static_cast<Eigen::Index>(u.size())) * unit;
 }
+
+// The signed clearance of a contact probe (ProbeModel::clearance): whether the sphere's centre is
+// inside the body at rest comes from the winding number of the rest surface, built on first use
+// (only hapstate-index asks; one thread).
+class RestInside {
+ public:
+  explicit RestInside(const Mesh& mesh) : mesh_(mesh) {}
+  // `nearest`: the nearest surface point (sliding) or candidate node (sticking) within `range`
+  // of the sphere, `reach` the radius (sticking: the reach). Outside the rest body the distance
+  // to it minus `reach`, gradient the unit vector from it to p; inside minus the distance minus
+  // `reach` (deeper is more negative), gradient the unit vector from p to it. None within range:
+  // `range` outside, -(range + reach) inside, gradient 0.
+  ProbeModel::Clearance clearance(const Eigen::Vector3d& p,
+                                  const std::optional<Eigen::Vector3d>& nearest, double reach,
+                                  double range) const {
+    const bool in = inside(p);
+    if (!nearest) return {in ? -(range + reach) : range, Eigen::Vector3d::Zero()};
+    const Eigen::Vector3d d = p - *nearest;
+    const double dist = d.norm();
+    const Eigen::Vector3d unit = dist > 0 ? Eigen::Vector3d(d / dist) : Eigen::Vector3d::Zero();
+    if (in) return {-dist - reach, -unit};
+    return {dist - reach, unit};
+  }
+
+ private:
+  bool inside(const Eigen::Vector3d& p) const {
+    if (!winding_) {
+      TriangleSurface s;
+      s.xyz.assign(mesh_.nodes.data(), mesh_.nodes.data() + mesh_.nodes.size());
+      for (Eigen::Index t = 0; t < mesh_.surface.cols(); ++t)
+        s.faces.push_back({mesh_.surface(0, t), mesh_.surface(1, t), mesh_.surface(2, t)});
+      winding_ = std::make_unique<WindingNumber>(s);
+    }
+    return (*winding_)(p) > 0.5;
+  }
+  const Mesh& mesh_;
+  mutable std::unique_ptr<WindingNumber> winding_;
+};
 
 class GrabProbe final : public ProbeModel {
  public:
@@ -104,14 +143,10 @@ class ContactProbe final : public ProbeModel {
   std::optional<Clearance> clearance(const Eigen::Vector3d& p, double range) const override {
     std::vector<int> near;
     index_.inside(p, reach_ + range, &near);
-    Clearance c{range, Eigen::Vector3d::Zero()};
-    for (int k : near) {
-      const Eigen::Vector3d d = p - rest_.col(k);
-      const double gap = d.norm() - reach_;
-      if (gap < c.gap)
-        c = {gap, d.norm() > 0 ? Eigen::Vector3d(d / d.norm()) : Eigen::Vector3d::Zero()};
-    }
-    return c;
+    std::optional<Eigen::Vector3d> nearest;
+    for (int k : near)
+      if (!nearest || (p - rest_.col(k)).norm() < (p - *nearest).norm()) nearest = rest_.col(k);
+    return inside_.clearance(p, nearest, reach_, range);
   }
   VectorLayout layout() const override { return {true, 0, 0}; }
 
@@ -120,6 +155,7 @@ class ContactProbe final : public ProbeModel {
   double reach_;
   Eigen::Matrix3Xd rest_;  // rest positions of the candidate nodes
   SphereQuery index_;
+  RestInside inside_{problem_.mesh};
 };
 
 // Frictionless contact (solver/sliding_contact.h). "Touches" uses the solver's own criterion:
@@ -170,16 +206,13 @@ class SlidingProbe final : public ProbeModel {
     index_.inside(p, radius_ + spread_ + range, &near);
     const Triangles& tri = problem_.mesh.surface;
     const Eigen::Matrix3Xd& x = problem_.mesh.nodes;
-    Clearance c{range, Eigen::Vector3d::Zero()};
+    std::optional<Eigen::Vector3d> nearest;
     for (int t : near) {
       const TrianglePoint tp =
           closest_point(x.col(tri(0, t)), x.col(tri(1, t)), x.col(tri(2, t)), p);
-      const Eigen::Vector3d d = p - tp.closest;
-      const double gap = d.norm() - radius_;
-      if (gap < c.gap)
-        c = {gap, d.norm() > 0 ? Eigen::Vector3d(d / d.norm()) : Eigen::Vector3d::Zero()};
+      if (!nearest || tp.distance < (p - *nearest).norm()) nearest = tp.closest;
     }
-    return c;
+    return inside_.clearance(p, nearest, radius_, range);
   }
   VectorLayout layout() const override { return {false, 0, 3, true}; }
 
@@ -189,6 +222,7 @@ class SlidingProbe final : public ProbeModel {
   double spread_ = 0;           // largest distance of a triangle corner from its centroid
   Eigen::Matrix3Xd centroids_;  // rest centroids of the surface triangles
   SphereQuery index_;
+  RestInside inside_{problem_.mesh};
 };
 
 }  // namespace

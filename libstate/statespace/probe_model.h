@@ -62,11 +62,12 @@ class ProbeModel {
   // needs no solve (grab: never; contact: the sphere sweeps past the rest shape: every surface
   // triangle when frictionless, every candidate node when sticking).
   virtual bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const = 0;
-  // The probe's clearance from the body at rest at p (contact): the distance from p to the rest
-  // surface triangles (sticking: to the candidate nodes) minus the radius (sticking: the reach),
-  // > 0 where the probe is clear of the body, and its gradient (the unit vector from the
-  // closest surface point to p). Exact where the nearest surface point is within `range` of
-  // the sphere; farther, {range, 0}. Grab: nothing (the probe is never clear of the body).
+  // The probe's clearance from the body at rest at p (contact): the signed distance from p to
+  // the rest surface triangles (sticking: to the nearest candidate node; negative with the
+  // centre inside the rest body) minus the radius (sticking: the reach), > 0 where the probe is
+  // clear of the body, and its gradient. Exact where the nearest surface point is within
+  // `range` of the sphere; farther, {range, 0} outside and {-(range + radius), 0} inside. Grab:
+  // nothing (the probe is never clear of the body).
   struct Clearance {
     double gap = 0;
     Eigen::Vector3d gradient = Eigen::Vector3d::Zero();

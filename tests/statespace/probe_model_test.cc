@@ -42,6 +42,32 @@ TEST(ContactProbeModel, MoveIsTrivialOnlyIfTheSphereSweepsPastEveryNode) {
   EXPECT_FALSE(probe->trivial_move(a, Eigen::Vector3d(-0.7, 0.25, 0.5)));  // target touches
 }
 
+// The clearance the playback file stores (docs/playback.md, "Contact onset"): the signed
+// distance of the centre from the rest surface minus the radius, negative and decreasing with
+// depth once the centre is inside the block, continuous through the surface.
+TEST(ContactProbeModel, ClearanceIsTheSignedDistanceMinusTheRadius) {
+  const Problem p = testing::block_problem(8, Friction::kNone);
+  const auto probe = make_probe_model(p);
+  auto clearance = [&](double x, double y, double z) {
+    return probe->clearance(Eigen::Vector3d(x, y, z), 1.0).value();
+  };
+  const auto above = clearance(2.1, 2.2, 1.5);  // 0.5 above the top face z = 1
+  EXPECT_NEAR(above.gap, 0.5 - 0.8, 1e-12);
+  EXPECT_NEAR((above.gradient - Eigen::Vector3d(0, 0, 1)).norm(), 0.0, 1e-12);
+  const auto inside = clearance(2.1, 2.2, 0.7);  // 0.3 below it, inside the block
+  EXPECT_NEAR(inside.gap, -0.3 - 0.8, 1e-12);
+  EXPECT_NEAR((inside.gradient - Eigen::Vector3d(0, 0, 1)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(clearance(2.1, 2.2, 1.0 + 1e-9).gap, clearance(2.1, 2.2, 1.0 - 1e-9).gap, 1e-8);
+  const auto beside = clearance(-0.4, 2.2, 0.6);  // 0.4 beside the face x = 0
+  EXPECT_NEAR(beside.gap, 0.4 - 0.8, 1e-12);
+  EXPECT_NEAR((beside.gradient - Eigen::Vector3d(-1, 0, 0)).norm(), 0.0, 1e-12);
+  EXPECT_EQ(clearance(2.0, 2.0, 4.0).gap, 1.0);  // nothing within the range: the range
+  // Sticking: from the nearest candidate node, (2, 2, 1) here.
+  const Problem stick = testing::block_problem();
+  const auto node = make_probe_model(stick)->clearance(Eigen::Vector3d(2, 2, 1.85), 1.0).value();
+  EXPECT_NEAR(node.gap, 0.85 - 0.8 * (1.0 - kPenetrationTolerance), 1e-12);
+}
+
 TEST(GrabProbeModel, NoTrivialMovesAndZeroOnlyAtRest) {
   Problem p = testing::block_problem();
   p.contact.reset();
@@ -54,6 +80,7 @@ TEST(GrabProbeModel, NoTrivialMovesAndZeroOnlyAtRest) {
   EXPECT_TRUE(probe->holds_zero_configuration(p.probe_rest));
   EXPECT_FALSE(probe->holds_zero_configuration(p.probe_rest + Eigen::Vector3d(0, 0, 0.1)));
   EXPECT_FALSE(probe->trivial_move(p.probe_rest, p.probe_rest));
+  EXPECT_FALSE(probe->clearance(p.probe_rest, 1.0).has_value());
 }
 
 }  // namespace
