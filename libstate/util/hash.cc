@@ -72,6 +72,7 @@ ContentHash ContentHash::from_hex(std::string_view hex) {
 }
 
 ContentHasher& ContentHasher::update(std::span<const std::byte> bytes) {
+  if (bytes.empty()) return *this;  // an empty span's data() may be null (memcpy's UB)
   auto p = reinterpret_cast<const unsigned char*>(bytes.data());
   std::size_t n = bytes.size();
   total_ += n;
