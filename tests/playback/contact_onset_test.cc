@@ -5,6 +5,7 @@
 // onset handled the cursor reproduces it exactly in every cell, the cells the plane cuts
 // included; interpolating the free corners' zeros (the same file with the clearance hidden)
 // smooths the kink over the cell.
+#include "allocation_counter.h"
 #include "hapstate/playback.h"
 #include "playback/onset_model.h"
 #include "synthetic.h"
@@ -18,19 +19,6 @@
 #include <cstdlib>
 #include <new>
 #include <random>
-
-// Counts heap allocations while `g_counting` is set (GCC cannot see that the replaced delete
-// matches the replaced new and warns falsely).
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-static std::atomic<bool> g_counting{false};
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace hapstate {
 namespace {

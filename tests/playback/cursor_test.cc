@@ -2,6 +2,7 @@
 // known everywhere: exactness at check-points, reproduction of linear fields, convergence
 // orders of both schemes, continuity (the documented change bound) with missing corners and
 // outside the grid, fast moves, return to rest, snapshots and deform.
+#include "allocation_counter.h"
 #include "hapstate/playback.h"
 #include "synthetic.h"
 #include "walk_bound.h"
@@ -16,19 +17,6 @@
 #include <new>
 #include <random>
 #include <thread>
-
-// Counts heap allocations while `g_counting` is set (this test binary replaces operator new;
-// GCC cannot see that the replaced delete matches it and warns falsely).
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-static std::atomic<bool> g_counting{false};
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace hapstate {
 namespace {
