@@ -5,8 +5,9 @@
 // the slopes of the corners on the same cell face; an extended corner's displacements are its
 // source's extended by the source's slopes, a secant corner's (a free check-point beside the
 // contact onset, cursor.cc) its source's scaled; just past the onset the depth model is blended
-// in (Snapshot::onset_weight). Either way the result is a sum over at most 32
-// arrays (8 configurations x value and 3 slopes) with weights computed once per frame.
+// in (Snapshot::onset_weight). Either way the result is a sum over at most 40 arrays
+// (8 configurations x value and 3 slopes, and near the onset up to 8 more configurations' values
+// for the depth model) with weights computed once per frame.
 #include "playback/file_impl.h"
 
 #include <algorithm>
@@ -17,7 +18,7 @@ namespace {
 // The arrays to add and their weights, one entry per distinct (configuration, array).
 class Blend {
  public:
-  static constexpr int kMax = 32;
+  static constexpr int kMax = 40;
   explicit Blend(double scale) : scale_(scale) {}
   void set_scale(double scale) { scale_ = scale; }  // of the weights added from now on
   // kind 0: the displacements of configuration k, kind 1 + a: its slopes along axis a.
@@ -29,7 +30,7 @@ class Blend {
         weight_[j] += w;
         return;
       }
-    if (count_ == kMax) return;  // cannot happen: 8 corners x 4 arrays
+    if (count_ == kMax) return;  // cannot happen: 8 corners x 4 arrays + 8 depth sources
     config_[count_] = k, kind_[count_] = kind, weight_[count_++] = w;
   }
   // out += Σ weight x array, in blocks so that out stays in cache while the arrays stream by.
