@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -75,7 +76,119 @@ std::string shell_quote(const std::string& s) {
   return out + "'";
 }
 
+// The paper's bounds on its Matlab prototype (Peterlik & Matyska 2007).
+constexpr double kPaperForce = 0.04, kPaperDeformation = 0.14;
+
+// The p-quantile (0..1) of `v` by the nearest rank; v is sorted in place.
+double quantile(std::vector<double>* v, double p) {
+  std::sort(v->begin(), v->end());
+  if (v->empty()) return 0;
+  const auto k = static_cast<std::size_t>(std::ceil(p * static_cast<double>(v->size())));
+  return (*v)[std::min(v->size() - 1, k > 0 ? k - 1 : 0)];
+}
+
 }  // namespace
+
+SchemeSummary summarize(const EvalResult& result, std::size_t scheme) {
+  SchemeSummary e;
+  int solved = 0, counted = 0;
+  double fsum = 0, asum = 0, ssum = 0;
+  for (const EvalStep& st : result.steps) {
+    if (!st.solved) continue;
+    ++solved;
+    const SchemeResult& r = st.schemes[scheme];
+    e.force_max = std::max(e.force_max, r.force_error), fsum += r.force_error;
+    if (st.contact_onset) {
+      e.onset_deformation_max =
+          std::max({e.onset_deformation_max, r.deformation_error_all, r.deformation_error_surface});
+      continue;
+    }
+    ++counted;
+    e.deformation_all_max = std::max(e.deformation_all_max, r.deformation_error_all);
+    asum += r.deformation_error_all;
+    e.deformation_surface_max = std::max(e.deformation_surface_max, r.deformation_error_surface);
+    ssum += r.deformation_error_surface;
+  }
+  e.force_mean = fsum / std::max(solved, 1);
+  e.deformation_all_mean = asum / std::max(counted, 1);
+  e.deformation_surface_mean = ssum / std::max(counted, 1);
+  return e;
+}
+
+std::string seeds_table(const std::vector<EvalResult>& runs, std::uint64_t first_seed) {
+  std::ostringstream t;
+  char line[320];
+  if (runs.empty()) return "";
+  std::snprintf(line, sizeof line,
+                "%zu random paths (seeds %llu-%llu), %s; per path the largest error over its "
+                "steps, as in the single-path table\n",
+                runs.size(), static_cast<unsigned long long>(first_seed),
+                static_cast<unsigned long long>(first_seed + runs.size() - 1),
+                runs.front()
+                    .path_description.substr(0, runs.front().path_description.find(", seed"))
+                    .c_str());
+  t << line;
+  t << "scheme      force error (max over a path)           deformation error (max over a path)\n"
+       "            median   90 %     largest (seed)        median   90 %     largest (seed)\n";
+  for (std::size_t s = 0; s < runs.front().schemes.size(); ++s) {
+    std::vector<double> force, deformation;
+    std::size_t worst_force = 0, worst_deformation = 0;
+    int over_paper = 0;
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const SchemeSummary e = summarize(runs[k], s);
+      force.push_back(e.force_max);
+      deformation.push_back(e.deformation_max(runs[k]));
+      if (force.back() > force[worst_force]) worst_force = k;
+      if (deformation.back() > deformation[worst_deformation]) worst_deformation = k;
+      over_paper += e.force_max > kPaperForce || deformation.back() > kPaperDeformation;
+    }
+    const double fw = force[worst_force], dw = deformation[worst_deformation];
+    const double f50 = quantile(&force, 0.5), f90 = quantile(&force, 0.9);
+    const double d50 = quantile(&deformation, 0.5), d90 = quantile(&deformation, 0.9);
+    std::snprintf(line, sizeof line,
+                  "%-10s %6.2f %%  %6.2f %%  %6.2f %% (%llu)       %6.2f %%  %6.2f %%  %6.2f %% "
+                  "(%llu)\n",
+                  scheme_name(runs.front().schemes[s]), 100 * f50, 100 * f90, 100 * fw,
+                  static_cast<unsigned long long>(first_seed + worst_force), 100 * d50, 100 * d90,
+                  100 * dw, static_cast<unsigned long long>(first_seed + worst_deformation));
+    t << line;
+    std::snprintf(line, sizeof line,
+                  "  %s: %d of %zu paths outside the paper's bounds (force 4 %%, deformation "
+                  "14 %%)\n",
+                  scheme_name(runs.front().schemes[s]), over_paper, runs.size());
+    t << line;
+  }
+  int failed = 0;
+  for (const EvalResult& r : runs)
+    for (const EvalStep& st : r.steps) failed += !st.solved;
+  if (failed > 0) {
+    std::snprintf(line, sizeof line, "%d step(s) failed to solve precisely (left out)\n", failed);
+    t << line;
+  }
+  return t.str();
+}
+
+void write_seeds_csv(const std::vector<EvalResult>& runs, std::uint64_t first_seed,
+                     const std::filesystem::path& file) {
+  std::ofstream out(file);
+  if (!out) throw InputError(file.string() + ": cannot write");
+  out.precision(12);
+  out << "seed,max_exact_force";
+  if (!runs.empty())
+    for (Scheme s : runs.front().schemes)
+      out << ',' << scheme_name(s) << "_force_error_max," << scheme_name(s)
+          << "_deformation_error_max";
+  out << '\n';
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    out << first_seed + k << ',' << runs[k].max_exact_force;
+    for (std::size_t s = 0; s < runs[k].schemes.size(); ++s) {
+      const SchemeSummary e = summarize(runs[k], s);
+      out << ',' << e.force_max << ',' << e.deformation_max(runs[k]);
+    }
+    out << '\n';
+  }
+  if (!out.flush()) throw InputError(file.string() + ": write failed");
+}
 
 void write_eval_csv(const EvalResult& result, const std::filesystem::path& file) {
   std::ofstream out(file);
@@ -129,43 +242,31 @@ std::string eval_table(const EvalResult& result) {
        "force: trilinear, or cubic Hermite from the stored displacement slopes)\n";
   t << "scheme      force error          deformation error (all)   deformation error (surface)\n"
        "            max      mean        max      mean             max      mean\n";
-  constexpr double kPaperForce = 0.04, kPaperDeformation = 0.14;
   std::string verdicts;
   int onset = 0;  // solved steps left out of the deformation columns
   for (const EvalStep& st : result.steps) onset += st.solved && st.contact_onset;
   double onset_max = 0;
   for (std::size_t s = 0; s < result.schemes.size(); ++s) {
-    double fmax = 0, fsum = 0, amax = 0, asum = 0, smax = 0, ssum = 0;
-    int counted = 0;
-    for (const EvalStep& st : result.steps) {
-      if (!st.solved) continue;
-      const SchemeResult& r = st.schemes[s];
-      fmax = std::max(fmax, r.force_error), fsum += r.force_error;
-      if (st.contact_onset) {
-        onset_max = std::max({onset_max, r.deformation_error_all, r.deformation_error_surface});
-        continue;
-      }
-      ++counted;
-      amax = std::max(amax, r.deformation_error_all), asum += r.deformation_error_all;
-      smax = std::max(smax, r.deformation_error_surface), ssum += r.deformation_error_surface;
-    }
-    const double n = std::max(solved, 1), m = std::max(counted, 1);
+    const SchemeSummary e = summarize(result, s);
+    onset_max = std::max(onset_max, e.onset_deformation_max);
     char all[64];
     if (result.has_all_nodes)
-      std::snprintf(all, sizeof all, "%6.2f %%  %6.2f %%", 100 * amax, 100 * asum / m);
+      std::snprintf(all, sizeof all, "%6.2f %%  %6.2f %%", 100 * e.deformation_all_max,
+                    100 * e.deformation_all_mean);
     else
       std::snprintf(all, sizeof all, "%-17s", "(surface only)");
     std::snprintf(line, sizeof line, "%-10s %6.2f %%  %6.2f %%     %s         %6.2f %%  %6.2f %%\n",
-                  scheme_name(result.schemes[s]), 100 * fmax, 100 * fsum / n, all, 100 * smax,
-                  100 * ssum / m);
+                  scheme_name(result.schemes[s]), 100 * e.force_max, 100 * e.force_mean, all,
+                  100 * e.deformation_surface_max, 100 * e.deformation_surface_mean);
     t << line;
-    const double deformation = result.has_all_nodes ? amax : smax;
-    const bool good = fmax <= kPaperForce && deformation <= kPaperDeformation;
+    const double deformation = e.deformation_max(result);
+    const bool good = e.force_max <= kPaperForce && deformation <= kPaperDeformation;
     std::snprintf(line, sizeof line,
                   "  %s: max force error %.2f %% %s 4 %%, max deformation error "
                   "%.2f %% %s 14 %%: %s\n",
-                  scheme_name(result.schemes[s]), 100 * fmax, fmax <= kPaperForce ? "<=" : ">",
-                  100 * deformation, deformation <= kPaperDeformation ? "<=" : ">",
+                  scheme_name(result.schemes[s]), 100 * e.force_max,
+                  e.force_max <= kPaperForce ? "<=" : ">", 100 * deformation,
+                  deformation <= kPaperDeformation ? "<=" : ">",
                   good ? "within the paper's bounds" : "outside the paper's bounds");
     verdicts += line;
   }

@@ -4,6 +4,7 @@
 // documented change bound.
 #include "blobs/blob_store.h"
 #include "catalogue/catalogue.h"
+#include "eval/eval_report.h"
 #include "eval/evaluation.h"
 #include "hapstate/playback.h"
 #include "state_suite.h"
@@ -11,6 +12,9 @@
 #include "walk_bound.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
 
 namespace hapstate {
 namespace {
@@ -154,6 +158,33 @@ TEST_F(BeamPlayback, EvalBeatsThePaperAndHermiteBeatsTrilinear) {
   EXPECT_LT(worst[1], worst[0]);
   EXPECT_LT(deformation[1], deformation[0]);
   EXPECT_TRUE(r.has_all_nodes);
+}
+
+// hapstate-eval --seeds: per path the largest step error, then their median and largest with
+// the seed that reached it, computed here from the steps.
+TEST_F(BeamPlayback, EvalOverSeedsReportsTheDistributionOfThePathMaxima) {
+  EvalOptions o;
+  o.state = *state_;
+  o.steps = 6;
+  std::vector<EvalResult> runs;
+  std::vector<double> hermite;
+  for (o.seed = 5; o.seed < 8; ++o.seed) {
+    runs.push_back(run_eval(o));
+    double worst = 0;
+    for (const EvalStep& s : runs.back().steps) worst = std::max(worst, s.schemes[1].force_error);
+    EXPECT_EQ(summarize(runs.back(), 1).force_max, worst);
+    hermite.push_back(worst);
+  }
+  const auto largest = std::max_element(hermite.begin(), hermite.end());
+  std::vector<double> sorted = hermite;
+  std::sort(sorted.begin(), sorted.end());
+  char expected[96];
+  std::snprintf(expected, sizeof expected, "hermite    %6.2f %%  %6.2f %%  %6.2f %% (%d)",
+                100 * sorted[1], 100 * sorted[2], 100 * *largest,
+                5 + static_cast<int>(largest - hermite.begin()));
+  const std::string table = seeds_table(runs, 5);
+  EXPECT_NE(table.find(expected), std::string::npos) << expected << "\n" << table;
+  EXPECT_NE(table.find("3 random paths (seeds 5-7)"), std::string::npos) << table;
 }
 
 TEST_F(BeamPlayback, EvalRefusesAPlaybackFileOfAnotherScene) {
