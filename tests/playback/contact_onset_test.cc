@@ -14,10 +14,7 @@
 
 #include <unistd.h>
 #include <algorithm>
-#include <atomic>
 #include <cstdio>
-#include <cstdlib>
-#include <new>
 #include <random>
 
 namespace hapstate {
