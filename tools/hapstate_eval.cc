@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <vector>
 
@@ -20,19 +21,21 @@ using namespace hapstate;
 int run_seeds(EvalOptions o, int seeds, const std::string& csv) {
   std::vector<EvalResult> runs;
   const std::uint64_t first = o.seed;
+  const auto start = std::chrono::steady_clock::now();
   for (int k = 0; k < seeds; ++k, ++o.seed) {
     runs.push_back(run_eval(o));
-    std::fprintf(stderr, "\rpath %d of %d", k + 1, seeds);
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr, "hapstate-eval: path %d of %d, %.2f paths/s, ETA %.0f s\n", k + 1, seeds,
+                 (k + 1) / s, s / (k + 1) * (seeds - k - 1));
   }
-  std::fprintf(stderr, "\n");
   const std::filesystem::path csv_file =
       csv.empty() ? o.state / "eval_seeds.csv" : std::filesystem::path(csv);
   write_seeds_csv(runs, first, csv_file);
   std::printf("%s", seeds_table(runs, first).c_str());
   std::printf("per-path errors: %s\n", csv_file.c_str());
   for (const EvalResult& r : runs)
-    for (const EvalStep& s : r.steps)
-      if (!s.solved) return kExitSolveFailed;
+    if (failed_steps(r) > 0) return kExitSolveFailed;
   return kExitOk;
 }
 
@@ -110,8 +113,6 @@ int main(int argc, char** argv) {
       plot_eval(csv_file, png_file, title);
       std::printf("plot: %s\n", png_file.c_str());
     }
-    for (const EvalStep& s : r.steps)
-      if (!s.solved) return kExitSolveFailed;
-    return kExitOk;
+    return failed_steps(r) > 0 ? kExitSolveFailed : kExitOk;
   });
 }

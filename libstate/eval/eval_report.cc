@@ -159,8 +159,7 @@ std::string seeds_table(const std::vector<EvalResult>& runs, std::uint64_t first
     t << line;
   }
   int failed = 0;
-  for (const EvalResult& r : runs)
-    for (const EvalStep& st : r.steps) failed += !st.solved;
+  for (const EvalResult& r : runs) failed += failed_steps(r);
   if (failed > 0) {
     std::snprintf(line, sizeof line, "%d step(s) failed to solve precisely (left out)\n", failed);
     t << line;

@@ -56,6 +56,13 @@ struct EvalResult {
   int outside_grid = 0;          // steps outside the precomputed grid (playback extends)
 };
 
+// Steps whose precise solve failed.
+inline int failed_steps(const EvalResult& r) {
+  int n = 0;
+  for (const EvalStep& s : r.steps) n += !s.solved;
+  return n;
+}
+
 // Runs the experiment. Throws InputError naming the file if the state directory or the
 // playback file is unusable or they do not belong together (different scene).
 EvalResult run_eval(const EvalOptions& options);
