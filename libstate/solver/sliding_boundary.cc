@@ -37,8 +37,9 @@ constexpr double kMaxPenaltyScale = 64.0;
 // redundant gaps pin the surface. Two triangles touched a fraction of an edge apart with
 // different normals (beside a vertex) are, as exact constraints, a surface point held in two
 // directions; the precise solver lets one of them go as soon as the sphere moves. Measured on
-// pipelines/liver-contact (a check-point of the 0.125 cm grid, central differences of the
-// precise solver's force over 1e-3 cm: K_xx = -0.003 N/cm): 1000 k gave -0.10, 100 k -0.025,
+// the liver touched by a 1 cm sphere (bench/scenes/liver-contact-1cm.toml with a 2 cm box at
+// 0.125 cm; a check-point where central differences of the precise solver's force over
+// 1e-3 cm give K_xx = -0.003 N/cm): 1000 k gave -0.10, 100 k -0.025,
 // 10 k -0.004; over 40 random paths on that grid the Hermite force error's median went from
 // 1.47 % to 1.30 % and its largest from 3.99 % to 2.48 % with 100 k (docs/contact.md).
 constexpr double kStiffnessPenaltyFactor = 1e2;
