@@ -125,6 +125,9 @@ struct Transition {
   double final_residual = 0.0;  // N
   double wall_ms = 0.0;
   std::string failure_reason;  // "" unless kFailed
+  // The force felt half-way through the move, N (schema 3): solved for the directions whose
+  // offsets are all >= 0 when the move reached its target; none otherwise.
+  std::optional<std::array<double, 3>> midpoint_force;
 
   bool operator==(const Transition&) const = default;
 };

@@ -7,10 +7,10 @@ namespace {
 
 #define HAPSTATE_TRANSITION_COLUMNS                                                   \
   "source, direction, outcome, target, substeps, newton_iterations, final_residual, " \
-  "wall_ms, failure_reason, factorisations"
+  "wall_ms, failure_reason, factorisations, midpoint_fx, midpoint_fy, midpoint_fz"
 
 constexpr const char* kInsert = "INSERT INTO transition (" HAPSTATE_TRANSITION_COLUMNS
-                                ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
+                                ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
 constexpr const char* kRead =
     "SELECT " HAPSTATE_TRANSITION_COLUMNS " FROM transition WHERE source = ? AND direction = ?";
 constexpr const char* kOfSource =
@@ -38,6 +38,9 @@ Transition row_to_transition(const catalogue_detail::Statement& s, const std::st
   t.wall_ms = s.column_double(7);
   t.failure_reason = s.column_text(8);
   t.factorisations = static_cast<int>(s.column_int(9));
+  if (!s.is_null(10) && !s.is_null(11) && !s.is_null(12))
+    t.midpoint_force = std::array<double, 3>{s.column_double(10), s.column_double(11),
+                                             s.column_double(12)};
   return t;
 }
 
@@ -59,6 +62,13 @@ void Catalogue::insert_transition(const Transition& t) {
   s->bind(8, t.wall_ms);
   s->bind(9, t.failure_reason);
   s->bind(10, t.factorisations);
+  for (int k = 0; k < 3; ++k) {
+    if (t.midpoint_force) {
+      s->bind(11 + k, (*t.midpoint_force)[k]);
+    } else {
+      s->bind_null(11 + k);
+    }
+  }
   s->run();
 }
 

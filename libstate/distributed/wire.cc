@@ -182,6 +182,9 @@ void put(Writer& w, const TransitionSolve& s) {
   w.values(m.residual_history);
   put(w, s.vectors);
   for (double f : s.force) w.pod(f);
+  w.pod<std::uint8_t>(s.midpoint_force.has_value());
+  if (s.midpoint_force)
+    for (double f : *s.midpoint_force) w.pod(f);
 }
 
 TransitionSolve get_transition_solve(Reader& r) {
@@ -200,6 +203,11 @@ TransitionSolve get_transition_solve(Reader& r) {
   m.residual_history = r.values<double>();
   s.vectors = get_vectors(r);
   for (double& f : s.force) f = r.pod<double>();
+  if (r.pod<std::uint8_t>() != 0) {
+    std::array<double, 3> m{};
+    for (double& f : m) f = r.pod<double>();
+    s.midpoint_force = m;
+  }
   return s;
 }
 

@@ -1,5 +1,5 @@
 // The playback file's layout on disk (docs/playback.md): little-endian, a 64-byte header,
-// a table of sections, every section's data 64-byte aligned. Version 4 (kVersion).
+// a table of sections, every section's data 64-byte aligned. Version 5 (kVersion).
 //
 //   header | section table | section data ...
 //
@@ -17,7 +17,8 @@ static_assert(std::endian::native == std::endian::little,
               "the playback file is little-endian and mapped as is");
 
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
-inline constexpr std::uint32_t kVersion = 4;  // 3: displacement slopes, 4: clearance
+// 3: displacement slopes, 4: clearance, 5: midpoint forces
+inline constexpr std::uint32_t kVersion = 5;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -56,8 +57,18 @@ enum class SectionId : std::uint32_t {
   // OnsetCorner per configuration (contact; empty for grab): its depth model, and for a free
   // check-point beside the contact onset its secant model (docs/playback.md, "Contact onset").
   kOnset = 15,
+  // float64 x 3 x kMidpointDirections per configuration, N: the force felt half-way through its
+  // move in each of the kMidpointOffsets directions, NaN where none was solved (docs/playback.md,
+  // "Between the check-points"); empty when the state space recorded none.
+  kMidpointForce = 16,
 };
-inline constexpr int kSectionCount = 15;
+inline constexpr int kSectionCount = 16;
+
+// The directions whose moves record the force half-way (offsets all >= 0): per configuration,
+// one edge, face and cell of the grid seen from their lowest corner.
+inline constexpr int kMidpointDirections = 7;
+inline constexpr int kMidpointOffsets[kMidpointDirections][3] = {
+    {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
 
 struct SectionEntry {
   std::uint32_t id;             // SectionId

@@ -26,6 +26,8 @@ struct Content {
   std::vector<std::int32_t> triangles;  // 3 per triangle, view-node indices
   std::vector<double> clearance;        // contact: 4 per grid point (gap, gradient); grab: empty
   std::vector<OnsetCorner> onset;       // contact: 1 per configuration (onset_model.h); grab: empty
+  // 3 x kMidpointDirections per configuration (NaN: none), or empty: none recorded.
+  std::vector<double> midpoint_force;
   // Fills `out` (3 per view node) with the displacements of configuration c.
   std::function<void(std::int32_t c, std::span<float> out)> displacements;
   // Fills `out` (9 per view node: the x, y, z arrays of 3 per view node) with the

@@ -45,6 +45,7 @@ BatchDecision decide_batch(const std::vector<TransitionTask>& tasks,
       continue;
     }
     t.outcome = TransitionOutcome::kReached;
+    t.midpoint_force = solve.midpoint_force;
     // Compare with every level at the target, stored or new in this batch.
     const std::vector<double> summary = settings.sketch->summary(solve.vectors.u);
     // Sticking contact: levels with a different touched set are never equal, so the bound may

@@ -39,6 +39,30 @@ const ConfigVectors& TransitionSolver::source_vectors(int worker, const Configur
   return loaded->vectors;
 }
 
+bool records_midpoint(Direction direction) {
+  const auto o = direction.offset();
+  return o[0] >= 0 && o[1] >= 0 && o[2] >= 0;
+}
+
+namespace {
+
+// A move solved after a first half costs both: sub-steps, iterations, factorisations and time
+// add up. Of the start state's factorisations (shared by a source's directions) only those of
+// moves that started at the source count: `second_from_source` false, the second half started
+// half-way, and what it factorised there is the transition's own.
+void add_cost(const MoveResult& first, bool second_from_source, MoveResult* second) {
+  second->substeps += first.substeps;
+  second->cutbacks += first.cutbacks;
+  second->iterations += first.iterations;
+  second->factorisations += first.factorisations;
+  second->start_factorisations =
+      first.start_factorisations + (second_from_source ? second->start_factorisations : 0);
+  second->active_set_iterations += first.active_set_iterations;
+  second->wall_ms += first.wall_ms;
+}
+
+}  // namespace
+
 TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& task) {
   PathSolver& solver = *solvers_[worker];
   TransitionSolve out;
@@ -53,7 +77,25 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
     return out;
   }
   probe_.set_state(solver, source_vectors(worker, task.source), task.from);
-  out.move = probe_.move_to(solver, task.to);
+  if (records_midpoint(task.direction)) {
+    // Half-way first: the force there is the interpolant's value between check-points. The
+    // second half starts from it; a half that fails is not recorded, and the move is then
+    // solved whole from the source as any other.
+    const MoveResult half = probe_.move_to(solver, 0.5 * (task.from + task.to));
+    if (half.ok) {
+      const Eigen::Vector3d f = solver.force_felt();
+      out.midpoint_force = std::array<double, 3>{f.x(), f.y(), f.z()};
+      out.move = probe_.move_to(solver, task.to);
+      add_cost(half, false, &out.move);
+    } else {
+      probe_.set_state(solver, source_vectors(worker, task.source), task.from);
+      out.move = probe_.move_to(solver, task.to);
+      add_cost(half, true, &out.move);
+    }
+    if (!out.move.ok) out.midpoint_force.reset();
+  } else {
+    out.move = probe_.move_to(solver, task.to);
+  }
   if (!out.move.ok) return out;
   if (probe_.stores_touched()) out.vectors.touched = solver.touched_nodes();
   if (probe_.layout().multipliers) out.vectors.multipliers = solver.contact_multipliers();

@@ -41,7 +41,14 @@ struct TransitionSolve {
   MoveResult move;
   ConfigVectors vectors;          // when move.ok
   std::array<double, 3> force{};  // felt by the user, N
+  // Felt half-way through the move (directions with offsets >= 0, when that half converged).
+  std::optional<std::array<double, 3>> midpoint_force;
 };
+
+// Whether a move in `direction` stops half-way to record the force there (Transition::
+// midpoint_force): the directions whose offsets are all >= 0, one per edge, face and cell of
+// the grid seen from its lowest corner.
+bool records_midpoint(Direction direction);
 
 // The haptic stiffness of a configuration about to be stored (only new configurations need
 // one: computing it for every solved transition would cost a factorisation each).
