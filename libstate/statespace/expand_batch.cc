@@ -71,6 +71,7 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
   if (!task.source.blob && probe_.trivial_move(task.from, task.to)) {
     // The zero configuration moved past the body: still at rest, nothing touched.
     out.trivial = true;
+    if (records_midpoint(task.direction)) out.midpoint_force = std::array<double, 3>{};
     out.vectors.u.assign(solver.num_dofs(), 0.0);
     out.vectors.t.assign(probe_.layout().t_size(0), 0.0);  // the layout of a stored zero state
     out.vectors.h.assign(probe_.layout().h_size(0), 0.0);
