@@ -222,6 +222,14 @@ class HapticCursor {
   std::array<std::int32_t, 3> base_{};  // grid index of corner 0 of the current cell
   std::array<Corner, 8> corners_{};     // corner c at base + ((c>>2)&1, (c>>1)&1, c&1)
   CellCoefficients coef_{};             // of corners_, updated whenever they change
+  // The cell's bubble corrections toward the force recorded half-way through the corners'
+  // moves, N per component (docs/playback.md, "Between the check-points"); any_bubble_ false:
+  // all zero.
+  std::array<std::array<double, 3>, 19> bubble_{};
+  bool any_bubble_ = false;
+  void fit_cell_bubbles();
+  void add_bubbles(const std::array<double, 3>& s, std::array<double, 3>* value,
+                   std::array<double, 9>* slope) const;
   // Contact: every corner has a depth model and the sphere may be shallower than the blending
   // band somewhere in the cell (docs/playback.md, "Contact onset").
   bool onset_ = false;

@@ -12,6 +12,7 @@
 #include "util/progress.h"
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -160,6 +161,16 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
       code = target == index_of.end() ? playback::kUndecided : target->second;
     }
     c.transitions[26 * s->second + t.direction.index()] = code;
+    if (t.midpoint_force && code >= 0) {
+      const auto o = t.direction.offset();
+      const int d = playback::midpoint_direction(o[0], o[1], o[2]);
+      if (c.midpoint_force.empty())
+        c.midpoint_force.assign(3 * playback::kMidpointDirections * ordered.size(),
+                                std::numeric_limits<double>::quiet_NaN());
+      if (d >= 0)
+        std::copy_n(t.midpoint_force->begin(), 3,
+                    c.midpoint_force.begin() + 3 * (playback::kMidpointDirections * s->second + d));
+    }
   }
 
   // View nodes, their reference positions and the surface triangles.

@@ -1,5 +1,6 @@
 // HapticCursor: the cell walk, corner resolution and the two interpolation schemes
 // (docs/playback.md). Nothing here allocates, locks or calls the system after construction.
+#include "playback/cell_bubbles.h"
 #include "playback/file_impl.h"
 
 #include <algorithm>
@@ -334,6 +335,68 @@ void HapticCursor::update_coefficients() {
         file_.impl().meta->spacing, [&](int c) { return force_of(c)[r]; },
         [&](int c, int a) { return stiffness_of(c)[3 * r + a]; },
         [&](int x, int y, int z) -> double& { return coef_[x][y][r][z]; });
+  fit_cell_bubbles();
+}
+
+static_assert(playback::kCellBubbles == 19, "HapticCursor::bubble_ holds one per bubble");
+
+// A bubble is used when both corners of its move are stored configurations, the source's move
+// in that direction leads to the target corner's configuration (the recorded value belongs to
+// the corners the cell shows) and the value was recorded.
+void HapticCursor::fit_cell_bubbles() {
+  const PlaybackFile::Impl& f = file_.impl();
+  any_bubble_ = false;
+  if (!f.midpoint_force) return;
+  const double* h = f.meta->spacing;
+  auto interpolant = [&](const std::array<double, 3>& t, double* out) {
+    double B[3][4];
+    for (int a = 0; a < 3; ++a) {
+      B[a][2] = t[a] * t[a] * (3.0 - 2.0 * t[a]);
+      B[a][0] = 1.0 - B[a][2];
+      B[a][1] = t[a] * (1.0 - t[a]) * (1.0 - t[a]) * h[a];
+      B[a][3] = -t[a] * t[a] * (1.0 - t[a]) * h[a];
+    }
+    for (int r = 0; r < 3; ++r) {
+      double v = 0.0;
+      for (int x = 0; x < 4; ++x)
+        for (int y = 0; y < 4; ++y) {
+          const std::array<double, 4>& c = coef_[x][y][r];
+          v += B[0][x] * B[1][y] * (B[2][0] * c[0] + B[2][1] * c[1] + B[2][2] * c[2] + B[2][3] * c[3]);
+        }
+      out[r] = v;
+    }
+  };
+  auto recorded = [&](int k, double* out) {
+    const playback::BubbleSpec b = playback::bubble_spec(k);
+    const std::int32_t source = corners_[b.source_corner].configuration;
+    const std::int32_t target = corners_[b.target_corner].configuration;
+    if (source < 0 || target < 0) return false;
+    const int* o = playback::kMidpointOffsets[b.direction];
+    if (f.transition(source, direction_index(o[0], o[1], o[2])) != target) return false;
+    const double* m =
+        f.midpoint_force + 3 * (playback::kMidpointDirections * std::int64_t(source) + b.direction);
+    if (!finite(m, 3)) return false;
+    std::copy_n(m, 3, out);
+    return true;
+  };
+  playback::fit_bubbles(interpolant, recorded, f.meta->bubble_limit, &bubble_);
+  for (const auto& c : bubble_) any_bubble_ = any_bubble_ || c[0] != 0 || c[1] != 0 || c[2] != 0;
+}
+
+// Adds the bubbles at cell position s to the interpolated force and, if `slope` is given, their
+// gradient to its derivative.
+void HapticCursor::add_bubbles(const std::array<double, 3>& s, std::array<double, 3>* value,
+                               std::array<double, 9>* slope) const {
+  const double* h = file_.impl().meta->spacing;
+  for (int k = 0; k < playback::kCellBubbles; ++k) {
+    std::array<double, 3> g;
+    const double w = playback::bubble_weight(k, s, &g);
+    for (int r = 0; r < 3; ++r) {
+      (*value)[r] += w * bubble_[k][r];
+      if (slope)
+        for (int a = 0; a < 3; ++a) (*slope)[3 * r + a] += bubble_[k][r] * g[a] / h[a];
+    }
+  }
 }
 
 void HapticCursor::enter_cell(const std::array<std::int32_t, 3>& base) {
@@ -454,6 +517,8 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
         slope[3 * r + 2] += B[0][ix] * vz;
       }
   }
+  if (scheme_ == Scheme::kHermite && any_bubble_)
+    add_bubbles(s, &value, out.inside_grid ? &slope : nullptr);
   if (scheme_ == Scheme::kTrilinear || !out.inside_grid) slope = k_blend;
   const OnsetBlend onset = onset_ ? apply_onset(B, dB, lin, &value, &slope) : OnsetBlend{};
   if (!out.inside_grid) {

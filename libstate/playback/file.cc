@@ -52,6 +52,8 @@ std::string section_name(SectionId id) {
       return "clearance";
     case SectionId::kOnset:
       return "onset corners";
+    case SectionId::kMidpointForce:
+      return "midpoint force";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -176,6 +178,14 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
       {SectionId::kDisplacementSlopes, m2.has_displacement_slopes ? 36 * v * n : 0},
       {SectionId::kClearance, contact ? 32 * points : 0},
       {SectionId::kOnset, contact ? sizeof(playback::OnsetCorner) * n : 0}};
+  const std::uint64_t midpoint_bytes = bytes[static_cast<int>(SectionId::kMidpointForce)];
+  if (midpoint_bytes != 0 && midpoint_bytes != 24 * playback::kMidpointDirections * n)
+    fail("section 'midpoint force' has " + std::to_string(midpoint_bytes) +
+         " bytes, the header implies 0 or " +
+         std::to_string(24 * playback::kMidpointDirections * n));
+  for (int k = 0; k < 3; ++k)
+    if (!(m2.bubble_limit[k] >= 0) || !std::isfinite(m2.bubble_limit[k]))
+      fail("meta: bubble limit " + std::to_string(k) + " is not a finite number >= 0");
   for (const auto& [id, size] : expected)
     if (bytes[static_cast<int>(id)] != size)
       fail("section '" + section_name(id) + "' has " + std::to_string(bytes[static_cast<int>(id)]) +
@@ -194,6 +204,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   f.displacements = reinterpret_cast<const float*>(section(SectionId::kDisplacements));
   if (m2.has_displacement_slopes)
     f.slopes = reinterpret_cast<const float*>(section(SectionId::kDisplacementSlopes));
+  if (midpoint_bytes != 0)
+    f.midpoint_force = reinterpret_cast<const double*>(section(SectionId::kMidpointForce));
   if (contact) {
     f.clearance = reinterpret_cast<const double*>(section(SectionId::kClearance));
     f.onset = reinterpret_cast<const playback::OnsetCorner*>(section(SectionId::kOnset));
@@ -250,6 +262,10 @@ void PlaybackFile::verify() const {
              ": transition target " + std::to_string(t) + " out of range");
     }
   }
+  for (std::int64_t k = 0; f.midpoint_force && k < 3 * playback::kMidpointDirections * n; ++k)
+    if (std::isinf(f.midpoint_force[k]))
+      fail("configuration " + std::to_string(k / (3 * playback::kMidpointDirections)) +
+           ": midpoint force infinite");
   for (std::int64_t g = 0; f.clearance && g < points; ++g)
     if (!finite(f.clearance + 4 * g, 4))
       fail("check-point " + std::to_string(g) + ": clearance not finite");

@@ -69,6 +69,13 @@ inline constexpr int kSectionCount = 16;
 inline constexpr int kMidpointDirections = 7;
 inline constexpr int kMidpointOffsets[kMidpointDirections][3] = {
     {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+// The index into kMidpointOffsets of grid offset (di, dj, dk), or -1 if it is not one of them.
+constexpr int midpoint_direction(int di, int dj, int dk) {
+  for (int d = 0; d < kMidpointDirections; ++d)
+    if (kMidpointOffsets[d][0] == di && kMidpointOffsets[d][1] == dj && kMidpointOffsets[d][2] == dk)
+      return d;
+  return -1;
+}
 
 struct SectionEntry {
   std::uint32_t id;             // SectionId
@@ -121,6 +128,9 @@ struct Meta {
   double max_force;           // N
   double unit;                // metres per mesh unit
   double force_change_bound;  // N per mesh unit (docs/playback.md)
+  // N: the largest correction (per component) of an edge's, a face's and a cell's bubble
+  // (playback/cell_bubbles.h); all 0 when kMidpointForce is empty.
+  double bubble_limit[3];
   std::int32_t lo[3];         // grid index of the first grid point per axis
   std::int32_t dims[3];       // grid points per axis, >= 1
   std::int32_t probe_mode;    // ProbeModeCode
@@ -134,6 +144,6 @@ struct Meta {
   std::uint64_t scene_hash;              // XXH64 of the scene text
   std::uint64_t source_hash;             // of what the index was built from (hapstate-index skips)
 };
-static_assert(sizeof(Meta) == 168);
+static_assert(sizeof(Meta) == 192);
 
 }  // namespace hapstate::playback

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -86,6 +87,16 @@ void check_content(const Content& c, const std::filesystem::path& file) {
   const bool contact = c.meta.probe_mode == static_cast<std::int32_t>(ProbeModeCode::kContact);
   if (c.clearance.size() != (contact ? 4 * points : 0)) bad("clearance table size");
   if (c.onset.size() != (contact ? n : 0)) bad("onset table size");
+  if (!c.midpoint_force.empty() && c.midpoint_force.size() != 3 * kMidpointDirections * n)
+    bad("midpoint force table size");
+  for (double v : c.midpoint_force)
+    if (std::isinf(v)) bad("a midpoint force is infinite");
+}
+
+// Catalogue direction index of grid offset o (catalogue/direction.h numbering).
+int direction_index(const int (&o)[3]) {
+  const int k = 9 * (o[0] + 1) + 3 * (o[1] + 1) + (o[2] + 1);
+  return k < 13 ? k : k - 1;
 }
 
 }  // namespace
@@ -123,7 +134,42 @@ double force_change_bound(const Content& c) {
   }
   const double hmax = std::max({c.meta.spacing[0], c.meta.spacing[1], c.meta.spacing[2]});
   const double hmin = std::min({c.meta.spacing[0], c.meta.spacing[1], c.meta.spacing[2]});
-  return 4.0 * std::sqrt(3.0) * (slope + stiffness) * (hmax / hmin);
+  // The bubbles' slope: each correction is clamped to its kind's limit per component, and a
+  // bubble's gradient is at most 5.4 per unit of the cell position (3.08 along an axis it
+  // peaks on, 1.5 across).
+  const double* limit = c.meta.bubble_limit;
+  const double bubbles =
+      std::sqrt(3.0) * 5.4 * (12.0 * limit[0] + 6.0 * limit[1] + limit[2]) / hmin;
+  return 4.0 * std::sqrt(3.0) * (slope + stiffness) * (hmax / hmin) + bubbles;
+}
+
+std::array<double, 3> bubble_limits(const Content& c) {
+  std::array<double, 3> limit{};
+  if (c.midpoint_force.empty()) return limit;
+  const std::size_t n = c.config_checkpoint.size();
+  double k_max = 0.0;
+  for (double k : c.stiffness) k_max = std::max(k_max, std::abs(k));
+  double reach[3] = {0, 0, 0};  // per kind: the largest |m - f_source| + |f_target - f_source|
+  for (std::size_t src = 0; src < n; ++src)
+    for (int d = 0; d < kMidpointDirections; ++d) {
+      const std::int32_t tgt = c.transitions[26 * src + direction_index(kMidpointOffsets[d])];
+      const double* m = &c.midpoint_force[3 * (kMidpointDirections * src + d)];
+      if (tgt < 0 || std::isnan(m[0]) || std::isnan(m[1]) || std::isnan(m[2])) continue;
+      const int kind = d < 3 ? 0 : (d < 6 ? 1 : 2);
+      for (int r = 0; r < 3; ++r)
+        reach[kind] = std::max(reach[kind], std::abs(m[r] - c.force[3 * src + r]) +
+                                                std::abs(c.force[3 * tgt + r] - c.force[3 * src + r]));
+    }
+  // What the interpolant can differ from a corner by at the bubble's point, generously: the
+  // value differences above, the derivative terms (a quarter spacing times the stiffness per
+  // axis crossed), and the bubbles fitted before (an edge's is 1/2 at a face centre, 1/4 at the
+  // cell centre; a face's 1/2 there).
+  const double* h = c.meta.spacing;
+  const double hsum = h[0] + h[1] + h[2];
+  limit[0] = reach[0] + 0.25 * std::max({h[0], h[1], h[2]}) * k_max;
+  limit[1] = reach[1] + 0.5 * hsum * k_max + 2.0 * limit[0];
+  limit[2] = reach[2] + 0.75 * hsum * k_max + 3.0 * limit[0] + 3.0 * limit[1];
+  return limit;
 }
 
 void write_file(Content c, const std::filesystem::path& file) {
@@ -133,6 +179,8 @@ void write_file(Content c, const std::filesystem::path& file) {
   c.meta.num_configurations = static_cast<std::int32_t>(n);
   c.meta.num_view_nodes = static_cast<std::int32_t>(v);
   c.meta.num_triangles = static_cast<std::int32_t>(c.triangles.size() / 3);
+  const std::array<double, 3> limit = bubble_limits(c);
+  std::copy(limit.begin(), limit.end(), c.meta.bubble_limit);
   c.meta.force_change_bound = force_change_bound(c);
   c.meta.has_displacement_slopes = c.displacement_slopes ? 1 : 0;
   const std::uint64_t slope_floats = c.displacement_slopes ? 9 * v : 0;
@@ -169,6 +217,8 @@ void write_file(Content c, const std::filesystem::path& file) {
       {SectionId::kClearance, 32, bytes_of(c.clearance), 8 * c.clearance.size()},
       {SectionId::kOnset, sizeof(OnsetCorner), bytes_of(c.onset),
        sizeof(OnsetCorner) * c.onset.size()},
+      {SectionId::kMidpointForce, 24 * kMidpointDirections, bytes_of(c.midpoint_force),
+       8 * c.midpoint_force.size()},
   };
 
   std::filesystem::path tmp = file;

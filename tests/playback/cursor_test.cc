@@ -351,6 +351,85 @@ TEST_F(Cursor, FastMoveWalksTheCellsAndReturnsToRest) {
   EXPECT_EQ(vec(slow.force(arr(field_.origin)).value).norm(), 0.0);
 }
 
+// With the force recorded half-way through the moves (synthetic.h, add_midpoint_forces), the
+// Hermite force passes through it at every edge midpoint, face centre and cell centre, stays
+// exact at the check-points with the stored stiffness there, its stiffness is the derivative of
+// the force, the error between check-points falls, and the change bound holds; trilinear is
+// unchanged.
+TEST_F(Cursor, HermiteForcePassesThroughTheMidpointForces) {
+  const Field field;
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  playback::Content content = test_util::synthetic_content(field, h);
+  const fs::path plain_file = write(content, "plain.bin");
+  test_util::add_midpoint_forces(&content, field);
+  const fs::path file_path = write(content, "midpoints.bin");
+  PlaybackFile file(file_path), plain(plain_file);
+  file.verify();
+  HapticCursor cursor(file, Scheme::kHermite);
+  for (int i = -1; i <= 0; ++i)
+    for (int j = -1; j <= 0; ++j)
+      for (int k = -1; k <= 0; ++k)
+        for (int di = 0; di <= 2; ++di)
+          for (int dj = 0; dj <= 2; ++dj)
+            for (int dk = 0; dk <= 2; ++dk) {
+              const Eigen::Vector3d p = field.origin + Eigen::Vector3d((i + 0.5 * di) * h[0],
+                                                                       (j + 0.5 * dj) * h[1],
+                                                                       (k + 0.5 * dk) * h[2]);
+              const Force f = cursor.force(arr(p));
+              EXPECT_LT((vec(f.value) - field.force(p)).norm(), 1e-12)
+                  << i << j << k << " + " << di << dj << dk << " halves";
+              if (di % 2 == 0 && dj % 2 == 0 && dk % 2 == 0) {
+                const Eigen::Matrix3d jac = field.jacobian(p);
+                for (int r = 0; r < 3; ++r)
+                  for (int a = 0; a < 3; ++a) EXPECT_NEAR(f.stiffness[3 * r + a], jac(r, a), 1e-12);
+              }
+            }
+  // The stiffness is the derivative of the force inside a cell.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.05, 0.95);
+  for (int n = 0; n < 20; ++n) {
+    const Eigen::Vector3d p =
+        field.origin + Eigen::Vector3d((u(rng) - 1) * h[0], u(rng) * h[1], (u(rng) - 1) * h[2]);
+    const Force f = cursor.force(arr(p));
+    const double d = 1e-6;
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3d e = Eigen::Vector3d::Zero();
+      e[a] = d * h[a];
+      const Eigen::Vector3d fp = vec(cursor.force(arr(p + e)).value);
+      const Eigen::Vector3d fm = vec(cursor.force(arr(p - e)).value);
+      for (int r = 0; r < 3; ++r)
+        EXPECT_NEAR(f.stiffness[3 * r + a], (fp[r] - fm[r]) / (2 * e[a]), 1e-6);
+    }
+  }
+  const double with = max_error(file, Scheme::kHermite, field, h);
+  const double without = max_error(plain, Scheme::kHermite, field, h);
+  std::printf("[ info ] Hermite force error between check-points: %.3g N without, %.3g N with "
+              "the midpoint forces\n", without, with);
+  EXPECT_LT(with, 0.6 * without);  // measured 0.50
+  EXPECT_EQ(max_error(file, Scheme::kTrilinear, field, h),
+            max_error(plain, Scheme::kTrilinear, field, h));
+  EXPECT_LE(test_util::check_bound_along_random_walk(file, Scheme::kHermite, 10000), 1.0);
+}
+
+// A recorded value is used only where the source's move leads to the configuration the cell
+// shows at the other end: with the +x move of the rest configuration marked failed, the force at
+// that edge's midpoint is the plain Hermite one, and the rest of the cell still uses its bubbles.
+TEST_F(Cursor, MidpointForceOfAMoveThatDoesNotReachTheCornerIsNotUsed) {
+  const Field field;
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  playback::Content content = test_util::synthetic_content(field, h);
+  const int rest = content.meta.rest_configuration;
+  content.transitions[26 * rest + test_util::direction_of(1, 0, 0)] = playback::kFailed;
+  const fs::path plain_file = write(content, "plain.bin");
+  test_util::add_midpoint_forces(&content, field);
+  PlaybackFile file(write(content, "midpoints.bin")), plain(plain_file);
+  HapticCursor with(file, Scheme::kHermite), without(plain, Scheme::kHermite);
+  const Eigen::Vector3d edge = field.origin + Eigen::Vector3d(0.5 * h[0], 0, 0);
+  EXPECT_EQ(vec(with.force(arr(edge)).value), vec(without.force(arr(edge)).value));
+  const Eigen::Vector3d centre = field.origin + 0.5 * h;
+  EXPECT_LT((vec(with.force(arr(centre)).value) - field.force(centre)).norm(), 1e-12);
+}
+
 TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
   playback::Content c = test_util::synthetic_content(field_, h);

@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 namespace hapstate::test_util {
 
@@ -123,6 +124,32 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
     }
   };
   return c;
+}
+
+// Adds the force half-way through every move in the kMidpointOffsets directions (the field
+// there; NaN where the move leaves the grid), as the expansion records it.
+inline void add_midpoint_forces(playback::Content* c, const Field& field) {
+  const playback::Meta& m = c->meta;
+  const std::size_t n = c->config_checkpoint.size();
+  c->midpoint_force.assign(3 * playback::kMidpointDirections * n,
+                           std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t k = 0; k < n; ++k) {
+    const int g = c->config_checkpoint[k];
+    const int ijk[3] = {g / (m.dims[1] * m.dims[2]) + m.lo[0], (g / m.dims[2]) % m.dims[1] + m.lo[1],
+                        g % m.dims[2] + m.lo[2]};
+    for (int d = 0; d < playback::kMidpointDirections; ++d) {
+      const int* o = playback::kMidpointOffsets[d];
+      bool inside = true;
+      Eigen::Vector3d p;
+      for (int a = 0; a < 3; ++a) {
+        inside = inside && ijk[a] + o[a] < m.lo[a] + m.dims[a];
+        p[a] = m.origin[a] + (ijk[a] + 0.5 * o[a]) * m.spacing[a];
+      }
+      if (!inside) continue;
+      const Eigen::Vector3d f = field.force(p);
+      for (int r = 0; r < 3; ++r) c->midpoint_force[3 * (playback::kMidpointDirections * k + d) + r] = f[r];
+    }
+  }
 }
 
 // Grid direction index of offset (di, dj, dk) (catalogue/direction.h numbering).
