@@ -39,8 +39,8 @@ Transition row_to_transition(const catalogue_detail::Statement& s, const std::st
   t.failure_reason = s.column_text(8);
   t.factorisations = static_cast<int>(s.column_int(9));
   if (!s.is_null(10) && !s.is_null(11) && !s.is_null(12))
-    t.midpoint_force = std::array<double, 3>{s.column_double(10), s.column_double(11),
-                                             s.column_double(12)};
+    t.midpoint_force =
+        std::array<double, 3>{s.column_double(10), s.column_double(11), s.column_double(12)};
   return t;
 }
 

@@ -361,7 +361,8 @@ void HapticCursor::fit_cell_bubbles() {
       for (int x = 0; x < 4; ++x)
         for (int y = 0; y < 4; ++y) {
           const std::array<double, 4>& c = coef_[x][y][r];
-          v += B[0][x] * B[1][y] * (B[2][0] * c[0] + B[2][1] * c[1] + B[2][2] * c[2] + B[2][3] * c[3]);
+          v += B[0][x] * B[1][y] *
+               (B[2][0] * c[0] + B[2][1] * c[1] + B[2][2] * c[2] + B[2][3] * c[3]);
         }
       out[r] = v;
     }

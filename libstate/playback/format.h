@@ -72,7 +72,8 @@ inline constexpr int kMidpointOffsets[kMidpointDirections][3] = {
 // The index into kMidpointOffsets of grid offset (di, dj, dk), or -1 if it is not one of them.
 constexpr int midpoint_direction(int di, int dj, int dk) {
   for (int d = 0; d < kMidpointDirections; ++d)
-    if (kMidpointOffsets[d][0] == di && kMidpointOffsets[d][1] == dj && kMidpointOffsets[d][2] == dk)
+    if (kMidpointOffsets[d][0] == di && kMidpointOffsets[d][1] == dj &&
+        kMidpointOffsets[d][2] == dk)
       return d;
   return -1;
 }
@@ -131,9 +132,9 @@ struct Meta {
   // N: the largest correction (per component) of an edge's, a face's and a cell's bubble
   // (playback/cell_bubbles.h); all 0 when kMidpointForce is empty.
   double bubble_limit[3];
-  std::int32_t lo[3];         // grid index of the first grid point per axis
-  std::int32_t dims[3];       // grid points per axis, >= 1
-  std::int32_t probe_mode;    // ProbeModeCode
+  std::int32_t lo[3];       // grid index of the first grid point per axis
+  std::int32_t dims[3];     // grid points per axis, >= 1
+  std::int32_t probe_mode;  // ProbeModeCode
   std::int32_t rest_configuration;
   std::int32_t num_configurations;
   std::int32_t num_view_nodes;

@@ -99,6 +99,37 @@ int direction_index(const int (&o)[3]) {
   return k < 13 ? k : k - 1;
 }
 
+// The clamp limits of the bubbles' corrections (edge, face, cell; N per component).
+std::array<double, 3> bubble_limits(const Content& c) {
+  std::array<double, 3> limit{};
+  if (c.midpoint_force.empty()) return limit;
+  const std::size_t n = c.config_checkpoint.size();
+  double k_max = 0.0;
+  for (double k : c.stiffness) k_max = std::max(k_max, std::abs(k));
+  double reach[3] = {0, 0, 0};  // per kind: the largest |m - f_source| + |f_target - f_source|
+  for (std::size_t src = 0; src < n; ++src)
+    for (int d = 0; d < kMidpointDirections; ++d) {
+      const std::int32_t tgt = c.transitions[26 * src + direction_index(kMidpointOffsets[d])];
+      const double* m = &c.midpoint_force[3 * (kMidpointDirections * src + d)];
+      if (tgt < 0 || std::isnan(m[0]) || std::isnan(m[1]) || std::isnan(m[2])) continue;
+      const int kind = d < 3 ? 0 : (d < 6 ? 1 : 2);
+      for (int r = 0; r < 3; ++r)
+        reach[kind] =
+            std::max(reach[kind], std::abs(m[r] - c.force[3 * src + r]) +
+                                      std::abs(c.force[3 * tgt + r] - c.force[3 * src + r]));
+    }
+  // What the interpolant can differ from a corner by at the bubble's point, generously: the
+  // value differences above, the derivative terms (a quarter spacing times the stiffness per
+  // axis crossed), and the bubbles fitted before (an edge's is 1/2 at a face centre, 1/4 at the
+  // cell centre; a face's 1/2 there).
+  const double* h = c.meta.spacing;
+  const double hsum = h[0] + h[1] + h[2];
+  limit[0] = reach[0] + 0.25 * std::max({h[0], h[1], h[2]}) * k_max;
+  limit[1] = reach[1] + 0.5 * hsum * k_max + 2.0 * limit[0];
+  limit[2] = reach[2] + 0.75 * hsum * k_max + 3.0 * limit[0] + 3.0 * limit[1];
+  return limit;
+}
+
 }  // namespace
 
 double force_change_bound(const Content& c) {
@@ -141,35 +172,6 @@ double force_change_bound(const Content& c) {
   const double bubbles =
       std::sqrt(3.0) * 5.4 * (12.0 * limit[0] + 6.0 * limit[1] + limit[2]) / hmin;
   return 4.0 * std::sqrt(3.0) * (slope + stiffness) * (hmax / hmin) + bubbles;
-}
-
-std::array<double, 3> bubble_limits(const Content& c) {
-  std::array<double, 3> limit{};
-  if (c.midpoint_force.empty()) return limit;
-  const std::size_t n = c.config_checkpoint.size();
-  double k_max = 0.0;
-  for (double k : c.stiffness) k_max = std::max(k_max, std::abs(k));
-  double reach[3] = {0, 0, 0};  // per kind: the largest |m - f_source| + |f_target - f_source|
-  for (std::size_t src = 0; src < n; ++src)
-    for (int d = 0; d < kMidpointDirections; ++d) {
-      const std::int32_t tgt = c.transitions[26 * src + direction_index(kMidpointOffsets[d])];
-      const double* m = &c.midpoint_force[3 * (kMidpointDirections * src + d)];
-      if (tgt < 0 || std::isnan(m[0]) || std::isnan(m[1]) || std::isnan(m[2])) continue;
-      const int kind = d < 3 ? 0 : (d < 6 ? 1 : 2);
-      for (int r = 0; r < 3; ++r)
-        reach[kind] = std::max(reach[kind], std::abs(m[r] - c.force[3 * src + r]) +
-                                                std::abs(c.force[3 * tgt + r] - c.force[3 * src + r]));
-    }
-  // What the interpolant can differ from a corner by at the bubble's point, generously: the
-  // value differences above, the derivative terms (a quarter spacing times the stiffness per
-  // axis crossed), and the bubbles fitted before (an edge's is 1/2 at a face centre, 1/4 at the
-  // cell centre; a face's 1/2 there).
-  const double* h = c.meta.spacing;
-  const double hsum = h[0] + h[1] + h[2];
-  limit[0] = reach[0] + 0.25 * std::max({h[0], h[1], h[2]}) * k_max;
-  limit[1] = reach[1] + 0.5 * hsum * k_max + 2.0 * limit[0];
-  limit[2] = reach[2] + 0.75 * hsum * k_max + 3.0 * limit[0] + 3.0 * limit[1];
-  return limit;
 }
 
 void write_file(Content c, const std::filesystem::path& file) {

@@ -45,6 +45,7 @@ TEST(Wire, TransitionResultRoundTrips) {
   s.move.residual_history = {1, 0.1, 0.001};
   s.vectors = some_vectors(2);
   s.force = {0.1, -0.2, 0.3};
+  s.midpoint_force = std::array<double, 3>{0.05, -0.1, 0.15};
   wire::Writer w;
   wire::put(w, s);
   wire::Reader r(w.bytes().data(), w.bytes().size());
@@ -66,6 +67,7 @@ TEST(Wire, TransitionResultRoundTrips) {
   EXPECT_EQ(t.move.residual_history, s.move.residual_history);
   expect_equal(t.vectors, s.vectors);
   EXPECT_EQ(t.force, s.force);
+  EXPECT_EQ(t.midpoint_force, s.midpoint_force);
 }
 
 TEST(Wire, TransitionChunkRoundTripsWithSharedSources) {

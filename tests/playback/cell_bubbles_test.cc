@@ -14,7 +14,9 @@
 namespace hapstate::playback {
 namespace {
 
-std::array<double, 3> corner_position(int c) { return {double(c >> 2 & 1), double(c >> 1 & 1), double(c & 1)}; }
+std::array<double, 3> corner_position(int c) {
+  return {double(c >> 2 & 1), double(c >> 1 & 1), double(c & 1)};
+}
 
 // Hierarchical: a bubble is 1 at its own point and 0 at the points of the other bubbles of its
 // kind and of the kinds fitted before it (an edge's is 1/2 at the centres of its two faces).

@@ -372,9 +372,9 @@ TEST_F(Cursor, HermiteForcePassesThroughTheMidpointForces) {
         for (int di = 0; di <= 2; ++di)
           for (int dj = 0; dj <= 2; ++dj)
             for (int dk = 0; dk <= 2; ++dk) {
-              const Eigen::Vector3d p = field.origin + Eigen::Vector3d((i + 0.5 * di) * h[0],
-                                                                       (j + 0.5 * dj) * h[1],
-                                                                       (k + 0.5 * dk) * h[2]);
+              const Eigen::Vector3d p =
+                  field.origin + Eigen::Vector3d((i + 0.5 * di) * h[0], (j + 0.5 * dj) * h[1],
+                                                 (k + 0.5 * dk) * h[2]);
               const Force f = cursor.force(arr(p));
               EXPECT_LT((vec(f.value) - field.force(p)).norm(), 1e-12)
                   << i << j << k << " + " << di << dj << dk << " halves";
@@ -403,8 +403,10 @@ TEST_F(Cursor, HermiteForcePassesThroughTheMidpointForces) {
   }
   const double with = max_error(file, Scheme::kHermite, field, h);
   const double without = max_error(plain, Scheme::kHermite, field, h);
-  std::printf("[ info ] Hermite force error between check-points: %.3g N without, %.3g N with "
-              "the midpoint forces\n", without, with);
+  std::printf(
+      "[ info ] Hermite force error between check-points: %.3g N without, %.3g N with "
+      "the midpoint forces\n",
+      without, with);
   EXPECT_LT(with, 0.6 * without);  // measured 0.50
   EXPECT_EQ(max_error(file, Scheme::kTrilinear, field, h),
             max_error(plain, Scheme::kTrilinear, field, h));

@@ -135,8 +135,8 @@ inline void add_midpoint_forces(playback::Content* c, const Field& field) {
                            std::numeric_limits<double>::quiet_NaN());
   for (std::size_t k = 0; k < n; ++k) {
     const int g = c->config_checkpoint[k];
-    const int ijk[3] = {g / (m.dims[1] * m.dims[2]) + m.lo[0], (g / m.dims[2]) % m.dims[1] + m.lo[1],
-                        g % m.dims[2] + m.lo[2]};
+    const int ijk[3] = {g / (m.dims[1] * m.dims[2]) + m.lo[0],
+                        (g / m.dims[2]) % m.dims[1] + m.lo[1], g % m.dims[2] + m.lo[2]};
     for (int d = 0; d < playback::kMidpointDirections; ++d) {
       const int* o = playback::kMidpointOffsets[d];
       bool inside = true;
@@ -147,7 +147,8 @@ inline void add_midpoint_forces(playback::Content* c, const Field& field) {
       }
       if (!inside) continue;
       const Eigen::Vector3d f = field.force(p);
-      for (int r = 0; r < 3; ++r) c->midpoint_force[3 * (playback::kMidpointDirections * k + d) + r] = f[r];
+      for (int r = 0; r < 3; ++r)
+        c->midpoint_force[3 * (playback::kMidpointDirections * k + d) + r] = f[r];
     }
   }
 }

@@ -112,9 +112,9 @@ TEST_F(Decide, MatchesStoredAndSameBatchLevelsAndNumbersNewOnesInTaskOrder) {
       task(2, 1, 6),  // new at check-point 6, level 0
       task(2, 2, 5),  // far from both: new, level 2 at check-point 5
   };
-  const std::vector<TransitionSolve> solves = {reached(0.505, 0.41), reached(0.8, 0.6),
-                                               reached(0.801, 0.6), reached(0.2, 0.1),
-                                               reached(1.2, 0.9)};
+  std::vector<TransitionSolve> solves = {reached(0.505, 0.41), reached(0.8, 0.6),
+                                         reached(0.801, 0.6), reached(0.2, 0.1), reached(1.2, 0.9)};
+  solves[3].midpoint_force = std::array<double, 3>{0.05, 0, 0};
   const BatchDecision d = decide_batch(tasks, solves, stored_, settings_);
   ASSERT_EQ(d.transitions.size(), 5u);
   EXPECT_EQ(d.transitions[0].target, ConfigId(10));
@@ -122,6 +122,9 @@ TEST_F(Decide, MatchesStoredAndSameBatchLevelsAndNumbersNewOnesInTaskOrder) {
   EXPECT_EQ(d.transitions[2].target, ConfigId(100));
   EXPECT_EQ(d.transitions[3].target, ConfigId(101));
   EXPECT_EQ(d.transitions[4].target, ConfigId(102));
+  // The force recorded half-way goes with its transition.
+  EXPECT_EQ(d.transitions[3].midpoint_force, solves[3].midpoint_force);
+  EXPECT_FALSE(d.transitions[0].midpoint_force.has_value());
   ASSERT_EQ(d.fresh.size(), 3u);
   EXPECT_EQ(d.fresh[0].config.level, Level(1));
   EXPECT_EQ(d.fresh[1].config.level, Level(0));
