@@ -159,7 +159,7 @@ TEST(CatalogueOpen, FutureSchemaVersionIsRefusedAndFileUnchanged) {
   ASSERT_FALSE(std::filesystem::exists(file.string() + "-wal"));  // checkpointed on close
   expect_refused_untouched(
       file,
-      file.string() + " has schema version 7, this hapstate supports up to 2: upgrade hapstate");
+      file.string() + " has schema version 7, this hapstate supports up to 3: upgrade hapstate");
 }
 
 TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {

@@ -37,11 +37,13 @@ class Algorithm : public StageTest {
   }
 
   // `relative`: how far forces, stiffnesses and vectors may differ, relative to their scale.
-  void expect_same_state_space(const std::string& scene, const char* name, double relative = 1e-6) {
+  void expect_same_state_space(const std::string& scene, const char* name, double relative = 1e-6,
+                               double stiffness_relative = 0.0) {
     const double reference = expand_with(scene, "reference");
     const double fast = expand_with(scene, "fast");
     const Snapshot a = snapshot(dir_ / "reference"), b = snapshot(dir_ / "fast");
-    const int ties = expect_same_decisions(a, b, /*cost_may_differ=*/true, relative);
+    const int ties =
+        expect_same_decisions(a, b, /*cost_may_differ=*/true, relative, stiffness_relative);
     EXPECT_GE(ties, 0);
     EXPECT_LE(ties, static_cast<int>(a.transitions.size() / 1000));  // at most 0.1 %
     const double vectors =
@@ -68,9 +70,12 @@ TEST_F(Algorithm, FastEqualsReferenceOnTheLiver) {
 // check-points the plate can be held at from both sides). A contact solve stops when the gaps
 // are closed to 1e-6 of the radius, which for a lightly touched plate (displacements of a
 // hundredth of the radius) is 1e-4 of its displacement: the two algorithms agree to that
-// (measured 5.8e-5 for the vectors, 5.8e-5 of the force scale).
+// (measured 5.8e-5 for the vectors, 5.8e-5 of the force scale). The haptic stiffness depends on
+// which triangles are active, and a triangle touched within that tolerance may be active in one
+// state and not in the other: up to 3 % of the configuration's largest stiffness entry (measured
+// 2.9 %, 2026-11-26, with the moves stopping half-way to record the midpoint force).
 TEST_F(Algorithm, FastEqualsReferenceOnThePlate) {
-  expect_same_state_space(plate_variant(dir_, {}), "plate", 1e-4);
+  expect_same_state_space(plate_variant(dir_, {}), "plate", 1e-4, 0.05);
 }
 
 }  // namespace
