@@ -223,12 +223,15 @@ class HapticCursor {
   std::array<Corner, 8> corners_{};     // corner c at base + ((c>>2)&1, (c>>1)&1, c&1)
   CellCoefficients coef_{};             // of corners_, updated whenever they change
   // The cell's bubble corrections toward the force recorded half-way through the corners'
-  // moves, N per component (docs/playback.md, "Between the check-points"); any_bubble_ false:
-  // all zero.
+  // moves, N per component (docs/playback.md, "Between the check-points"), fitted at the first
+  // Hermite call in a cell; the non-zero ones are active_bubble_[0, num_bubbles_).
   std::array<std::array<double, 3>, 19> bubble_{};
-  bool any_bubble_ = false;
+  std::array<std::int8_t, 19> active_bubble_{};
+  int num_bubbles_ = 0;
+  bool bubbles_fitted_ = false;
   void fit_cell_bubbles();
-  void add_bubbles(const std::array<double, 3>& s, std::array<double, 3>* value,
+  void add_bubbles(const std::array<double, 3>& s, const double (&B)[3][4],
+                   const double (&dB)[3][4], std::array<double, 3>* value,
                    std::array<double, 9>* slope) const;
   // Contact: every corner has a depth model and the sphere may be shallower than the blending
   // band somewhere in the cell (docs/playback.md, "Contact onset").

@@ -335,7 +335,7 @@ void HapticCursor::update_coefficients() {
         file_.impl().meta->spacing, [&](int c) { return force_of(c)[r]; },
         [&](int c, int a) { return stiffness_of(c)[3 * r + a]; },
         [&](int x, int y, int z) -> double& { return coef_[x][y][r][z]; });
-  fit_cell_bubbles();
+  bubbles_fitted_ = false;  // fitted when a Hermite force is asked for in this cell
 }
 
 static_assert(playback::kCellBubbles == 19, "HapticCursor::bubble_ holds one per bubble");
@@ -345,7 +345,8 @@ static_assert(playback::kCellBubbles == 19, "HapticCursor::bubble_ holds one per
 // the corners the cell shows) and the value was recorded.
 void HapticCursor::fit_cell_bubbles() {
   const PlaybackFile::Impl& f = file_.impl();
-  any_bubble_ = false;
+  num_bubbles_ = 0;
+  bubbles_fitted_ = true;
   if (!f.midpoint_force) return;
   const double* h = f.meta->spacing;
   auto interpolant = [&](const std::array<double, 3>& t, double* out) {
@@ -381,22 +382,49 @@ void HapticCursor::fit_cell_bubbles() {
     return true;
   };
   playback::fit_bubbles(interpolant, recorded, f.meta->bubble_limit, &bubble_);
-  for (const auto& c : bubble_) any_bubble_ = any_bubble_ || c[0] != 0 || c[1] != 0 || c[2] != 0;
+  num_bubbles_ = 0;
+  for (int k = 0; k < playback::kCellBubbles; ++k)
+    if (bubble_[k][0] != 0 || bubble_[k][1] != 0 || bubble_[k][2] != 0)
+      active_bubble_[num_bubbles_++] = static_cast<std::int8_t>(k);
 }
 
-// Adds the bubbles at cell position s to the interpolated force and, if `slope` is given, their
-// gradient to its derivative.
-void HapticCursor::add_bubbles(const std::array<double, 3>& s, std::array<double, 3>* value,
+// Adds the cell's bubbles to the interpolated force and, if `slope` is given, their gradient to
+// its derivative. B, dB: the Hermite bases per axis and their derivatives (per mesh unit); a
+// bubble's factor across its axes is a value basis (B[a][0] or B[a][2]), along them
+// 16 t^2 (1 - t)^2 (playback/cell_bubbles.h).
+void HapticCursor::add_bubbles(const std::array<double, 3>& s, const double (&B)[3][4],
+                               const double (&dB)[3][4], std::array<double, 3>* value,
                                std::array<double, 9>* slope) const {
   const double* h = file_.impl().meta->spacing;
-  for (int k = 0; k < playback::kCellBubbles; ++k) {
-    std::array<double, 3> g;
-    const double w = playback::bubble_weight(k, s, &g);
-    for (int r = 0; r < 3; ++r) {
-      (*value)[r] += w * bubble_[k][r];
-      if (slope)
-        for (int a = 0; a < 3; ++a) (*slope)[3 * r + a] += bubble_[k][r] * g[a] / h[a];
+  double mid[3], dmid[3];
+  for (int a = 0; a < 3; ++a) {
+    const double t = s[a], u = 1.0 - t;
+    mid[a] = 16.0 * t * t * u * u;
+    dmid[a] = 32.0 * t * u * (u - t) / h[a];
+  }
+  for (int i = 0; i < num_bubbles_; ++i) {
+    const int k = active_bubble_[i];
+    double f[3], d[3];  // the bubble's factor per axis and its derivative
+    if (k < playback::kEdgeBubbles) {
+      const int a = k / 4, b1 = (a + 1) % 3, b2 = (a + 2) % 3;
+      const int v1 = 2 * ((k / 2) % 2), v2 = 2 * (k % 2);
+      f[a] = mid[a], d[a] = dmid[a];
+      f[b1] = B[b1][v1], d[b1] = dB[b1][v1];
+      f[b2] = B[b2][v2], d[b2] = dB[b2][v2];
+    } else {
+      for (int a = 0; a < 3; ++a) f[a] = mid[a], d[a] = dmid[a];
+      if (k < playback::kEdgeBubbles + playback::kFaceBubbles) {
+        const int a = (k - playback::kEdgeBubbles) / 2, v = 2 * ((k - playback::kEdgeBubbles) % 2);
+        f[a] = B[a][v], d[a] = dB[a][v];
+      }
     }
+    const double w = f[0] * f[1] * f[2];
+    const std::array<double, 3>& c = bubble_[k];
+    for (int r = 0; r < 3; ++r) (*value)[r] += w * c[r];
+    if (!slope) continue;
+    const double g[3] = {d[0] * f[1] * f[2], f[0] * d[1] * f[2], f[0] * f[1] * d[2]};
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < 3; ++a) (*slope)[3 * r + a] += c[r] * g[a];
   }
 }
 
@@ -518,8 +546,9 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
         slope[3 * r + 2] += B[0][ix] * vz;
       }
   }
-  if (scheme_ == Scheme::kHermite && any_bubble_)
-    add_bubbles(s, &value, out.inside_grid ? &slope : nullptr);
+  if (scheme_ == Scheme::kHermite && !bubbles_fitted_) fit_cell_bubbles();
+  if (scheme_ == Scheme::kHermite && num_bubbles_ > 0)
+    add_bubbles(s, B, dB, &value, out.inside_grid ? &slope : nullptr);
   if (scheme_ == Scheme::kTrilinear || !out.inside_grid) slope = k_blend;
   const OnsetBlend onset = onset_ ? apply_onset(B, dB, lin, &value, &slope) : OnsetBlend{};
   if (!out.inside_grid) {
