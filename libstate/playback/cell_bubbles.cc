@@ -77,4 +77,57 @@ double bubble_weight(int k, const std::array<double, 3>& s, std::array<double, 3
   return f[0] * f[1] * f[2];
 }
 
+namespace {
+
+// The weights of every bubble at every bubble's point, computed once at compile time from the
+// positions in half cells (0, 1, 2).
+struct PointWeights {
+  double w[kCellBubbles][kCellBubbles];
+};
+constexpr double middle_at(int half) { return half == 1 ? 1.0 : 0.0; }
+constexpr double side_at(int o, int half) {
+  const double v1 = half == 0 ? 0.0 : (half == 1 ? 0.5 : 1.0);
+  return o ? v1 : 1.0 - v1;
+}
+constexpr PointWeights point_weights() {
+  PointWeights t{};
+  for (int j = 0; j < kCellBubbles; ++j) {
+    int p[3];  // bubble j's point in half cells
+    if (j < kEdgeBubbles) {
+      const int a = j / 4;
+      p[a] = 1;
+      p[(a + 1) % 3] = 2 * ((j / 2) % 2);
+      p[(a + 2) % 3] = 2 * (j % 2);
+    } else if (j < kEdgeBubbles + kFaceBubbles) {
+      const int a = (j - kEdgeBubbles) / 2;
+      p[0] = p[1] = p[2] = 1;
+      p[a] = 2 * ((j - kEdgeBubbles) % 2);
+    } else {
+      p[0] = p[1] = p[2] = 1;
+    }
+    for (int k = 0; k < kCellBubbles; ++k) {
+      double f[3];
+      if (k < kEdgeBubbles) {
+        const int a = k / 4;
+        f[a] = middle_at(p[a]);
+        f[(a + 1) % 3] = side_at((k / 2) % 2, p[(a + 1) % 3]);
+        f[(a + 2) % 3] = side_at(k % 2, p[(a + 2) % 3]);
+      } else {
+        for (int x = 0; x < 3; ++x) f[x] = middle_at(p[x]);
+        if (k < kEdgeBubbles + kFaceBubbles) {
+          const int a = (k - kEdgeBubbles) / 2;
+          f[a] = side_at((k - kEdgeBubbles) % 2, p[a]);
+        }
+      }
+      t.w[k][j] = f[0] * f[1] * f[2];
+    }
+  }
+  return t;
+}
+constexpr PointWeights kPointWeights = point_weights();
+
+}  // namespace
+
+double bubble_weight_at_point(int k, int j) { return kPointWeights.w[k][j]; }
+
 }  // namespace hapstate::playback

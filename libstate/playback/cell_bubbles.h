@@ -31,6 +31,10 @@ BubbleSpec bubble_spec(int k);
 // Bubble k's weight at cell position s (each in [0, 1]) and its gradient with respect to s.
 double bubble_weight(int k, const std::array<double, 3>& s, std::array<double, 3>* gradient);
 
+// Bubble k's weight at bubble j's point: 0, 1/4, 1/2 or 1 (the factors there are 16 t^2 (1-t)^2
+// in {0, 1} and value bases in {0, 1/2, 1}).
+double bubble_weight_at_point(int k, int j);
+
 // The corrections of a cell's 19 bubbles, fitted edges first, then faces, then the cell:
 // correction k = value(k) minus the interpolant with the bubbles fitted before it, at bubble k's
 // point; 0 where `value` gives none. `interpolant(s, out)` writes the cell's interpolant without
@@ -48,7 +52,9 @@ void fit_bubbles(Interpolant&& interpolant, Value&& value, const double (&limit)
     double current[3];
     interpolant(spec.point, current);
     for (int j = 0; j < k; ++j) {
-      const double w = bubble_weight(j, spec.point, nullptr);
+      if ((*correction)[j][0] == 0 && (*correction)[j][1] == 0 && (*correction)[j][2] == 0)
+        continue;
+      const double w = bubble_weight_at_point(j, k);
       for (int r = 0; r < 3; ++r) current[r] += w * (*correction)[j][r];
     }
     const double bound = limit[static_cast<int>(spec.kind)];

@@ -357,15 +357,18 @@ void HapticCursor::fit_cell_bubbles() {
       B[a][1] = t[a] * (1.0 - t[a]) * (1.0 - t[a]) * h[a];
       B[a][3] = -t[a] * t[a] * (1.0 - t[a]) * h[a];
     }
-    for (int r = 0; r < 3; ++r) {
-      double v = 0.0;
-      for (int x = 0; x < 4; ++x)
-        for (int y = 0; y < 4; ++y) {
-          const std::array<double, 4>& c = coef_[x][y][r];
-          v += B[0][x] * B[1][y] *
-               (B[2][0] * c[0] + B[2][1] * c[1] + B[2][2] * c[2] + B[2][3] * c[3]);
+    // The points are at t in {0, 1/2, 1}: most bases are 0 there.
+    for (int r = 0; r < 3; ++r) out[r] = 0.0;
+    for (int x = 0; x < 4; ++x) {
+      if (B[0][x] == 0.0) continue;
+      for (int y = 0; y < 4; ++y) {
+        if (B[1][y] == 0.0) continue;
+        for (int z = 0; z < 4; ++z) {
+          if (B[2][z] == 0.0) continue;
+          const double w = B[0][x] * B[1][y] * B[2][z];
+          for (int r = 0; r < 3; ++r) out[r] += w * coef_[x][y][r][z];
         }
-      out[r] = v;
+      }
     }
   };
   auto recorded = [&](int k, double* out) {

@@ -29,6 +29,13 @@ TEST(CellBubbles, EachIsOneAtItsPointAndZeroAtTheOthersOfItsKindOrBefore) {
     }
 }
 
+TEST(CellBubbles, TabulatedWeightsAtThePointsAreTheWeights) {
+  for (int k = 0; k < kCellBubbles; ++k)
+    for (int j = 0; j < kCellBubbles; ++j)
+      EXPECT_EQ(bubble_weight_at_point(k, j), bubble_weight(k, bubble_spec(j).point, nullptr))
+          << k << " at " << j;
+}
+
 TEST(CellBubbles, VanishWithZeroSlopeAtTheCorners) {
   for (int k = 0; k < kCellBubbles; ++k)
     for (int c = 0; c < 8; ++c) {
