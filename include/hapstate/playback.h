@@ -224,10 +224,12 @@ class HapticCursor {
   CellCoefficients coef_{};             // of corners_, updated whenever they change
   // The cell's bubble corrections toward the force recorded half-way through the corners'
   // moves, N per component (docs/playback.md, "Between the check-points"), fitted at the first
-  // Hermite call in a cell; the non-zero ones are active_bubble_[0, num_bubbles_).
+  // Hermite call in a cell, and grouped by shape for force().
   std::array<std::array<double, 3>, 19> bubble_{};
-  std::array<std::int8_t, 19> active_bubble_{};
-  int num_bubbles_ = 0;
+  double bubble_edge_[3][3][2][2] = {};  // [axis][component][side o1][side o2]
+  double bubble_face_[3][3][2] = {};     // [normal][component][side]
+  double bubble_cell_[3] = {};
+  int num_bubbles_ = 0;  // non-zero corrections
   bool bubbles_fitted_ = false;
   void fit_cell_bubbles();
   void add_bubbles(const std::array<double, 3>& s, const double (&B)[3][4],

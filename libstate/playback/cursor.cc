@@ -387,47 +387,62 @@ void HapticCursor::fit_cell_bubbles() {
   playback::fit_bubbles(interpolant, recorded, f.meta->bubble_limit, &bubble_);
   num_bubbles_ = 0;
   for (int k = 0; k < playback::kCellBubbles; ++k)
-    if (bubble_[k][0] != 0 || bubble_[k][1] != 0 || bubble_[k][2] != 0)
-      active_bubble_[num_bubbles_++] = static_cast<std::int8_t>(k);
+    if (bubble_[k][0] != 0 || bubble_[k][1] != 0 || bubble_[k][2] != 0) ++num_bubbles_;
+  // Grouped by shape for force(): edges along a as [r][o1][o2], faces normal to a as [r][o].
+  for (int a = 0; a < 3; ++a)
+    for (int r = 0; r < 3; ++r) {
+      for (int o = 0; o < 4; ++o) bubble_edge_[a][r][o >> 1][o & 1] = bubble_[4 * a + o][r];
+      for (int o = 0; o < 2; ++o)
+        bubble_face_[a][r][o] = bubble_[playback::kEdgeBubbles + 2 * a + o][r];
+    }
+  for (int r = 0; r < 3; ++r) bubble_cell_[r] = bubble_[playback::kCellBubbles - 1][r];
 }
 
 // Adds the cell's bubbles to the interpolated force and, if `slope` is given, their gradient to
-// its derivative. B, dB: the Hermite bases per axis and their derivatives (per mesh unit); a
+// its derivative. B, dB: the Hermite bases per axis and their derivatives (per mesh unit): a
 // bubble's factor across its axes is a value basis (B[a][0] or B[a][2]), along them
-// 16 t^2 (1 - t)^2 (playback/cell_bubbles.h).
+// m = 16 t^2 (1 - t)^2 (playback/cell_bubbles.h). Per component: the edges along a as
+// m_a (v_b^T E v_c), the faces normal to a as (F . v_a) m_b m_c, the cell m_x m_y m_z.
 void HapticCursor::add_bubbles(const std::array<double, 3>& s, const double (&B)[3][4],
                                const double (&dB)[3][4], std::array<double, 3>* value,
                                std::array<double, 9>* slope) const {
   const double* h = file_.impl().meta->spacing;
-  double mid[3], dmid[3];
+  double m[3], dm[3], v[3][2], dv[3][2];
   for (int a = 0; a < 3; ++a) {
     const double t = s[a], u = 1.0 - t;
-    mid[a] = 16.0 * t * t * u * u;
-    dmid[a] = 32.0 * t * u * (u - t) / h[a];
+    m[a] = 16.0 * t * t * u * u;
+    dm[a] = 32.0 * t * u * (u - t) / h[a];
+    v[a][0] = B[a][0], v[a][1] = B[a][2];
+    dv[a][0] = dB[a][0], dv[a][1] = dB[a][2];
   }
-  for (int i = 0; i < num_bubbles_; ++i) {
-    const int k = active_bubble_[i];
-    double f[3], d[3];  // the bubble's factor per axis and its derivative
-    if (k < playback::kEdgeBubbles) {
-      const int a = k / 4, b1 = (a + 1) % 3, b2 = (a + 2) % 3;
-      const int v1 = 2 * ((k / 2) % 2), v2 = 2 * (k % 2);
-      f[a] = mid[a], d[a] = dmid[a];
-      f[b1] = B[b1][v1], d[b1] = dB[b1][v1];
-      f[b2] = B[b2][v2], d[b2] = dB[b2][v2];
-    } else {
-      for (int a = 0; a < 3; ++a) f[a] = mid[a], d[a] = dmid[a];
-      if (k < playback::kEdgeBubbles + playback::kFaceBubbles) {
-        const int a = (k - playback::kEdgeBubbles) / 2, v = 2 * ((k - playback::kEdgeBubbles) % 2);
-        f[a] = B[a][v], d[a] = dB[a][v];
-      }
+  for (int r = 0; r < 3; ++r) {
+    double f = bubble_cell_[r] * m[0] * m[1] * m[2];
+    double g[3] = {bubble_cell_[r] * dm[0] * m[1] * m[2], bubble_cell_[r] * m[0] * dm[1] * m[2],
+                   bubble_cell_[r] * m[0] * m[1] * dm[2]};
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      const auto& E = bubble_edge_[a][r];
+      // v_b^T E v_c and its derivatives along b and c.
+      const double ec0 = E[0][0] * v[c][0] + E[0][1] * v[c][1];
+      const double ec1 = E[1][0] * v[c][0] + E[1][1] * v[c][1];
+      const double dec0 = E[0][0] * dv[c][0] + E[0][1] * dv[c][1];
+      const double dec1 = E[1][0] * dv[c][0] + E[1][1] * dv[c][1];
+      const double edge = v[b][0] * ec0 + v[b][1] * ec1;
+      f += m[a] * edge;
+      g[a] += dm[a] * edge;
+      g[b] += m[a] * (dv[b][0] * ec0 + dv[b][1] * ec1);
+      g[c] += m[a] * (v[b][0] * dec0 + v[b][1] * dec1);
+      const auto& F = bubble_face_[a][r];
+      const double face = F[0] * v[a][0] + F[1] * v[a][1];
+      const double mbc = m[b] * m[c];
+      f += face * mbc;
+      g[a] += (F[0] * dv[a][0] + F[1] * dv[a][1]) * mbc;
+      g[b] += face * dm[b] * m[c];
+      g[c] += face * m[b] * dm[c];
     }
-    const double w = f[0] * f[1] * f[2];
-    const std::array<double, 3>& c = bubble_[k];
-    for (int r = 0; r < 3; ++r) (*value)[r] += w * c[r];
-    if (!slope) continue;
-    const double g[3] = {d[0] * f[1] * f[2], f[0] * d[1] * f[2], f[0] * f[1] * d[2]};
-    for (int r = 0; r < 3; ++r)
-      for (int a = 0; a < 3; ++a) (*slope)[3 * r + a] += c[r] * g[a];
+    (*value)[r] += f;
+    if (slope)
+      for (int a = 0; a < 3; ++a) (*slope)[3 * r + a] += g[a];
   }
 }
 
