@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -161,6 +162,7 @@ inline int expect_same_decisions(const Snapshot& a, const Snapshot& b, bool cost
   }
   EXPECT_EQ(a.transitions.size(), b.transitions.size());
   if (a.transitions.size() != b.transitions.size()) return -1;
+  std::size_t midpoint_differences = 0;
   for (std::size_t k = 0; k < a.transitions.size(); ++k) {
     const Transition& x = a.transitions[k];
     const Transition& y = b.transitions[k];
@@ -181,8 +183,14 @@ inline int expect_same_decisions(const Snapshot& a, const Snapshot& b, bool cost
       EXPECT_EQ(x.factorisations, y.factorisations);
     }
     EXPECT_EQ(x.failure_reason, y.failure_reason);
-    EXPECT_EQ(x.midpoint_force.has_value(), y.midpoint_force.has_value())
-        << "transition " << x.source.value() << "/" << x.direction.index();
+    // Two algorithms may differ in whether the first half of a move converged (a half that fails
+    // is solved whole and records no midpoint): counted, at most 0.1 % of the transitions.
+    if (cost_may_differ && x.midpoint_force.has_value() != y.midpoint_force.has_value()) {
+      ++midpoint_differences;
+    } else {
+      EXPECT_EQ(x.midpoint_force.has_value(), y.midpoint_force.has_value())
+          << "transition " << x.source.value() << "/" << x.direction.index();
+    }
     if (x.midpoint_force && y.midpoint_force) {
       const auto& m = *x.midpoint_force;
       const double scale = std::max({1e-3, std::abs(m[0]), std::abs(m[1]), std::abs(m[2])});
@@ -191,6 +199,10 @@ inline int expect_same_decisions(const Snapshot& a, const Snapshot& b, bool cost
             << "transition " << x.source.value() << "/" << x.direction.index();
     }
   }
+  EXPECT_LE(midpoint_differences, a.transitions.size() / 1000) << "midpoints recorded by one only";
+  if (midpoint_differences > 0)
+    std::printf("[ info ] %zu transitions record a midpoint force in one state only\n",
+                midpoint_differences);
   EXPECT_EQ(a.segment_files, b.segment_files);
   return level_ties;
 }
