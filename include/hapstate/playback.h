@@ -214,6 +214,8 @@ class HapticCursor {
   OnsetBlend apply_onset(const double (&B)[3][4], const double (&dB)[3][4],
                          const double (&lin)[3][2], std::array<double, 3>* value,
                          std::array<double, 9>* slope) const;
+  double clearance(const double (&B)[3][4], const double (&dB)[3][4], double (&grad)[3]) const;
+  bool onset_target(const std::array<double, 3>& t, const double* felt, double* out) const;
   void publish(const std::array<double, 3>& probe, const Force& f, const std::array<double, 3>& s,
                const OnsetBlend& onset);
 

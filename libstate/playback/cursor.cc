@@ -24,6 +24,24 @@ int direction_index(int di, int dj, int dk) {
   return c < 13 ? c : c - 1;
 }
 
+// Per axis a the 4 cubic Hermite bases at cell position s[a], B[a][2 o + k] (o the corner side;
+// k 0 the value basis, 1 the derivative basis in physical units, spacing h[a]), and their
+// derivatives dB with respect to the probe coordinate.
+void hermite_bases(const std::array<double, 3>& s, const double* h, double (&B)[3][4],
+                   double (&dB)[3][4]) {
+  for (int a = 0; a < 3; ++a) {
+    const double t = s[a];
+    B[a][2] = t * t * (3.0 - 2.0 * t);
+    B[a][0] = 1.0 - B[a][2];
+    B[a][1] = t * (1.0 - t) * (1.0 - t) * h[a];
+    B[a][3] = -t * t * (1.0 - t) * h[a];
+    dB[a][2] = 6.0 * t * (1.0 - t) / h[a];
+    dB[a][0] = -dB[a][2];
+    dB[a][1] = (1.0 - t) * (1.0 - 3.0 * t);
+    dB[a][3] = t * (3.0 * t - 2.0);
+  }
+}
+
 bool finite(const double* v, int n) {
   for (int k = 0; k < n; ++k)
     if (!std::isfinite(v[k])) return false;
@@ -249,6 +267,31 @@ void HapticCursor::prepare_onset() {
       [&](int x, int y, int z) -> double& { return clearance_coef_[x][y][z]; });
 }
 
+// The interpolated clearance (Hermite) and its gradient `grad` per mesh unit at the point
+// whose bases per axis are B (derivatives dB; both as in force()).
+double HapticCursor::clearance(const double (&B)[3][4], const double (&dB)[3][4],
+                               double (&grad)[3]) const {
+  double g = 0;
+  grad[0] = grad[1] = grad[2] = 0;
+  // The tensor product contracted axis by axis (z, then y, then x).
+  for (int x = 0; x < 4; ++x) {
+    double v = 0, vy = 0, vz = 0;
+    for (int y = 0; y < 4; ++y) {
+      const std::array<double, 4>& t = clearance_coef_[x][y];
+      const double a = B[2][0] * t[0] + B[2][1] * t[1] + B[2][2] * t[2] + B[2][3] * t[3];
+      const double az = dB[2][0] * t[0] + dB[2][1] * t[1] + dB[2][2] * t[2] + dB[2][3] * t[3];
+      v += B[1][y] * a;
+      vy += dB[1][y] * a;
+      vz += B[1][y] * az;
+    }
+    g += B[0][x] * v;
+    grad[0] += dB[0][x] * v;
+    grad[1] += B[0][x] * vy;
+    grad[2] += B[0][x] * vz;
+  }
+  return g;
+}
+
 // Near the contact onset: with d the interpolated depth of the sphere into the rest body
 // (Hermite, from the clearance at the corners), the force is 0 where d <= 0 and
 // R F + (1 - R) d q for 0 < d < band, F the interpolated force, q the trilinear interpolation of
@@ -262,25 +305,8 @@ HapticCursor::OnsetBlend HapticCursor::apply_onset(const double (&B)[3][4],
                                                    std::array<double, 9>* slope) const {
   const double* h = file_.impl().meta->spacing;
   OnsetBlend blend;
-  double g = 0, grad[3] = {0, 0, 0};
-  if (!clear_cell_) {
-    // The clearance's tensor product contracted axis by axis (z, then y, then x).
-    for (int x = 0; x < 4; ++x) {
-      double v = 0, vy = 0, vz = 0;
-      for (int y = 0; y < 4; ++y) {
-        const std::array<double, 4>& t = clearance_coef_[x][y];
-        const double a = B[2][0] * t[0] + B[2][1] * t[1] + B[2][2] * t[2] + B[2][3] * t[3];
-        const double az = dB[2][0] * t[0] + dB[2][1] * t[1] + dB[2][2] * t[2] + dB[2][3] * t[3];
-        v += B[1][y] * a;
-        vy += dB[1][y] * a;
-        vz += B[1][y] * az;
-      }
-      g += B[0][x] * v;
-      grad[0] += dB[0][x] * v;
-      grad[1] += B[0][x] * vy;
-      grad[2] += B[0][x] * vz;
-    }
-  }
+  double grad[3] = {0, 0, 0};
+  const double g = clear_cell_ ? 0.0 : clearance(B, dB, grad);
   blend.depth = -g;
   if (clear_cell_ || blend.depth <= 0.0) {
     *value = {};
@@ -318,6 +344,31 @@ HapticCursor::OnsetBlend HapticCursor::apply_onset(const double (&B)[3][4],
   return blend;
 }
 
+// The interpolated force F at cell position t for which the onset blend (apply_onset) returns
+// `felt`: (felt - (1 - R) d q) / R. False where the blend barely follows F (R < 1/4, within
+// the first third of the band) or the sphere is clear of the rest body: the bubble is not fitted.
+bool HapticCursor::onset_target(const std::array<double, 3>& t, const double* felt,
+                                double* out) const {
+  if (clear_cell_) return false;
+  const double* h = file_.impl().meta->spacing;
+  double B[3][4], dB[3][4], grad[3];
+  hermite_bases(t, h, B, dB);
+  const double depth = -clearance(B, dB, grad);
+  const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
+  if (depth <= 0.0) return false;
+  const double x = std::min(depth / band, 1.0);
+  const double R = x * x * (3.0 - 2.0 * x);
+  if (R < 0.25) return false;
+  double q[3] = {0, 0, 0};
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    const double w = (o[0] ? t[0] : 1 - t[0]) * (o[1] ? t[1] : 1 - t[1]) * (o[2] ? t[2] : 1 - t[2]);
+    for (int r = 0; r < 3; ++r) q[r] += w * per_depth_[c][r];
+  }
+  for (int r = 0; r < 3; ++r) out[r] = (felt[r] - (1.0 - R) * depth * q[r]) / R;
+  return true;
+}
+
 const double* HapticCursor::force_of(int c) const {
   return onset_ && corners_[c].secant ? corners_[c].onset->force : corners_[c].force.data();
 }
@@ -350,13 +401,8 @@ void HapticCursor::fit_cell_bubbles() {
   if (!f.midpoint_force) return;
   const double* h = f.meta->spacing;
   auto interpolant = [&](const std::array<double, 3>& t, double* out) {
-    double B[3][4];
-    for (int a = 0; a < 3; ++a) {
-      B[a][2] = t[a] * t[a] * (3.0 - 2.0 * t[a]);
-      B[a][0] = 1.0 - B[a][2];
-      B[a][1] = t[a] * (1.0 - t[a]) * (1.0 - t[a]) * h[a];
-      B[a][3] = -t[a] * t[a] * (1.0 - t[a]) * h[a];
-    }
+    double B[3][4], dB[3][4];
+    hermite_bases(t, h, B, dB);
     // The points are at t in {0, 1/2, 1}: most bases are 0 there.
     for (int r = 0; r < 3; ++r) out[r] = 0.0;
     for (int x = 0; x < 4; ++x) {
@@ -381,6 +427,7 @@ void HapticCursor::fit_cell_bubbles() {
     const double* m =
         f.midpoint_force + 3 * (playback::kMidpointDirections * std::int64_t(source) + b.direction);
     if (!finite(m, 3)) return false;
+    if (onset_) return onset_target(b.point, m, out);
     std::copy_n(m, 3, out);
     return true;
   };
@@ -513,22 +560,13 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
 
   std::array<double, 3> s{};
   for (int a = 0; a < 3; ++a) s[a] = std::clamp(q[a] - base_[a], 0.0, 1.0);
-  // Per axis a the 4 Hermite bases B[a][2 o + k] (o the corner side; k 0 the value basis, 1
-  // the derivative basis in physical units) and their derivatives dB with respect to the probe
-  // coordinate; lin[a][o] the linear weights.
+  // The Hermite bases per axis and their derivatives (hermite_bases); lin[a][o] the linear
+  // weights.
   double B[3][4], dB[3][4], lin[3][2];
+  hermite_bases(s, m.spacing, B, dB);
   for (int a = 0; a < 3; ++a) {
-    const double t = s[a], h = m.spacing[a];
-    B[a][2] = t * t * (3.0 - 2.0 * t);
-    B[a][0] = 1.0 - B[a][2];
-    B[a][1] = t * (1.0 - t) * (1.0 - t) * h;
-    B[a][3] = -t * t * (1.0 - t) * h;
-    dB[a][2] = 6.0 * t * (1.0 - t) / h;
-    dB[a][0] = -dB[a][2];
-    dB[a][1] = (1.0 - t) * (1.0 - 3.0 * t);
-    dB[a][3] = t * (3.0 * t - 2.0);
-    lin[a][0] = 1.0 - t;
-    lin[a][1] = t;
+    lin[a][0] = 1.0 - s[a];
+    lin[a][1] = s[a];
   }
   std::array<double, 3> value{};
   std::array<double, 9> slope{};    // d(value)/d(probe)

@@ -436,7 +436,8 @@ TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
   playback::Content c = test_util::synthetic_content(field_, h);
   for (int d = 0; d < 26 * 125; d += 5)
-    c.transitions[d] = playback::kFailed;  // extended corners too
+    c.transitions[d] = playback::kFailed;      // extended corners too
+  test_util::add_midpoint_forces(&c, field_);  // the bubble fit at each cell entry too
   PlaybackFile file(write(std::move(c), "alloc.bin"));
   HapticCursor cursor(file, Scheme::kHermite);
   std::vector<float> pos(3 * test_util::kSyntheticViewNodes);

@@ -126,9 +126,11 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
   return c;
 }
 
-// Adds the force half-way through every move in the kMidpointOffsets directions (the field
-// there; NaN where the move leaves the grid), as the expansion records it.
-inline void add_midpoint_forces(playback::Content* c, const Field& field) {
+// Adds the force half-way through every move in the kMidpointOffsets directions (field.force
+// there, for a Field or any type with that method; NaN where the move leaves the grid), as the
+// expansion records it.
+template <class ForceField>
+void add_midpoint_forces(playback::Content* c, const ForceField& field) {
   const playback::Meta& m = c->meta;
   const std::size_t n = c->config_checkpoint.size();
   c->midpoint_force.assign(3 * playback::kMidpointDirections * n,
