@@ -26,9 +26,11 @@ struct OnsetCorner;
 
 struct Snapshot;
 
-// Interpolation of the force over the 8 corners of the probe's grid cell.
+// Interpolation of the force over the 8 corners of the probe's grid cell, and, where the file
+// holds them, the forces recorded half-way between them (docs/playback.md, "Between the
+// check-points").
 enum class Scheme : std::int32_t {
-  kTrilinear = 0,  // the paper's: corner forces, trilinear weights
+  kTrilinear = 0,  // the paper's: trilinear weights (on the half-spacing lattice with midpoints)
   kHermite = 1,    // cubic Hermite per axis: corner forces and their stiffness (derivatives)
 };
 
@@ -161,7 +163,10 @@ class HapticCursor {
   // call it before the haptic loop, not in it.
   void reset(const std::array<double, 3>& probe);
   Force force(const std::array<double, 3>& probe);
-  void set_scheme(Scheme scheme) { scheme_ = scheme; }
+  void set_scheme(Scheme scheme) {
+    scheme_ = scheme;
+    bubbles_fitted_ = false;  // each scheme fits its own
+  }
   Scheme scheme() const { return scheme_; }
 
   // The configuration at the check-point nearest to the last probe position (-1 if that
@@ -234,8 +239,8 @@ class HapticCursor {
   int num_bubbles_ = 0;  // non-zero corrections
   bool bubbles_fitted_ = false;
   void fit_cell_bubbles();
-  void add_bubbles(const std::array<double, 3>& s, const double (&B)[3][4],
-                   const double (&dB)[3][4], std::array<double, 3>* value,
+  void add_bubbles(const double (&m)[3], const double (&dm)[3], const double (&v)[3][2],
+                   const double (&dv)[3][2], std::array<double, 3>* value,
                    std::array<double, 9>* slope) const;
   // Contact: every corner has a depth model and the sphere may be shallower than the blending
   // band somewhere in the cell (docs/playback.md, "Contact onset").

@@ -401,6 +401,17 @@ void HapticCursor::fit_cell_bubbles() {
   if (!f.midpoint_force) return;
   const double* h = f.meta->spacing;
   auto interpolant = [&](const std::array<double, 3>& t, double* out) {
+    if (scheme_ == Scheme::kTrilinear) {
+      for (int r = 0; r < 3; ++r) out[r] = 0.0;
+      for (int c = 0; c < 8; ++c) {
+        const auto o = corner_offset(c);
+        const double w =
+            (o[0] ? t[0] : 1 - t[0]) * (o[1] ? t[1] : 1 - t[1]) * (o[2] ? t[2] : 1 - t[2]);
+        if (w == 0.0) continue;
+        for (int r = 0; r < 3; ++r) out[r] += w * force_of(c)[r];
+      }
+      return;
+    }
     double B[3][4], dB[3][4];
     hermite_bases(t, h, B, dB);
     // The points are at t in {0, 1/2, 1}: most bases are 0 there.
@@ -450,18 +461,9 @@ void HapticCursor::fit_cell_bubbles() {
 // bubble's factor across its axes is a value basis (B[a][0] or B[a][2]), along them
 // m = 16 t^2 (1 - t)^2 (playback/cell_bubbles.h). Per component: the edges along a as
 // m_a (v_b^T E v_c), the faces normal to a as (F . v_a) m_b m_c, the cell m_x m_y m_z.
-void HapticCursor::add_bubbles(const std::array<double, 3>& s, const double (&B)[3][4],
-                               const double (&dB)[3][4], std::array<double, 3>* value,
+void HapticCursor::add_bubbles(const double (&m)[3], const double (&dm)[3], const double (&v)[3][2],
+                               const double (&dv)[3][2], std::array<double, 3>* value,
                                std::array<double, 9>* slope) const {
-  const double* h = file_.impl().meta->spacing;
-  double m[3], dm[3], v[3][2], dv[3][2];
-  for (int a = 0; a < 3; ++a) {
-    const double t = s[a], u = 1.0 - t;
-    m[a] = 16.0 * t * t * u * u;
-    dm[a] = 32.0 * t * u * (u - t) / h[a];
-    v[a][0] = B[a][0], v[a][1] = B[a][2];
-    dv[a][0] = dB[a][0], dv[a][1] = dB[a][2];
-  }
   for (int r = 0; r < 3; ++r) {
     double f = bubble_cell_[r] * m[0] * m[1] * m[2];
     double g[3] = {bubble_cell_[r] * dm[0] * m[1] * m[2], bubble_cell_[r] * m[0] * dm[1] * m[2],
@@ -602,9 +604,28 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
         slope[3 * r + 2] += B[0][ix] * vz;
       }
   }
-  if (scheme_ == Scheme::kHermite && !bubbles_fitted_) fit_cell_bubbles();
-  if (scheme_ == Scheme::kHermite && num_bubbles_ > 0)
-    add_bubbles(s, B, dB, &value, out.inside_grid ? &slope : nullptr);
+  if (!bubbles_fitted_) fit_cell_bubbles();
+  if (num_bubbles_ > 0) {
+    // Along its axes a bubble is 16 t^2 (1 - t)^2 (Hermite) or the hat 1 - |2 t - 1|
+    // (trilinear); across them the scheme's value basis of its side.
+    double mb[3], dmb[3], v[3][2], dv[3][2];
+    for (int a = 0; a < 3; ++a) {
+      const double t = s[a], u = 1.0 - t, h = m.spacing[a];
+      if (scheme_ == Scheme::kHermite) {
+        mb[a] = 16.0 * t * t * u * u;
+        dmb[a] = 32.0 * t * u * (u - t) / h;
+        v[a][0] = B[a][0], v[a][1] = B[a][2];
+        dv[a][0] = dB[a][0], dv[a][1] = dB[a][2];
+      } else {
+        mb[a] = t < 0.5 ? 2.0 * t : 2.0 * u;
+        dmb[a] = (t < 0.5 ? 2.0 : -2.0) / h;
+        v[a][0] = u, v[a][1] = t;
+        dv[a][0] = -1.0 / h, dv[a][1] = 1.0 / h;
+      }
+    }
+    add_bubbles(mb, dmb, v, dv, &value,
+                scheme_ == Scheme::kHermite && out.inside_grid ? &slope : nullptr);
+  }
   if (scheme_ == Scheme::kTrilinear || !out.inside_grid) slope = k_blend;
   const OnsetBlend onset = onset_ ? apply_onset(B, dB, lin, &value, &slope) : OnsetBlend{};
   if (!out.inside_grid) {

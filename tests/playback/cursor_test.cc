@@ -352,11 +352,10 @@ TEST_F(Cursor, FastMoveWalksTheCellsAndReturnsToRest) {
 }
 
 // With the force recorded half-way through the moves (synthetic.h, add_midpoint_forces), the
-// Hermite force passes through it at every edge midpoint, face centre and cell centre, stays
-// exact at the check-points with the stored stiffness there, its stiffness is the derivative of
-// the force, the error between check-points falls, and the change bound holds; trilinear is
-// unchanged.
-TEST_F(Cursor, HermiteForcePassesThroughTheMidpointForces) {
+// force of either scheme passes through it at every edge midpoint, face centre and cell centre
+// and stays exact at the check-points with the stored stiffness there; the Hermite stiffness is
+// the derivative of the force; the error between check-points falls, and the change bound holds.
+TEST_F(Cursor, ForcePassesThroughTheMidpointForces) {
   const Field field;
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
   playback::Content content = test_util::synthetic_content(field, h);
@@ -365,25 +364,30 @@ TEST_F(Cursor, HermiteForcePassesThroughTheMidpointForces) {
   const fs::path file_path = write(content, "midpoints.bin");
   PlaybackFile file(file_path), plain(plain_file);
   file.verify();
-  HapticCursor cursor(file, Scheme::kHermite);
-  for (int i = -1; i <= 0; ++i)
-    for (int j = -1; j <= 0; ++j)
-      for (int k = -1; k <= 0; ++k)
-        for (int di = 0; di <= 2; ++di)
-          for (int dj = 0; dj <= 2; ++dj)
-            for (int dk = 0; dk <= 2; ++dk) {
-              const Eigen::Vector3d p =
-                  field.origin + Eigen::Vector3d((i + 0.5 * di) * h[0], (j + 0.5 * dj) * h[1],
-                                                 (k + 0.5 * dk) * h[2]);
-              const Force f = cursor.force(arr(p));
-              EXPECT_LT((vec(f.value) - field.force(p)).norm(), 1e-12)
-                  << i << j << k << " + " << di << dj << dk << " halves";
-              if (di % 2 == 0 && dj % 2 == 0 && dk % 2 == 0) {
-                const Eigen::Matrix3d jac = field.jacobian(p);
-                for (int r = 0; r < 3; ++r)
-                  for (int a = 0; a < 3; ++a) EXPECT_NEAR(f.stiffness[3 * r + a], jac(r, a), 1e-12);
+  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    SCOPED_TRACE(scheme == Scheme::kHermite ? "hermite" : "trilinear");
+    HapticCursor cursor(file, scheme);
+    for (int i = -1; i <= 0; ++i)
+      for (int j = -1; j <= 0; ++j)
+        for (int k = -1; k <= 0; ++k)
+          for (int di = 0; di <= 2; ++di)
+            for (int dj = 0; dj <= 2; ++dj)
+              for (int dk = 0; dk <= 2; ++dk) {
+                const Eigen::Vector3d p =
+                    field.origin + Eigen::Vector3d((i + 0.5 * di) * h[0], (j + 0.5 * dj) * h[1],
+                                                   (k + 0.5 * dk) * h[2]);
+                const Force f = cursor.force(arr(p));
+                EXPECT_LT((vec(f.value) - field.force(p)).norm(), 1e-12)
+                    << i << j << k << " + " << di << dj << dk << " halves";
+                if (di % 2 == 0 && dj % 2 == 0 && dk % 2 == 0) {
+                  const Eigen::Matrix3d jac = field.jacobian(p);
+                  for (int r = 0; r < 3; ++r)
+                    for (int a = 0; a < 3; ++a)
+                      EXPECT_NEAR(f.stiffness[3 * r + a], jac(r, a), 1e-12);
+                }
               }
-            }
+  }
+  HapticCursor cursor(file, Scheme::kHermite);
   // The stiffness is the derivative of the force inside a cell.
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.05, 0.95);
@@ -403,14 +407,17 @@ TEST_F(Cursor, HermiteForcePassesThroughTheMidpointForces) {
   }
   const double with = max_error(file, Scheme::kHermite, field, h);
   const double without = max_error(plain, Scheme::kHermite, field, h);
+  const double with_tri = max_error(file, Scheme::kTrilinear, field, h);
+  const double without_tri = max_error(plain, Scheme::kTrilinear, field, h);
   std::printf(
-      "[ info ] Hermite force error between check-points: %.3g N without, %.3g N with "
-      "the midpoint forces\n",
-      without, with);
+      "[ info ] force error between check-points without / with the midpoint forces: Hermite "
+      "%.3g / %.3g N, trilinear %.3g / %.3g N\n",
+      without, with, without_tri, with_tri);
   EXPECT_LT(with, 0.6 * without);  // measured 0.50
-  EXPECT_EQ(max_error(file, Scheme::kTrilinear, field, h),
-            max_error(plain, Scheme::kTrilinear, field, h));
-  EXPECT_LE(test_util::check_bound_along_random_walk(file, Scheme::kHermite, 10000), 1.0);
+  // Trilinear on the half-spacing lattice: the error of a smooth field falls about 4x.
+  EXPECT_LT(with_tri, 0.35 * without_tri);
+  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite})
+    EXPECT_LE(test_util::check_bound_along_random_walk(file, scheme, 10000), 1.0);
 }
 
 // A recorded value is used only where the source's move leads to the configuration the cell
