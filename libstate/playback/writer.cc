@@ -167,7 +167,7 @@ double force_change_bound(const Content& c) {
   const double hmin = std::min({c.meta.spacing[0], c.meta.spacing[1], c.meta.spacing[2]});
   // The bubbles' slope: each correction is clamped to its kind's limit per component, and a
   // bubble's gradient is at most 5.4 per unit of the cell position (3.08 along an axis it
-  // peaks on, 1.5 across).
+  // peaks on, 1.5 across; the trilinear hat's 2 and 1).
   const double* limit = c.meta.bubble_limit;
   const double bubbles =
       std::sqrt(3.0) * 5.4 * (12.0 * limit[0] + 6.0 * limit[1] + limit[2]) / hmin;
