@@ -2,8 +2,10 @@
 // recorded half-way through the moves in the 7 directions of playback::kMidpointOffsets is the
 // force at an edge midpoint, a face centre or a cell centre of the grid. A cell adds to its
 // interpolant one bubble per edge, face and cell whose value is known there, fitted in that order
-// so that the interpolant passes through those values. Every bubble is zero with zero slope at
-// every corner (check-points and their stiffness stay exact), and the bubbles of an edge or face
+// so that the interpolant passes through those values. Every bubble is zero at every corner;
+// the Hermite scheme's (bubble_weight: 16 t^2 (1 - t)^2 along its axes) also with zero slope, so
+// check-points and their stiffness stay exact. The trilinear scheme's hats (1 - |2 t - 1|) take
+// the same values at the 27 points, so one fit serves both. The bubbles of an edge or face
 // depend only on that edge's or face's data (the force stays continuous across faces).
 #pragma once
 

@@ -366,7 +366,7 @@ bool HapticCursor::onset_target(const std::array<double, 3>& t, const double* fe
     for (int r = 0; r < 3; ++r) q[r] += w * per_depth_[c][r];
   }
   for (int r = 0; r < 3; ++r) out[r] = (felt[r] - (1.0 - R) * depth * q[r]) / R;
-  return true;
+  return finite(out, 3);
 }
 
 const double* HapticCursor::force_of(int c) const {
@@ -386,7 +386,7 @@ void HapticCursor::update_coefficients() {
         file_.impl().meta->spacing, [&](int c) { return force_of(c)[r]; },
         [&](int c, int a) { return stiffness_of(c)[3 * r + a]; },
         [&](int x, int y, int z) -> double& { return coef_[x][y][r][z]; });
-  bubbles_fitted_ = false;  // fitted when a Hermite force is asked for in this cell
+  bubbles_fitted_ = false;  // fitted at the first force() in this cell
 }
 
 static_assert(playback::kCellBubbles == 19, "HapticCursor::bubble_ holds one per bubble");
@@ -457,10 +457,11 @@ void HapticCursor::fit_cell_bubbles() {
 }
 
 // Adds the cell's bubbles to the interpolated force and, if `slope` is given, their gradient to
-// its derivative. B, dB: the Hermite bases per axis and their derivatives (per mesh unit): a
-// bubble's factor across its axes is a value basis (B[a][0] or B[a][2]), along them
-// m = 16 t^2 (1 - t)^2 (playback/cell_bubbles.h). Per component: the edges along a as
-// m_a (v_b^T E v_c), the faces normal to a as (F . v_a) m_b m_c, the cell m_x m_y m_z.
+// its derivative. Per axis a: m[a] a bubble's factor along the axes it lies on (16 t^2 (1 - t)^2
+// for Hermite, the hat 1 - |2 t - 1| for trilinear), v[a][o] its factor across them on side o
+// (the scheme's value basis), dm and dv their derivatives per mesh unit. Per component: the
+// edges along a as m_a (v_b^T E v_c), the faces normal to a as (F . v_a) m_b m_c, the cell
+// m_x m_y m_z.
 void HapticCursor::add_bubbles(const double (&m)[3], const double (&dm)[3], const double (&v)[3][2],
                                const double (&dv)[3][2], std::array<double, 3>* value,
                                std::array<double, 9>* slope) const {
