@@ -18,6 +18,12 @@ constexpr std::uint32_t kFresh = 4;  // triple buffer: the middle slot holds an 
 
 std::array<std::int32_t, 3> corner_offset(int c) { return {(c >> 2) & 1, (c >> 1) & 1, c & 1}; }
 
+// Corner c's trilinear weight at cell position t.
+double trilinear_weight(int c, const std::array<double, 3>& t) {
+  const auto o = corner_offset(c);
+  return (o[0] ? t[0] : 1 - t[0]) * (o[1] ? t[1] : 1 - t[1]) * (o[2] ? t[2] : 1 - t[2]);
+}
+
 // Direction index (catalogue/direction.h numbering) of grid offset (di, dj, dk).
 int direction_index(int di, int dj, int dk) {
   const int c = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);
@@ -361,8 +367,7 @@ bool HapticCursor::onset_target(const std::array<double, 3>& t, const double* fe
   if (R < 0.25) return false;
   double q[3] = {0, 0, 0};
   for (int c = 0; c < 8; ++c) {
-    const auto o = corner_offset(c);
-    const double w = (o[0] ? t[0] : 1 - t[0]) * (o[1] ? t[1] : 1 - t[1]) * (o[2] ? t[2] : 1 - t[2]);
+    const double w = trilinear_weight(c, t);
     for (int r = 0; r < 3; ++r) q[r] += w * per_depth_[c][r];
   }
   for (int r = 0; r < 3; ++r) out[r] = (felt[r] - (1.0 - R) * depth * q[r]) / R;
@@ -404,9 +409,7 @@ void HapticCursor::fit_cell_bubbles() {
     if (scheme_ == Scheme::kTrilinear) {
       for (int r = 0; r < 3; ++r) out[r] = 0.0;
       for (int c = 0; c < 8; ++c) {
-        const auto o = corner_offset(c);
-        const double w =
-            (o[0] ? t[0] : 1 - t[0]) * (o[1] ? t[1] : 1 - t[1]) * (o[2] ? t[2] : 1 - t[2]);
+        const double w = trilinear_weight(c, t);
         if (w == 0.0) continue;
         for (int r = 0; r < 3; ++r) out[r] += w * force_of(c)[r];
       }
@@ -654,8 +657,7 @@ void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
   for (int c = 0; c < 8; ++c) {
     const Corner& k = corners_[c];
     const bool secant = onset_ && k.secant;
-    const auto o = corner_offset(c);
-    slot.weight[c] = (o[0] ? s[0] : 1 - s[0]) * (o[1] ? s[1] : 1 - s[1]) * (o[2] ? s[2] : 1 - s[2]);
+    slot.weight[c] = trilinear_weight(c, s);
     slot.corner_configuration[c] = onset.at_rest ? -1 : secant ? k.onset->source : k.displacement;
     slot.corner_shift[c] = k.shift;
     if (!onset_) continue;  // the onset arrays are read only with these flags set
