@@ -1,7 +1,7 @@
 // Playback runtime against the precise solver it replaces (docs/benchmarks.md, "Playback"):
 // haptic force queries along a 1 kHz device path on the liver playback file (trilinear and
-// Hermite), visual frames (snapshot + deform) on the liver surface and on a synthetic
-// 50 653-node mesh, and one precise Newton solve of a liver transition.
+// Hermite) and with a new cell at every query, visual frames (snapshot + deform) on the liver
+// surface and on a synthetic 50 653-node mesh, and one precise Newton solve of a liver transition.
 // Run: build/bench/playback_bench [--benchmark_repetitions=5 ...]; HAPSTATE_PLAYBACK=file
 // measures another playback file for the force queries and the liver frame.
 #include "playback_fixtures.h"
@@ -70,6 +70,28 @@ void BM_ForceQuery(benchmark::State& state, Scheme scheme) {
                  std::to_string(file.num_configurations()) + " configurations");
 }
 
+// The worst case of the haptic path: every query in another cell (two points on either side of a
+// cell face near the rest position), so each call enters a cell and fits its midpoint data
+// (docs/playback.md, "Between the check-points") before it interpolates.
+void BM_CellEntry(benchmark::State& state, Scheme scheme) {
+  const PlaybackFile& file = liver_playback();
+  HapticCursor cursor(file, scheme);
+  std::array<double, 3> a = file.rest_position(), b = a;
+  for (int k = 0; k < 3; ++k) a[k] += 0.3 * file.grid_spacing()[k];
+  b = a;
+  b[0] -= 0.6 * file.grid_spacing()[0];
+  const std::array<double, 3> points[2] = {a, b};
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(cursor.force(points[i]));
+    i ^= 1;
+  }
+  timed_counters(state, 20'000, 1e9, "ns_",
+                 [&](int k) { benchmark::DoNotOptimize(cursor.force(points[k & 1])); });
+  state.SetLabel(std::string(scheme == Scheme::kHermite ? "hermite" : "trilinear") +
+                 ", a new cell every call");
+}
+
 // One frame: the snapshot of a cursor inside a cell (8 corners) and deform() with the scheme
 // (Hermite: the 8 corners' displacements and slopes, 32 arrays).
 void frame(benchmark::State& state, const PlaybackFile& file, const std::string& name,
@@ -124,6 +146,8 @@ void BM_NewtonSolve(benchmark::State& state) {
 
 BENCHMARK_CAPTURE(BM_ForceQuery, trilinear, Scheme::kTrilinear)->Unit(benchmark::kNanosecond);
 BENCHMARK_CAPTURE(BM_ForceQuery, hermite, Scheme::kHermite)->Unit(benchmark::kNanosecond);
+BENCHMARK_CAPTURE(BM_CellEntry, trilinear, Scheme::kTrilinear)->Unit(benchmark::kNanosecond);
+BENCHMARK_CAPTURE(BM_CellEntry, hermite, Scheme::kHermite)->Unit(benchmark::kNanosecond);
 BENCHMARK_CAPTURE(BM_FrameLiver, trilinear, Scheme::kTrilinear)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_FrameLiver, hermite, Scheme::kHermite)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_FrameSynthetic, trilinear, Scheme::kTrilinear)->Unit(benchmark::kMicrosecond);

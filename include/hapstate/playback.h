@@ -165,7 +165,7 @@ class HapticCursor {
   Force force(const std::array<double, 3>& probe);
   void set_scheme(Scheme scheme) {
     scheme_ = scheme;
-    bubbles_fitted_ = false;  // each scheme fits its own
+    fitted_ = false;  // each scheme fits its own
   }
   Scheme scheme() const { return scheme_; }
 
@@ -217,10 +217,12 @@ class HapticCursor {
     double depth = 0;
   };
   OnsetBlend apply_onset(const double (&B)[3][4], const double (&dB)[3][4],
-                         const double (&lin)[3][2], std::array<double, 3>* value,
+                         const std::array<double, 3>& s, std::array<double, 3>* value,
                          std::array<double, 9>* slope) const;
+  void per_depth_at(const std::array<double, 3>& t, double (&q)[3], double (&dq)[3][3]) const;
   double clearance(const double (&B)[3][4], const double (&dB)[3][4], double (&grad)[3]) const;
-  bool onset_target(const std::array<double, 3>& t, const double* felt, double* out) const;
+  bool onset_target(const std::array<double, 3>& t, const double* felt, const double* felt_k,
+                    double* out, double* out_k) const;
   void publish(const std::array<double, 3>& probe, const Force& f, const std::array<double, 3>& s,
                const OnsetBlend& onset);
 
@@ -236,8 +238,13 @@ class HapticCursor {
   double bubble_edge_[3][3][2][2] = {};  // [axis][component][side o1][side o2]
   double bubble_face_[3][3][2] = {};     // [normal][component][side]
   double bubble_cell_[3] = {};
-  int num_bubbles_ = 0;  // non-zero corrections
-  bool bubbles_fitted_ = false;
+  int num_bubbles_ = 0;   // non-zero corrections
+  bool fitted_ = false;   // the midpoint data of this cell (bubbles or lattice) are fitted
+  bool lattice_ = false;  // Hermite with the midpoint stiffness: 8 half-spacing Hermite cells
+  std::array<CellCoefficients, 8> half_coef_{};  // their coefficients (bits x y z as corners)
+  int recorded_midpoint(int k, double* force, double* stiffness) const;
+  void fit_cell();
+  void fit_cell_lattice();
   void fit_cell_bubbles();
   void add_bubbles(const double (&m)[3], const double (&dm)[3], const double (&v)[3][2],
                    const double (&dv)[3][2], std::array<double, 3>* value,

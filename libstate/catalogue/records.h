@@ -128,6 +128,9 @@ struct Transition {
   // The force felt half-way through the move, N (schema 3): solved for the directions whose
   // offsets are all >= 0 when the move reached its target; none otherwise.
   std::optional<std::array<double, 3>> midpoint_force;
+  // The haptic stiffness there, row-major, N per mesh unit (schema 4): with the midpoint force,
+  // when it was computable; none in older rows.
+  std::optional<std::array<double, 9>> midpoint_stiffness;
 
   bool operator==(const Transition&) const = default;
 };

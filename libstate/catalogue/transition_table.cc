@@ -7,10 +7,13 @@ namespace {
 
 #define HAPSTATE_TRANSITION_COLUMNS                                                   \
   "source, direction, outcome, target, substeps, newton_iterations, final_residual, " \
-  "wall_ms, failure_reason, factorisations, midpoint_fx, midpoint_fy, midpoint_fz"
+  "wall_ms, failure_reason, factorisations, midpoint_fx, midpoint_fy, midpoint_fz, "  \
+  "midpoint_k0, midpoint_k1, midpoint_k2, midpoint_k3, midpoint_k4, midpoint_k5, "    \
+  "midpoint_k6, midpoint_k7, midpoint_k8"
 
-constexpr const char* kInsert = "INSERT INTO transition (" HAPSTATE_TRANSITION_COLUMNS
-                                ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
+constexpr const char* kInsert =
+    "INSERT INTO transition (" HAPSTATE_TRANSITION_COLUMNS
+    ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
 constexpr const char* kRead =
     "SELECT " HAPSTATE_TRANSITION_COLUMNS " FROM transition WHERE source = ? AND direction = ?";
 constexpr const char* kOfSource =
@@ -41,6 +44,13 @@ Transition row_to_transition(const catalogue_detail::Statement& s, const std::st
   if (!s.is_null(10) && !s.is_null(11) && !s.is_null(12))
     t.midpoint_force =
         std::array<double, 3>{s.column_double(10), s.column_double(11), s.column_double(12)};
+  bool stiffness = true;
+  for (int k = 0; k < 9; ++k) stiffness = stiffness && !s.is_null(13 + k);
+  if (stiffness) {
+    std::array<double, 9> k{};
+    for (int i = 0; i < 9; ++i) k[i] = s.column_double(13 + i);
+    t.midpoint_stiffness = k;
+  }
   return t;
 }
 
@@ -67,6 +77,13 @@ void Catalogue::insert_transition(const Transition& t) {
       s->bind(11 + k, (*t.midpoint_force)[k]);
     } else {
       s->bind_null(11 + k);
+    }
+  }
+  for (int k = 0; k < 9; ++k) {
+    if (t.midpoint_stiffness) {
+      s->bind(14 + k, (*t.midpoint_stiffness)[k]);
+    } else {
+      s->bind_null(14 + k);
     }
   }
   s->run();

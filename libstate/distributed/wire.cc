@@ -185,6 +185,9 @@ void put(Writer& w, const TransitionSolve& s) {
   w.pod<std::uint8_t>(s.midpoint_force.has_value());
   if (s.midpoint_force)
     for (double f : *s.midpoint_force) w.pod(f);
+  w.pod<std::uint8_t>(s.midpoint_stiffness.has_value());
+  if (s.midpoint_stiffness)
+    for (double k : *s.midpoint_stiffness) w.pod(k);
 }
 
 TransitionSolve get_transition_solve(Reader& r) {
@@ -207,6 +210,11 @@ TransitionSolve get_transition_solve(Reader& r) {
     std::array<double, 3> m{};
     for (double& f : m) f = r.pod<double>();
     s.midpoint_force = m;
+  }
+  if (r.pod<std::uint8_t>() != 0) {
+    std::array<double, 9> k{};
+    for (double& v : k) v = r.pod<double>();
+    s.midpoint_stiffness = k;
   }
   return s;
 }

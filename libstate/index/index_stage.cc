@@ -170,6 +170,14 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
       if (d >= 0)
         std::copy_n(t.midpoint_force->begin(), 3,
                     c.midpoint_force.begin() + 3 * (playback::kMidpointDirections * s->second + d));
+      if (d >= 0 && t.midpoint_stiffness) {
+        if (c.midpoint_stiffness.empty())
+          c.midpoint_stiffness.assign(9 * playback::kMidpointDirections * ordered.size(),
+                                      std::numeric_limits<double>::quiet_NaN());
+        std::copy_n(
+            t.midpoint_stiffness->begin(), 9,
+            c.midpoint_stiffness.begin() + 9 * (playback::kMidpointDirections * s->second + d));
+      }
     }
   }
 

@@ -48,6 +48,85 @@ void hermite_bases(const std::array<double, 3>& s, const double* h, double (&B)[
   }
 }
 
+// A Hermite cell's value and, if `slope` is given, its derivative (row-major, per mesh unit) at
+// the point whose bases per axis are B (derivatives dB; hermite_bases): the tensor product of
+// the coefficients [x][y][r][z] contracted axis by axis (z, then y, then x).
+template <class Coefficients>
+void hermite_contract(const Coefficients& coef, const double (&B)[3][4], const double (&dB)[3][4],
+                      std::array<double, 3>* value, std::array<double, 9>* slope) {
+  double A[4][4][3], Az[4][4][3];
+  for (int ix = 0; ix < 4; ++ix)
+    for (int iy = 0; iy < 4; ++iy)
+      for (int r = 0; r < 3; ++r) {
+        const std::array<double, 4>& t = coef[ix][iy][r];
+        A[ix][iy][r] = B[2][0] * t[0] + B[2][1] * t[1] + B[2][2] * t[2] + B[2][3] * t[3];
+        Az[ix][iy][r] = dB[2][0] * t[0] + dB[2][1] * t[1] + dB[2][2] * t[2] + dB[2][3] * t[3];
+      }
+  *value = {};
+  if (slope) *slope = {};
+  for (int ix = 0; ix < 4; ++ix)
+    for (int r = 0; r < 3; ++r) {
+      double v = 0, vy = 0, vz = 0;
+      for (int iy = 0; iy < 4; ++iy) {
+        v += B[1][iy] * A[ix][iy][r];
+        vy += dB[1][iy] * A[ix][iy][r];
+        vz += B[1][iy] * Az[ix][iy][r];
+      }
+      (*value)[r] += B[0][ix] * v;
+      if (!slope) continue;
+      (*slope)[3 * r] += dB[0][ix] * v;
+      (*slope)[3 * r + 1] += B[0][ix] * vy;
+      (*slope)[3 * r + 2] += B[0][ix] * vz;
+    }
+}
+
+// The same at the 27 lattice points of the cell (cell positions 0, 1/2 and 1 per axis), axis by
+// axis: value[x][y][z][r] and gradient[x][y][z][3 r + a].
+template <class Coefficients>
+void hermite_lattice(const Coefficients& coef, const double* h, double (&value)[3][3][3][3],
+                     double (&gradient)[3][3][3][9]) {
+  double B[3][3][4], dB[3][3][4];  // [axis][lattice index][basis]
+  for (int i = 0; i < 3; ++i) {
+    double b[3][4], db[3][4];
+    hermite_bases({0.5 * i, 0.5 * i, 0.5 * i}, h, b, db);
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 4; ++k) B[a][i][k] = b[a][k], dB[a][i][k] = db[a][k];
+  }
+  double Z[4][4][3][3], dZ[4][4][3][3];  // [x][y][r][k]: z contracted
+  for (int x = 0; x < 4; ++x)
+    for (int y = 0; y < 4; ++y)
+      for (int r = 0; r < 3; ++r) {
+        const std::array<double, 4>& t = coef[x][y][r];
+        for (int k = 0; k < 3; ++k) {
+          Z[x][y][r][k] =
+              B[2][k][0] * t[0] + B[2][k][1] * t[1] + B[2][k][2] * t[2] + B[2][k][3] * t[3];
+          dZ[x][y][r][k] =
+              dB[2][k][0] * t[0] + dB[2][k][1] * t[1] + dB[2][k][2] * t[2] + dB[2][k][3] * t[3];
+        }
+      }
+  for (int j = 0; j < 3; ++j)
+    for (int x = 0; x < 4; ++x)
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) {
+          double v = 0, vy = 0, vz = 0;  // y contracted: value, d/dy, d/dz
+          for (int y = 0; y < 4; ++y) {
+            v += B[1][j][y] * Z[x][y][r][k];
+            vy += dB[1][j][y] * Z[x][y][r][k];
+            vz += B[1][j][y] * dZ[x][y][r][k];
+          }
+          for (int i = 0; i < 3; ++i) {
+            if (x == 0) {
+              value[i][j][k][r] = 0;
+              for (int a = 0; a < 3; ++a) gradient[i][j][k][3 * r + a] = 0;
+            }
+            value[i][j][k][r] += B[0][i][x] * v;
+            gradient[i][j][k][3 * r] += dB[0][i][x] * v;
+            gradient[i][j][k][3 * r + 1] += B[0][i][x] * vy;
+            gradient[i][j][k][3 * r + 2] += B[0][i][x] * vz;
+          }
+        }
+}
+
 bool finite(const double* v, int n) {
   for (int k = 0; k < n; ++k)
     if (!std::isfinite(v[k])) return false;
@@ -306,7 +385,7 @@ double HapticCursor::clearance(const double (&B)[3][4], const double (&dB)[3][4]
 // depth. `value` and `slope` hold F and its derivative on entry.
 HapticCursor::OnsetBlend HapticCursor::apply_onset(const double (&B)[3][4],
                                                    const double (&dB)[3][4],
-                                                   const double (&lin)[3][2],
+                                                   const std::array<double, 3>& s,
                                                    std::array<double, 3>* value,
                                                    std::array<double, 9>* slope) const {
   const double* h = file_.impl().meta->spacing;
@@ -322,19 +401,8 @@ HapticCursor::OnsetBlend HapticCursor::apply_onset(const double (&B)[3][4],
   }
   const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
   if (blend.depth >= band) return blend;
-  // q and dq/dp (trilinear).
-  double q[3] = {0, 0, 0}, dq[3][3] = {};
-  for (int c = 0; c < 8; ++c) {
-    const auto o = corner_offset(c);
-    const double w[3] = {lin[0][o[0]], lin[1][o[1]], lin[2][o[2]]};
-    const double dw[3] = {(o[0] ? 1.0 : -1.0) / h[0] * w[1] * w[2],
-                          (o[1] ? 1.0 : -1.0) / h[1] * w[0] * w[2],
-                          (o[2] ? 1.0 : -1.0) / h[2] * w[0] * w[1]};
-    for (int r = 0; r < 3; ++r) {
-      q[r] += w[0] * w[1] * w[2] * per_depth_[c][r];
-      for (int a = 0; a < 3; ++a) dq[r][a] += dw[a] * per_depth_[c][r];
-    }
-  }
+  double q[3], dq[3][3];
+  per_depth_at(s, q, dq);
   const double x = blend.depth / band;
   const double R = x * x * (3.0 - 2.0 * x), dR = 6.0 * x * (1.0 - x) / band;  // dR / d(depth)
   for (int r = 0; r < 3; ++r) {
@@ -350,11 +418,34 @@ HapticCursor::OnsetBlend HapticCursor::apply_onset(const double (&B)[3][4],
   return blend;
 }
 
+// The corners' force per unit depth q, interpolated trilinearly at cell position t, and its
+// derivative dq[r][a] per mesh unit.
+void HapticCursor::per_depth_at(const std::array<double, 3>& t, double (&q)[3],
+                                double (&dq)[3][3]) const {
+  const double* h = file_.impl().meta->spacing;
+  for (int r = 0; r < 3; ++r) q[r] = dq[r][0] = dq[r][1] = dq[r][2] = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    const double w[3] = {o[0] ? t[0] : 1.0 - t[0], o[1] ? t[1] : 1.0 - t[1],
+                         o[2] ? t[2] : 1.0 - t[2]};
+    const double dw[3] = {(o[0] ? 1.0 : -1.0) / h[0] * w[1] * w[2],
+                          (o[1] ? 1.0 : -1.0) / h[1] * w[0] * w[2],
+                          (o[2] ? 1.0 : -1.0) / h[2] * w[0] * w[1]};
+    for (int r = 0; r < 3; ++r) {
+      q[r] += w[0] * w[1] * w[2] * per_depth_[c][r];
+      for (int a = 0; a < 3; ++a) dq[r][a] += dw[a] * per_depth_[c][r];
+    }
+  }
+}
+
 // The interpolated force F at cell position t for which the onset blend (apply_onset) returns
-// `felt`: (felt - (1 - R) d q) / R. False where the blend barely follows F (R < 1/4, within
-// the first third of the band) or the sphere is clear of the rest body: the bubble is not fitted.
+// `felt`: (felt - (1 - R) d q) / R, and, if `felt_k` is given, the derivative of F for which
+// the blend's derivative is felt_k (row-major, per mesh unit):
+// (felt_k - (1 - R) d(d q)/dp + (F - d q) R' grad d^T) / R. False where the blend barely
+// follows F (R < 1/4, within the first third of the band) or the sphere is clear of the rest
+// body: the value is not fitted.
 bool HapticCursor::onset_target(const std::array<double, 3>& t, const double* felt,
-                                double* out) const {
+                                const double* felt_k, double* out, double* out_k) const {
   if (clear_cell_) return false;
   const double* h = file_.impl().meta->spacing;
   double B[3][4], dB[3][4], grad[3];
@@ -363,15 +454,19 @@ bool HapticCursor::onset_target(const std::array<double, 3>& t, const double* fe
   const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
   if (depth <= 0.0) return false;
   const double x = std::min(depth / band, 1.0);
-  const double R = x * x * (3.0 - 2.0 * x);
+  const double R = x * x * (3.0 - 2.0 * x), dR = 6.0 * x * (1.0 - x) / band;
   if (R < 0.25) return false;
-  double q[3] = {0, 0, 0};
-  for (int c = 0; c < 8; ++c) {
-    const double w = trilinear_weight(c, t);
-    for (int r = 0; r < 3; ++r) q[r] += w * per_depth_[c][r];
-  }
+  double q[3], dq[3][3];
+  per_depth_at(t, q, dq);
   for (int r = 0; r < 3; ++r) out[r] = (felt[r] - (1.0 - R) * depth * q[r]) / R;
-  return finite(out, 3);
+  if (felt_k)
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < 3; ++a) {
+        const double dmodel = -q[r] * grad[a] + depth * dq[r][a];
+        out_k[3 * r + a] =
+            (felt_k[3 * r + a] - (1.0 - R) * dmodel + (out[r] - depth * q[r]) * dR * grad[a]) / R;
+      }
+  return finite(out, 3) && (!felt_k || finite(out_k, 9));
 }
 
 const double* HapticCursor::force_of(int c) const {
@@ -391,18 +486,111 @@ void HapticCursor::update_coefficients() {
         file_.impl().meta->spacing, [&](int c) { return force_of(c)[r]; },
         [&](int c, int a) { return stiffness_of(c)[3 * r + a]; },
         [&](int x, int y, int z) -> double& { return coef_[x][y][r][z]; });
-  bubbles_fitted_ = false;  // fitted at the first force() in this cell
+  fitted_ = false;  // the midpoint data are fitted at the first force() in this cell
 }
 
 static_assert(playback::kCellBubbles == 19, "HapticCursor::bubble_ holds one per bubble");
 
-// A bubble is used when both corners of its move are stored configurations, the source's move
-// in that direction leads to the target corner's configuration (the recorded value belongs to
-// the corners the cell shows) and the value was recorded.
+// What the corners' moves recorded at bubble k's point (an edge midpoint, a face or the cell
+// centre): 0 nothing, 1 the force (into `force`), 2 the force and the stiffness (into
+// `stiffness`, row-major). A value is used when both corners of its move are stored
+// configurations and the source's move in that direction leads to the target corner's
+// configuration (the recorded value belongs to the corners the cell shows).
+int HapticCursor::recorded_midpoint(int k, double* force, double* stiffness) const {
+  const PlaybackFile::Impl& f = file_.impl();
+  if (!f.midpoint_force) return 0;
+  const playback::BubbleSpec b = playback::bubble_spec(k);
+  const std::int32_t source = corners_[b.source_corner].configuration;
+  const std::int32_t target = corners_[b.target_corner].configuration;
+  if (source < 0 || target < 0) return 0;
+  const int* o = playback::kMidpointOffsets[b.direction];
+  if (f.transition(source, direction_index(o[0], o[1], o[2])) != target) return 0;
+  const std::int64_t at = playback::kMidpointDirections * std::int64_t(source) + b.direction;
+  const double* m = f.midpoint_force + 3 * at;
+  if (!finite(m, 3)) return 0;
+  std::copy_n(m, 3, force);
+  if (!f.midpoint_stiffness || !finite(f.midpoint_stiffness + 9 * at, 9)) return 1;
+  std::copy_n(f.midpoint_stiffness + 9 * at, 9, stiffness);
+  return 2;
+}
+
+void HapticCursor::fit_cell() {
+  fitted_ = true;
+  num_bubbles_ = 0;
+  lattice_ = scheme_ == Scheme::kHermite && file_.impl().midpoint_stiffness;
+  if (lattice_) {
+    fit_cell_lattice();
+  } else {
+    fit_cell_bubbles();
+  }
+}
+
+// Hermite with the midpoint stiffness: the cell's 27 lattice points (corners, edge midpoints,
+// face and cell centres) get a value and a gradient each, and each of the 8 half-spacing cells
+// is a cubic Hermite cell of its own (scalar_coefficients). A corner's are its force and
+// stiffness; a midpoint's the recorded ones (in a cell near the contact onset, those the blend
+// turns into them: onset_target), else the cell's Hermite interpolant's there. A recorded value
+// differs from that interpolant by at most the bubble limit per component and a recorded
+// stiffness entry by at most the stiffness limit (Meta): the change bound stays valid. A point
+// on a face or an edge depends only on the data of that face or edge, so the force stays
+// continuous across faces.
+void HapticCursor::fit_cell_lattice() {
+  const playback::Meta& m = *file_.impl().meta;
+  double value[3][3][3][3], gradient[3][3][3][9];
+  hermite_lattice(coef_, m.spacing, value, gradient);  // the fallback at the midpoints
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    std::copy_n(force_of(c), 3, value[2 * o[0]][2 * o[1]][2 * o[2]]);
+    std::copy_n(stiffness_of(c), 9, gradient[2 * o[0]][2 * o[1]][2 * o[2]]);
+  }
+  for (int k = 0; k < playback::kCellBubbles; ++k) {
+    const playback::BubbleSpec b = playback::bubble_spec(k);
+    const int x = int(2 * b.point[0]), y = int(2 * b.point[1]), z = int(2 * b.point[2]);
+    double* v = value[x][y][z];
+    double* g = gradient[x][y][z];
+    double felt[3], felt_k[9], target[3], target_k[9];
+    const int recorded = recorded_midpoint(k, felt, felt_k);
+    bool fitted = recorded > 0;
+    if (fitted && onset_) {
+      fitted = onset_target(b.point, felt, recorded == 2 ? felt_k : nullptr, target, target_k);
+    } else if (fitted) {
+      std::copy_n(felt, 3, target);
+      if (recorded == 2) std::copy_n(felt_k, 9, target_k);
+    }
+    if (fitted) {
+      const double bound = m.bubble_limit[static_cast<int>(b.kind)];
+      for (int r = 0; r < 3; ++r) v[r] += std::clamp(target[r] - v[r], -bound, bound);
+      if (recorded == 2)
+        for (int e = 0; e < 9; ++e)
+          g[e] = std::clamp(target_k[e], -m.stiffness_limit, m.stiffness_limit);
+    }
+  }
+  const double half[3] = {0.5 * m.spacing[0], 0.5 * m.spacing[1], 0.5 * m.spacing[2]};
+  for (int sub = 0; sub < 8; ++sub) {
+    const auto so = corner_offset(sub);
+    auto point = [&](int c) {
+      const auto o = corner_offset(c);
+      return std::array<int, 3>{so[0] + o[0], so[1] + o[1], so[2] + o[2]};
+    };
+    for (int r = 0; r < 3; ++r)
+      scalar_coefficients(
+          half,
+          [&](int c) {
+            const auto p = point(c);
+            return value[p[0]][p[1]][p[2]][r];
+          },
+          [&](int c, int a) {
+            const auto p = point(c);
+            return gradient[p[0]][p[1]][p[2]][3 * r + a];
+          },
+          [&](int x, int y, int z) -> double& { return half_coef_[sub][x][y][r][z]; });
+  }
+}
+
+// The bubbles toward the recorded forces (trilinear, or Hermite in a file without the midpoint
+// stiffness): fitted edges first, then faces, then the cell.
 void HapticCursor::fit_cell_bubbles() {
   const PlaybackFile::Impl& f = file_.impl();
-  num_bubbles_ = 0;
-  bubbles_fitted_ = true;
   if (!f.midpoint_force) return;
   const double* h = f.meta->spacing;
   auto interpolant = [&](const std::array<double, 3>& t, double* out) {
@@ -417,32 +605,15 @@ void HapticCursor::fit_cell_bubbles() {
     }
     double B[3][4], dB[3][4];
     hermite_bases(t, h, B, dB);
-    // The points are at t in {0, 1/2, 1}: most bases are 0 there.
-    for (int r = 0; r < 3; ++r) out[r] = 0.0;
-    for (int x = 0; x < 4; ++x) {
-      if (B[0][x] == 0.0) continue;
-      for (int y = 0; y < 4; ++y) {
-        if (B[1][y] == 0.0) continue;
-        for (int z = 0; z < 4; ++z) {
-          if (B[2][z] == 0.0) continue;
-          const double w = B[0][x] * B[1][y] * B[2][z];
-          for (int r = 0; r < 3; ++r) out[r] += w * coef_[x][y][r][z];
-        }
-      }
-    }
+    std::array<double, 3> v{};
+    hermite_contract(coef_, B, dB, &v, nullptr);
+    std::copy_n(v.data(), 3, out);
   };
   auto recorded = [&](int k, double* out) {
-    const playback::BubbleSpec b = playback::bubble_spec(k);
-    const std::int32_t source = corners_[b.source_corner].configuration;
-    const std::int32_t target = corners_[b.target_corner].configuration;
-    if (source < 0 || target < 0) return false;
-    const int* o = playback::kMidpointOffsets[b.direction];
-    if (f.transition(source, direction_index(o[0], o[1], o[2])) != target) return false;
-    const double* m =
-        f.midpoint_force + 3 * (playback::kMidpointDirections * std::int64_t(source) + b.direction);
-    if (!finite(m, 3)) return false;
-    if (onset_) return onset_target(b.point, m, out);
-    std::copy_n(m, 3, out);
+    double felt[3], felt_k[9];
+    if (recorded_midpoint(k, felt, felt_k) == 0) return false;
+    if (onset_) return onset_target(playback::bubble_spec(k).point, felt, nullptr, out, nullptr);
+    std::copy_n(felt, 3, out);
     return true;
   };
   playback::fit_bubbles(interpolant, recorded, f.meta->bubble_limit, &bubble_);
@@ -584,31 +755,23 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
     if (scheme_ == Scheme::kTrilinear)
       for (int r = 0; r < 3; ++r) value[r] += w * force_of(c)[r];
   }
-  if (scheme_ == Scheme::kHermite) {
-    // Contract the tensor product axis by axis: z (value and derivative), then y, then x.
-    double A[4][4][3], Az[4][4][3];
-    for (int ix = 0; ix < 4; ++ix)
-      for (int iy = 0; iy < 4; ++iy)
-        for (int r = 0; r < 3; ++r) {
-          const std::array<double, 4>& t = coef_[ix][iy][r];
-          A[ix][iy][r] = B[2][0] * t[0] + B[2][1] * t[1] + B[2][2] * t[2] + B[2][3] * t[3];
-          Az[ix][iy][r] = dB[2][0] * t[0] + dB[2][1] * t[1] + dB[2][2] * t[2] + dB[2][3] * t[3];
-        }
-    for (int ix = 0; ix < 4; ++ix)
-      for (int r = 0; r < 3; ++r) {
-        double v = 0, vy = 0, vz = 0;
-        for (int iy = 0; iy < 4; ++iy) {
-          v += B[1][iy] * A[ix][iy][r];
-          vy += dB[1][iy] * A[ix][iy][r];
-          vz += B[1][iy] * Az[ix][iy][r];
-        }
-        value[r] += B[0][ix] * v;
-        slope[3 * r] += dB[0][ix] * v;
-        slope[3 * r + 1] += B[0][ix] * vy;
-        slope[3 * r + 2] += B[0][ix] * vz;
-      }
+  if (!fitted_) fit_cell();
+  if (lattice_) {
+    // The half-spacing cell holding the probe (docs/playback.md, "Between the check-points").
+    int sub = 0;
+    std::array<double, 3> t{};
+    double half[3], Bh[3][4], dBh[3][4];
+    for (int a = 0; a < 3; ++a) {
+      const int side = s[a] >= 0.5 ? 1 : 0;
+      sub |= side << (2 - a);
+      t[a] = std::min(2.0 * s[a] - side, 1.0);
+      half[a] = 0.5 * m.spacing[a];
+    }
+    hermite_bases(t, half, Bh, dBh);
+    hermite_contract(half_coef_[sub], Bh, dBh, &value, &slope);
+  } else if (scheme_ == Scheme::kHermite) {
+    hermite_contract(coef_, B, dB, &value, &slope);
   }
-  if (!bubbles_fitted_) fit_cell_bubbles();
   if (num_bubbles_ > 0) {
     // Along its axes a bubble is 16 t^2 (1 - t)^2 (Hermite) or the hat 1 - |2 t - 1|
     // (trilinear); across them the scheme's value basis of its side.
@@ -631,7 +794,7 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
                 scheme_ == Scheme::kHermite && out.inside_grid ? &slope : nullptr);
   }
   if (scheme_ == Scheme::kTrilinear || !out.inside_grid) slope = k_blend;
-  const OnsetBlend onset = onset_ ? apply_onset(B, dB, lin, &value, &slope) : OnsetBlend{};
+  const OnsetBlend onset = onset_ ? apply_onset(B, dB, s, &value, &slope) : OnsetBlend{};
   if (!out.inside_grid) {
     for (int r = 0; r < 3; ++r)
       for (int a = 0; a < 3; ++a) value[r] += slope[3 * r + a] * (probe[a] - p_clamped[a]);

@@ -54,6 +54,8 @@ std::string section_name(SectionId id) {
       return "onset corners";
     case SectionId::kMidpointForce:
       return "midpoint force";
+    case SectionId::kMidpointStiffness:
+      return "midpoint stiffness";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -183,6 +185,14 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     fail("section 'midpoint force' has " + std::to_string(midpoint_bytes) +
          " bytes, the header implies 0 or " +
          std::to_string(24 * playback::kMidpointDirections * n));
+  const std::uint64_t midpoint_k_bytes = bytes[static_cast<int>(SectionId::kMidpointStiffness)];
+  if (midpoint_k_bytes != 0 &&
+      (midpoint_bytes == 0 || midpoint_k_bytes != 72 * playback::kMidpointDirections * n))
+    fail("section 'midpoint stiffness' has " + std::to_string(midpoint_k_bytes) +
+         " bytes, the header implies 0 or " +
+         std::to_string(midpoint_bytes == 0 ? 0 : 72 * playback::kMidpointDirections * n));
+  if (!(m2.stiffness_limit >= 0) || !std::isfinite(m2.stiffness_limit))
+    fail("meta: stiffness limit is not a finite number >= 0");
   for (int k = 0; k < 3; ++k)
     if (!(m2.bubble_limit[k] >= 0) || !std::isfinite(m2.bubble_limit[k]))
       fail("meta: bubble limit " + std::to_string(k) + " is not a finite number >= 0");
@@ -206,6 +216,8 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     f.slopes = reinterpret_cast<const float*>(section(SectionId::kDisplacementSlopes));
   if (midpoint_bytes != 0)
     f.midpoint_force = reinterpret_cast<const double*>(section(SectionId::kMidpointForce));
+  if (midpoint_k_bytes != 0)
+    f.midpoint_stiffness = reinterpret_cast<const double*>(section(SectionId::kMidpointStiffness));
   if (contact) {
     f.clearance = reinterpret_cast<const double*>(section(SectionId::kClearance));
     f.onset = reinterpret_cast<const playback::OnsetCorner*>(section(SectionId::kOnset));
@@ -266,6 +278,10 @@ void PlaybackFile::verify() const {
     if (std::isinf(f.midpoint_force[k]))
       fail("configuration " + std::to_string(k / (3 * playback::kMidpointDirections)) +
            ": midpoint force infinite");
+  for (std::int64_t k = 0; f.midpoint_stiffness && k < 9 * playback::kMidpointDirections * n; ++k)
+    if (std::isinf(f.midpoint_stiffness[k]))
+      fail("configuration " + std::to_string(k / (9 * playback::kMidpointDirections)) +
+           ": midpoint stiffness infinite");
   for (std::int64_t g = 0; f.clearance && g < points; ++g)
     if (!finite(f.clearance + 4 * g, 4))
       fail("check-point " + std::to_string(g) + ": clearance not finite");

@@ -32,6 +32,8 @@ struct PlaybackFile::Impl {
   const playback::OnsetCorner* onset = nullptr;  // 1 per configuration; nullptr: a grab file
   // 3 x kMidpointDirections per configuration (NaN: none); nullptr: the file has none.
   const double* midpoint_force = nullptr;
+  // 9 x kMidpointDirections per configuration (NaN: none); nullptr: the file has none.
+  const double* midpoint_stiffness = nullptr;
 
   // Linear index of grid point ijk (absolute grid indices), or -1 outside the grid.
   std::int32_t point_index(const std::array<std::int32_t, 3>& ijk) const {

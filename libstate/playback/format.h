@@ -1,5 +1,5 @@
 // The playback file's layout on disk (docs/playback.md): little-endian, a 64-byte header,
-// a table of sections, every section's data 64-byte aligned. Version 5 (kVersion).
+// a table of sections, every section's data 64-byte aligned. Version 6 (kVersion).
 //
 //   header | section table | section data ...
 //
@@ -17,8 +17,8 @@ static_assert(std::endian::native == std::endian::little,
               "the playback file is little-endian and mapped as is");
 
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
-// 3: displacement slopes, 4: clearance, 5: midpoint forces
-inline constexpr std::uint32_t kVersion = 5;
+// 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness
+inline constexpr std::uint32_t kVersion = 6;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -61,8 +61,12 @@ enum class SectionId : std::uint32_t {
   // move in each of the kMidpointOffsets directions, NaN where none was solved (docs/playback.md,
   // "Between the check-points"); empty when the state space recorded none.
   kMidpointForce = 16,
+  // float64 x 9 x kMidpointDirections per configuration, N per mesh unit, row-major: the haptic
+  // stiffness at the same points, NaN where none was solved; empty when the state space
+  // recorded none (the cursor then fits bubbles to the midpoint forces instead).
+  kMidpointStiffness = 17,
 };
-inline constexpr int kSectionCount = 16;
+inline constexpr int kSectionCount = 17;
 
 // The directions whose moves record the force half-way (offsets all >= 0): per configuration,
 // one edge, face and cell of the grid seen from their lowest corner.
@@ -132,6 +136,9 @@ struct Meta {
   // N: the largest correction (per component) of an edge's, a face's and a cell's bubble
   // (playback/cell_bubbles.h); all 0 when kMidpointForce is empty.
   double bubble_limit[3];
+  // N per mesh unit: the largest |entry| of any stored stiffness (configurations and midpoints);
+  // the cursor clamps the stiffness it fits at a midpoint to it. 0 without kMidpointStiffness.
+  double stiffness_limit;
   std::int32_t lo[3];       // grid index of the first grid point per axis
   std::int32_t dims[3];     // grid points per axis, >= 1
   std::int32_t probe_mode;  // ProbeModeCode
@@ -145,6 +152,6 @@ struct Meta {
   std::uint64_t scene_hash;              // XXH64 of the scene text
   std::uint64_t source_hash;             // of what the index was built from (hapstate-index skips)
 };
-static_assert(sizeof(Meta) == 192);
+static_assert(sizeof(Meta) == 200);
 
 }  // namespace hapstate::playback

@@ -91,6 +91,11 @@ void check_content(const Content& c, const std::filesystem::path& file) {
     bad("midpoint force table size");
   for (double v : c.midpoint_force)
     if (std::isinf(v)) bad("a midpoint force is infinite");
+  if (!c.midpoint_stiffness.empty() &&
+      (c.midpoint_force.empty() || c.midpoint_stiffness.size() != 9 * kMidpointDirections * n))
+    bad("midpoint stiffness table size");
+  for (double v : c.midpoint_stiffness)
+    if (std::isinf(v)) bad("a midpoint stiffness is infinite");
 }
 
 // Catalogue direction index of grid offset o (catalogue/direction.h numbering).
@@ -171,7 +176,18 @@ double force_change_bound(const Content& c) {
   const double* limit = c.meta.bubble_limit;
   const double bubbles =
       std::sqrt(3.0) * 5.4 * (12.0 * limit[0] + 6.0 * limit[1] + limit[2]) / hmin;
-  return 4.0 * std::sqrt(3.0) * (slope + stiffness) * (hmax / hmin) + bubbles;
+  const double corners = 4.0 * std::sqrt(3.0) * (slope + stiffness) * (hmax / hmin);
+  if (c.midpoint_stiffness.empty()) return corners + bubbles;
+  // Hermite on the half-spacing cells: the same bound with the lattice's data. A lattice
+  // point's value is the corners' interpolant there plus a correction of at most the bubble
+  // limit per component, so two points differ by at most corners x their distance plus
+  // 2 sqrt(3) max(limit) (their distance is at least h_min / 2); its gradient is a clamped
+  // stored stiffness (Frobenius norm <= 3 stiffness_limit) or that interpolant's.
+  const double lambda = std::max({limit[0], limit[1], limit[2]});
+  const double lattice_slope = corners + 4.0 * std::sqrt(3.0) * lambda / hmin;
+  const double lattice_stiffness = std::max(3.0 * c.meta.stiffness_limit, corners);
+  return std::max(corners + bubbles,
+                  4.0 * std::sqrt(3.0) * (lattice_slope + lattice_stiffness) * (hmax / hmin));
 }
 
 void write_file(Content c, const std::filesystem::path& file) {
@@ -183,6 +199,13 @@ void write_file(Content c, const std::filesystem::path& file) {
   c.meta.num_triangles = static_cast<std::int32_t>(c.triangles.size() / 3);
   const std::array<double, 3> limit = bubble_limits(c);
   std::copy(limit.begin(), limit.end(), c.meta.bubble_limit);
+  c.meta.stiffness_limit = 0.0;
+  if (!c.midpoint_stiffness.empty()) {
+    for (double k : c.stiffness)
+      c.meta.stiffness_limit = std::max(c.meta.stiffness_limit, std::abs(k));
+    for (double k : c.midpoint_stiffness)
+      if (std::isfinite(k)) c.meta.stiffness_limit = std::max(c.meta.stiffness_limit, std::abs(k));
+  }
   c.meta.force_change_bound = force_change_bound(c);
   c.meta.has_displacement_slopes = c.displacement_slopes ? 1 : 0;
   const std::uint64_t slope_floats = c.displacement_slopes ? 9 * v : 0;
@@ -221,6 +244,8 @@ void write_file(Content c, const std::filesystem::path& file) {
        sizeof(OnsetCorner) * c.onset.size()},
       {SectionId::kMidpointForce, 24 * kMidpointDirections, bytes_of(c.midpoint_force),
        8 * c.midpoint_force.size()},
+      {SectionId::kMidpointStiffness, 72 * kMidpointDirections, bytes_of(c.midpoint_stiffness),
+       8 * c.midpoint_stiffness.size()},
   };
 
   std::filesystem::path tmp = file;

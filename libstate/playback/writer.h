@@ -28,6 +28,9 @@ struct Content {
   std::vector<OnsetCorner> onset;       // contact: 1 per configuration (onset_model.h); grab: empty
   // 3 x kMidpointDirections per configuration (NaN: none), or empty: none recorded.
   std::vector<double> midpoint_force;
+  // 9 x kMidpointDirections per configuration (NaN: none), or empty: none recorded (then also
+  // when midpoint_force is empty).
+  std::vector<double> midpoint_stiffness;
   // Fills `out` (3 per view node) with the displacements of configuration c.
   std::function<void(std::int32_t c, std::span<float> out)> displacements;
   // Fills `out` (9 per view node: the x, y, z arrays of 3 per view node) with the

@@ -46,6 +46,7 @@ BatchDecision decide_batch(const std::vector<TransitionTask>& tasks,
     }
     t.outcome = TransitionOutcome::kReached;
     t.midpoint_force = solve.midpoint_force;
+    t.midpoint_stiffness = solve.midpoint_stiffness;
     // Compare with every level at the target, stored or new in this batch.
     const std::vector<double> summary = settings.sketch->summary(solve.vectors.u);
     // Sticking contact: levels with a different touched set are never equal, so the bound may

@@ -71,7 +71,10 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
   if (!task.source.blob && probe_.trivial_move(task.from, task.to)) {
     // The zero configuration moved past the body: still at rest, nothing touched.
     out.trivial = true;
-    if (records_midpoint(task.direction)) out.midpoint_force = std::array<double, 3>{};
+    if (records_midpoint(task.direction)) {
+      out.midpoint_force = std::array<double, 3>{};
+      out.midpoint_stiffness = std::array<double, 9>{};
+    }
     out.vectors.u.assign(solver.num_dofs(), 0.0);
     out.vectors.t.assign(probe_.layout().t_size(0), 0.0);  // the layout of a stored zero state
     out.vectors.h.assign(probe_.layout().h_size(0), 0.0);
@@ -79,13 +82,23 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
   }
   probe_.set_state(solver, source_vectors(worker, task.source), task.from);
   if (records_midpoint(task.direction)) {
-    // Half-way first: the force there is the interpolant's value between check-points. The
-    // second half starts from it; a half that fails is not recorded, and the move is then
-    // solved whole from the source as any other.
-    const MoveResult half = probe_.move_to(solver, 0.5 * (task.from + task.to));
+    // Half-way first: the force and the haptic stiffness there are the interpolant's values
+    // between check-points. The second half starts from it (the stiffness's factorisation does
+    // not change it: each sub-step's predictor assembles and factorises anew); a half that
+    // fails is not recorded, and the move is then solved whole from the source as any other.
+    MoveResult half = probe_.move_to(solver, 0.5 * (task.from + task.to));
     if (half.ok) {
       const Eigen::Vector3d f = solver.force_felt();
       out.midpoint_force = std::array<double, 3>{f.x(), f.y(), f.z()};
+      const long long before = solver.timings().factorizations;
+      const Eigen::Matrix3d k = solver.haptic_stiffness();
+      half.factorisations += static_cast<int>(solver.timings().factorizations - before);
+      if (k.allFinite()) {
+        std::array<double, 9> row_major{};
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) row_major[3 * r + c] = k(r, c);
+        out.midpoint_stiffness = row_major;
+      }
       out.move = probe_.move_to(solver, task.to);
       add_cost(half, false, &out.move);
     } else {
@@ -93,7 +106,7 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
       out.move = probe_.move_to(solver, task.to);
       add_cost(half, true, &out.move);
     }
-    if (!out.move.ok) out.midpoint_force.reset();
+    if (!out.move.ok) out.midpoint_force.reset(), out.midpoint_stiffness.reset();
   } else {
     out.move = probe_.move_to(solver, task.to);
   }

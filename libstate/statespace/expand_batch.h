@@ -43,6 +43,7 @@ struct TransitionSolve {
   std::array<double, 3> force{};  // felt by the user, N
   // Felt half-way through the move (directions with offsets >= 0, when that half converged).
   std::optional<std::array<double, 3>> midpoint_force;
+  std::optional<std::array<double, 9>> midpoint_stiffness;  // the haptic stiffness there
 };
 
 // Whether a move in `direction` stops half-way to record the force there (Transition::

@@ -46,6 +46,7 @@ TEST(Wire, TransitionResultRoundTrips) {
   s.vectors = some_vectors(2);
   s.force = {0.1, -0.2, 0.3};
   s.midpoint_force = std::array<double, 3>{0.05, -0.1, 0.15};
+  s.midpoint_stiffness = std::array<double, 9>{-1, 0.2, 0, 0.2, -1.5, 0, 0, 0, -2.5};
   wire::Writer w;
   wire::put(w, s);
   wire::Reader r(w.bytes().data(), w.bytes().size());
@@ -68,6 +69,7 @@ TEST(Wire, TransitionResultRoundTrips) {
   expect_equal(t.vectors, s.vectors);
   EXPECT_EQ(t.force, s.force);
   EXPECT_EQ(t.midpoint_force, s.midpoint_force);
+  EXPECT_EQ(t.midpoint_stiffness, s.midpoint_stiffness);
 }
 
 TEST(Wire, TransitionChunkRoundTripsWithSharedSources) {

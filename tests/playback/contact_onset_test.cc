@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <random>
+#include <string>
 
 namespace hapstate {
 namespace {
@@ -36,6 +37,9 @@ struct Plane {
   double gap(const Eigen::Vector3d& p) const { return n.dot(p - x0); }
   double depth(const Eigen::Vector3d& p) const { return std::max(0.0, -gap(p)); }
   Eigen::Vector3d force(const Eigen::Vector3d& p) const { return k * depth(p) * d; }
+  Eigen::Matrix3d jacobian(const Eigen::Vector3d& p) const {
+    return gap(p) < 0 ? Eigen::Matrix3d(-k * d * n.transpose()) : Eigen::Matrix3d::Zero();
+  }
   Eigen::Vector3d u(int v, const Eigen::Vector3d& p) const {
     return depth(p) * Eigen::Vector3d(0.1 * (v + 1), 0.05, -0.02 * v);
   }
@@ -171,29 +175,33 @@ TEST_F(ContactOnset, ForceAndDisplacementsAreExactAcrossTheOnset) {
   }
 }
 
-// The force recorded half-way through the moves (0 where the sphere is clear there) is fitted
-// to what the onset blend returns, not to the interpolated force it blends: the plane stays
-// exact with it, in the cut cells too. Fitted to the interpolated force directly, the zeros
-// at clear midpoints would bend it (the file without clearance shows the size of such errors).
+// The force (and stiffness) recorded half-way through the moves (0 where the sphere is clear
+// there) is fitted to what the onset blend returns, not to the interpolated force it blends:
+// the plane stays exact with it, in the cut cells too, with the bubbles (forces only) and with
+// the half-spacing Hermite cells (forces and stiffness). Fitted to the interpolated force
+// directly, the zeros at clear midpoints would bend it (the file without clearance shows the
+// size of such errors).
 TEST_F(ContactOnset, MidpointForcesKeepTheOnsetExact) {
   const Plane plane;
-  playback::Content content = plane_content(plane, false);
-  test_util::add_midpoint_forces(&content, plane);
-  PlaybackFile file(write(std::move(content), "midpoints.bin"));
-  file.verify();
   const double f_max = plane.k * 2.0 * plane.d.norm();
-  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
-    SCOPED_TRACE(scheme == Scheme::kHermite ? "hermite" : "trilinear");
-    const Errors e = walk(file, plane, scheme);
-    std::printf("onset with midpoint forces: force %.3g, clear %.3g, stiffness %.3g N/-\n", e.force,
-                e.clear_force, e.stiffness);
-    EXPECT_GT(e.cut_cells, 50);
-    EXPECT_EQ(e.clear_force, 0.0);
-    EXPECT_LE(e.force, 1e-12 * f_max);
-    if (scheme == Scheme::kHermite) {
-      EXPECT_LE(e.stiffness, 1e-10 * plane.k);
+  for (const bool stiffness : {false, true})
+    for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+      playback::Content content = plane_content(plane, false);
+      test_util::add_midpoint_forces(&content, plane, stiffness);
+      PlaybackFile file(write(std::move(content), "midpoints.bin"));
+      file.verify();
+      SCOPED_TRACE(std::string(scheme == Scheme::kHermite ? "hermite" : "trilinear") +
+                   (stiffness ? ", midpoint stiffness" : ", midpoint forces"));
+      const Errors e = walk(file, plane, scheme);
+      std::printf("onset with midpoint %s: force %.3g, clear %.3g, stiffness %.3g N/-\n",
+                  stiffness ? "stiffness" : "forces", e.force, e.clear_force, e.stiffness);
+      EXPECT_GT(e.cut_cells, 50);
+      EXPECT_EQ(e.clear_force, 0.0);
+      EXPECT_LE(e.force, 1e-12 * f_max);
+      if (scheme == Scheme::kHermite) {
+        EXPECT_LE(e.stiffness, 1e-10 * plane.k);
+      }
     }
-  }
 }
 
 TEST_F(ContactOnset, WithoutTheClearanceTheKinkIsSmoothedOverTheCell) {

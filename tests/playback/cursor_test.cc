@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 #include <thread>
 
 namespace hapstate {
@@ -351,78 +352,119 @@ TEST_F(Cursor, FastMoveWalksTheCellsAndReturnsToRest) {
   EXPECT_EQ(vec(slow.force(arr(field_.origin)).value).norm(), 0.0);
 }
 
-// With the force recorded half-way through the moves (synthetic.h, add_midpoint_forces), the
-// force of either scheme passes through it at every edge midpoint, face centre and cell centre
-// and stays exact at the check-points with the stored stiffness there; the Hermite stiffness is
-// the derivative of the force; the error between check-points falls, and the change bound holds.
+// With the force (and stiffness) recorded half-way through the moves (synthetic.h,
+// add_midpoint_forces), the force of either scheme passes through it at every edge midpoint,
+// face centre and cell centre and stays exact at the check-points with the stored stiffness
+// there (Hermite with the midpoint stiffness: at the midpoints too); the Hermite stiffness is the
+// derivative of the force; the error between check-points falls, and the change bound holds.
 TEST_F(Cursor, ForcePassesThroughTheMidpointForces) {
   const Field field;
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
   playback::Content content = test_util::synthetic_content(field, h);
   const fs::path plain_file = write(content, "plain.bin");
-  test_util::add_midpoint_forces(&content, field);
-  const fs::path file_path = write(content, "midpoints.bin");
-  PlaybackFile file(file_path), plain(plain_file);
-  file.verify();
-  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
-    SCOPED_TRACE(scheme == Scheme::kHermite ? "hermite" : "trilinear");
-    HapticCursor cursor(file, scheme);
-    for (int i = -1; i <= 0; ++i)
-      for (int j = -1; j <= 0; ++j)
-        for (int k = -1; k <= 0; ++k)
-          for (int di = 0; di <= 2; ++di)
-            for (int dj = 0; dj <= 2; ++dj)
-              for (int dk = 0; dk <= 2; ++dk) {
-                const Eigen::Vector3d p =
-                    field.origin + Eigen::Vector3d((i + 0.5 * di) * h[0], (j + 0.5 * dj) * h[1],
-                                                   (k + 0.5 * dk) * h[2]);
-                const Force f = cursor.force(arr(p));
-                EXPECT_LT((vec(f.value) - field.force(p)).norm(), 1e-12)
-                    << i << j << k << " + " << di << dj << dk << " halves";
-                if (di % 2 == 0 && dj % 2 == 0 && dk % 2 == 0) {
-                  const Eigen::Matrix3d jac = field.jacobian(p);
-                  for (int r = 0; r < 3; ++r)
-                    for (int a = 0; a < 3; ++a)
-                      EXPECT_NEAR(f.stiffness[3 * r + a], jac(r, a), 1e-12);
+  test_util::add_midpoint_forces(&content, field, false);
+  const fs::path bubbles_file = write(content, "bubbles.bin");
+  test_util::add_midpoint_forces(&content, field, true);
+  const fs::path lattice_file = write(content, "lattice.bin");
+  PlaybackFile plain(plain_file), bubbles(bubbles_file), lattice(lattice_file);
+  bubbles.verify();
+  lattice.verify();
+  for (const PlaybackFile* file : {&bubbles, &lattice})
+    for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+      const bool half_cells = file == &lattice && scheme == Scheme::kHermite;
+      SCOPED_TRACE(std::string(scheme == Scheme::kHermite ? "hermite" : "trilinear") +
+                   (file == &lattice ? ", midpoint stiffness" : ", midpoint forces"));
+      HapticCursor cursor(*file, scheme);
+      for (int i = -1; i <= 0; ++i)
+        for (int j = -1; j <= 0; ++j)
+          for (int k = -1; k <= 0; ++k)
+            for (int di = 0; di <= 2; ++di)
+              for (int dj = 0; dj <= 2; ++dj)
+                for (int dk = 0; dk <= 2; ++dk) {
+                  const Eigen::Vector3d p =
+                      field.origin + Eigen::Vector3d((i + 0.5 * di) * h[0], (j + 0.5 * dj) * h[1],
+                                                     (k + 0.5 * dk) * h[2]);
+                  const Force f = cursor.force(arr(p));
+                  EXPECT_LT((vec(f.value) - field.force(p)).norm(), 1e-12)
+                      << i << j << k << " + " << di << dj << dk << " halves";
+                  if (half_cells || (di % 2 == 0 && dj % 2 == 0 && dk % 2 == 0)) {
+                    const Eigen::Matrix3d jac = field.jacobian(p);
+                    for (int r = 0; r < 3; ++r)
+                      for (int a = 0; a < 3; ++a)
+                        EXPECT_NEAR(f.stiffness[3 * r + a], jac(r, a), 1e-12);
+                  }
                 }
-              }
-  }
-  HapticCursor cursor(file, Scheme::kHermite);
+    }
   // The stiffness is the derivative of the force inside a cell.
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> u(0.05, 0.95);
-  for (int n = 0; n < 20; ++n) {
-    const Eigen::Vector3d p =
-        field.origin + Eigen::Vector3d((u(rng) - 1) * h[0], u(rng) * h[1], (u(rng) - 1) * h[2]);
-    const Force f = cursor.force(arr(p));
-    const double d = 1e-6;
-    for (int a = 0; a < 3; ++a) {
-      Eigen::Vector3d e = Eigen::Vector3d::Zero();
-      e[a] = d * h[a];
-      const Eigen::Vector3d fp = vec(cursor.force(arr(p + e)).value);
-      const Eigen::Vector3d fm = vec(cursor.force(arr(p - e)).value);
-      for (int r = 0; r < 3; ++r)
-        EXPECT_NEAR(f.stiffness[3 * r + a], (fp[r] - fm[r]) / (2 * e[a]), 1e-6);
+  for (const PlaybackFile* file : {&bubbles, &lattice}) {
+    HapticCursor cursor(*file, Scheme::kHermite);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0.05, 0.95);
+    for (int n = 0; n < 20; ++n) {
+      const Eigen::Vector3d p =
+          field.origin + Eigen::Vector3d((u(rng) - 1) * h[0], u(rng) * h[1], (u(rng) - 1) * h[2]);
+      const Force f = cursor.force(arr(p));
+      const double d = 1e-6;
+      for (int a = 0; a < 3; ++a) {
+        Eigen::Vector3d e = Eigen::Vector3d::Zero();
+        e[a] = d * h[a];
+        const Eigen::Vector3d fp = vec(cursor.force(arr(p + e)).value);
+        const Eigen::Vector3d fm = vec(cursor.force(arr(p - e)).value);
+        for (int r = 0; r < 3; ++r)
+          EXPECT_NEAR(f.stiffness[3 * r + a], (fp[r] - fm[r]) / (2 * e[a]), 1e-6);
+      }
     }
   }
-  const double with = max_error(file, Scheme::kHermite, field, h);
   const double without = max_error(plain, Scheme::kHermite, field, h);
-  const double with_tri = max_error(file, Scheme::kTrilinear, field, h);
+  const double with_forces = max_error(bubbles, Scheme::kHermite, field, h);
+  const double with_stiffness = max_error(lattice, Scheme::kHermite, field, h);
   const double without_tri = max_error(plain, Scheme::kTrilinear, field, h);
+  const double with_tri = max_error(lattice, Scheme::kTrilinear, field, h);
   std::printf(
-      "[ info ] force error between check-points without / with the midpoint forces: Hermite "
-      "%.3g / %.3g N, trilinear %.3g / %.3g N\n",
-      without, with, without_tri, with_tri);
-  EXPECT_LT(with, 0.6 * without);  // measured 0.50
+      "[ info ] force error between check-points without / with the midpoint forces / and "
+      "stiffness: Hermite %.3g / %.3g / %.3g N, trilinear %.3g / %.3g N\n",
+      without, with_forces, with_stiffness, without_tri, with_tri);
+  EXPECT_LT(with_forces, 0.6 * without);  // measured 0.50
+  // Hermite on half-spacing cells: the error of a smooth field falls about 16x.
+  EXPECT_LT(with_stiffness, 0.15 * without);
   // Trilinear on the half-spacing lattice: the error of a smooth field falls about 4x.
   EXPECT_LT(with_tri, 0.35 * without_tri);
-  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite})
-    EXPECT_LE(test_util::check_bound_along_random_walk(file, scheme, 10000), 1.0);
+  for (const PlaybackFile* file : {&bubbles, &lattice})
+    for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite})
+      EXPECT_LE(test_util::check_bound_along_random_walk(*file, scheme, 10000), 1.0);
+}
+
+// With the midpoint stiffness, a cell is the same Hermite interpolant as the grid of half the
+// spacing (which stores the same values and stiffness at the same points): the two files give
+// the same force and stiffness everywhere in the region both cover.
+TEST_F(Cursor, MidpointStiffnessEqualsTheHalfSpacingGrid) {
+  const Field field;
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  playback::Content content = test_util::synthetic_content(field, h);
+  test_util::add_midpoint_forces(&content, field, true);
+  PlaybackFile lattice(write(content, "lattice.bin"));
+  PlaybackFile fine(write(test_util::synthetic_content(field, 0.5 * h), "fine.bin"));
+  HapticCursor coarse_cursor(lattice, Scheme::kHermite), fine_cursor(fine, Scheme::kHermite);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-0.999, 0.999);  // the fine grid spans +-h
+  double force = 0, stiffness = 0;
+  for (int n = 0; n < 500; ++n) {
+    const Eigen::Vector3d p =
+        field.origin + Eigen::Vector3d(u(rng) * h[0], u(rng) * h[1], u(rng) * h[2]);
+    const Force a = coarse_cursor.force(arr(p)), b = fine_cursor.force(arr(p));
+    ASSERT_TRUE(a.inside_grid && b.inside_grid);
+    force = std::max(force, (vec(a.value) - vec(b.value)).norm());
+    for (int r = 0; r < 9; ++r)
+      stiffness = std::max(stiffness, std::abs(a.stiffness[r] - b.stiffness[r]));
+  }
+  EXPECT_LE(force, 1e-12);
+  EXPECT_LE(stiffness, 1e-10);
 }
 
 // A recorded value is used only where the source's move leads to the configuration the cell
 // shows at the other end: with the +x move of the rest configuration marked failed, the force at
-// that edge's midpoint is the plain Hermite one, and the rest of the cell still uses its bubbles.
+// that edge's midpoint is the plain Hermite one, and the rest of the cell still uses its recorded
+// values.
 TEST_F(Cursor, MidpointForceOfAMoveThatDoesNotReachTheCornerIsNotUsed) {
   const Field field;
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
@@ -430,13 +472,19 @@ TEST_F(Cursor, MidpointForceOfAMoveThatDoesNotReachTheCornerIsNotUsed) {
   const int rest = content.meta.rest_configuration;
   content.transitions[26 * rest + test_util::direction_of(1, 0, 0)] = playback::kFailed;
   const fs::path plain_file = write(content, "plain.bin");
-  test_util::add_midpoint_forces(&content, field);
-  PlaybackFile file(write(content, "midpoints.bin")), plain(plain_file);
-  HapticCursor with(file, Scheme::kHermite), without(plain, Scheme::kHermite);
-  const Eigen::Vector3d edge = field.origin + Eigen::Vector3d(0.5 * h[0], 0, 0);
-  EXPECT_EQ(vec(with.force(arr(edge)).value), vec(without.force(arr(edge)).value));
-  const Eigen::Vector3d centre = field.origin + 0.5 * h;
-  EXPECT_LT((vec(with.force(arr(centre)).value) - field.force(centre)).norm(), 1e-12);
+  PlaybackFile plain(plain_file);
+  for (const bool stiffness : {false, true}) {
+    SCOPED_TRACE(stiffness ? "midpoint stiffness" : "midpoint forces");
+    test_util::add_midpoint_forces(&content, field, stiffness);
+    PlaybackFile file(write(content, "midpoints.bin"));
+    HapticCursor with(file, Scheme::kHermite), without(plain, Scheme::kHermite);
+    const Eigen::Vector3d edge = field.origin + Eigen::Vector3d(0.5 * h[0], 0, 0);
+    const Force a = with.force(arr(edge)), b = without.force(arr(edge));
+    EXPECT_EQ(vec(a.value), vec(b.value));
+    for (int r = 0; r < 9 && stiffness; ++r) EXPECT_NEAR(a.stiffness[r], b.stiffness[r], 1e-12);
+    const Eigen::Vector3d centre = field.origin + 0.5 * h;
+    EXPECT_LT((vec(with.force(arr(centre)).value) - field.force(centre)).norm(), 1e-12);
+  }
 }
 
 TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
@@ -444,7 +492,7 @@ TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
   playback::Content c = test_util::synthetic_content(field_, h);
   for (int d = 0; d < 26 * 125; d += 5)
     c.transitions[d] = playback::kFailed;      // extended corners too
-  test_util::add_midpoint_forces(&c, field_);  // the bubble fit at each cell entry too
+  test_util::add_midpoint_forces(&c, field_);  // the half-cell fit at each cell entry too
   PlaybackFile file(write(std::move(c), "alloc.bin"));
   HapticCursor cursor(file, Scheme::kHermite);
   std::vector<float> pos(3 * test_util::kSyntheticViewNodes);

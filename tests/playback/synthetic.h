@@ -128,13 +128,17 @@ inline playback::Content synthetic_content(const Field& field, const Eigen::Vect
 
 // Adds the force half-way through every move in the kMidpointOffsets directions (field.force
 // there, for a Field or any type with that method; NaN where the move leaves the grid), as the
-// expansion records it.
+// expansion records it, and with `stiffness` the haptic stiffness there (field.jacobian).
 template <class ForceField>
-void add_midpoint_forces(playback::Content* c, const ForceField& field) {
+void add_midpoint_forces(playback::Content* c, const ForceField& field, bool stiffness = true) {
   const playback::Meta& m = c->meta;
   const std::size_t n = c->config_checkpoint.size();
   c->midpoint_force.assign(3 * playback::kMidpointDirections * n,
                            std::numeric_limits<double>::quiet_NaN());
+  c->midpoint_stiffness.clear();
+  if (stiffness)
+    c->midpoint_stiffness.assign(9 * playback::kMidpointDirections * n,
+                                 std::numeric_limits<double>::quiet_NaN());
   for (std::size_t k = 0; k < n; ++k) {
     const int g = c->config_checkpoint[k];
     const int ijk[3] = {g / (m.dims[1] * m.dims[2]) + m.lo[0],
@@ -151,6 +155,12 @@ void add_midpoint_forces(playback::Content* c, const ForceField& field) {
       const Eigen::Vector3d f = field.force(p);
       for (int r = 0; r < 3; ++r)
         c->midpoint_force[3 * (playback::kMidpointDirections * k + d) + r] = f[r];
+      if (!stiffness) continue;
+      const Eigen::Matrix3d jac = field.jacobian(p);
+      for (int r = 0; r < 3; ++r)
+        for (int a = 0; a < 3; ++a)
+          c->midpoint_stiffness[9 * (playback::kMidpointDirections * k + d) + 3 * r + a] =
+              jac(r, a);
     }
   }
 }

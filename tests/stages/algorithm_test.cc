@@ -80,7 +80,9 @@ TEST_F(Algorithm, FastEqualsReferenceOnTheLiver) {
 // (measured 5.8e-5 for the vectors, 5.8e-5 of the force scale). The haptic stiffness depends on
 // which triangles are active, and a triangle touched within that tolerance may be active in one
 // state and not in the other: up to 3 % of the configuration's largest stiffness entry (measured
-// 2.9 %, 2026-11-26, with the moves stopping half-way to record the midpoint force).
+// 2.9 %, 2026-11-26, with the moves stopping half-way to record the midpoint force), the same
+// for the stiffness at the midpoints; a sphere that grazes the plate half-way may touch it in one
+// state only (13 of 2 808 midpoints, counted: at most 1 %).
 TEST_F(Algorithm, FastEqualsReferenceOnThePlate) {
   expect_same_state_space(plate_variant(dir_, {}), "plate", 1e-4, 0.05);
 }

@@ -115,6 +115,7 @@ TEST_F(Decide, MatchesStoredAndSameBatchLevelsAndNumbersNewOnesInTaskOrder) {
   std::vector<TransitionSolve> solves = {reached(0.505, 0.41), reached(0.8, 0.6),
                                          reached(0.801, 0.6), reached(0.2, 0.1), reached(1.2, 0.9)};
   solves[3].midpoint_force = std::array<double, 3>{0.05, 0, 0};
+  solves[3].midpoint_stiffness = std::array<double, 9>{-1, 0, 0, 0, -1, 0, 0, 0, -1};
   const BatchDecision d = decide_batch(tasks, solves, stored_, settings_);
   ASSERT_EQ(d.transitions.size(), 5u);
   EXPECT_EQ(d.transitions[0].target, ConfigId(10));
@@ -124,6 +125,7 @@ TEST_F(Decide, MatchesStoredAndSameBatchLevelsAndNumbersNewOnesInTaskOrder) {
   EXPECT_EQ(d.transitions[4].target, ConfigId(102));
   // The force recorded half-way goes with its transition.
   EXPECT_EQ(d.transitions[3].midpoint_force, solves[3].midpoint_force);
+  EXPECT_EQ(d.transitions[3].midpoint_stiffness, solves[3].midpoint_stiffness);
   EXPECT_FALSE(d.transitions[0].midpoint_force.has_value());
   ASSERT_EQ(d.fresh.size(), 3u);
   EXPECT_EQ(d.fresh[0].config.level, Level(1));
