@@ -48,7 +48,7 @@ void hermite_bases(const std::array<double, 3>& s, const double* h, double (&B)[
   }
 }
 
-// A Hermite cell's value and, if `slope` is given, its derivative (row-major, per mesh unit) at
+// A Hermite cell's value and its derivative (row-major, per mesh unit) at
 // the point whose bases per axis are B (derivatives dB; hermite_bases): the tensor product of
 // the coefficients [x][y][r][z] contracted axis by axis (z, then y, then x).
 template <class Coefficients>
@@ -63,7 +63,7 @@ void hermite_contract(const Coefficients& coef, const double (&B)[3][4], const d
         Az[ix][iy][r] = dB[2][0] * t[0] + dB[2][1] * t[1] + dB[2][2] * t[2] + dB[2][3] * t[3];
       }
   *value = {};
-  if (slope) *slope = {};
+  *slope = {};
   for (int ix = 0; ix < 4; ++ix)
     for (int r = 0; r < 3; ++r) {
       double v = 0, vy = 0, vz = 0;
@@ -73,7 +73,6 @@ void hermite_contract(const Coefficients& coef, const double (&B)[3][4], const d
         vz += B[1][iy] * Az[ix][iy][r];
       }
       (*value)[r] += B[0][ix] * v;
-      if (!slope) continue;
       (*slope)[3 * r] += dB[0][ix] * v;
       (*slope)[3 * r + 1] += B[0][ix] * vy;
       (*slope)[3 * r + 2] += B[0][ix] * vz;
@@ -592,7 +591,9 @@ void HapticCursor::fit_cell_lattice() {
 void HapticCursor::fit_cell_bubbles() {
   const PlaybackFile::Impl& f = file_.impl();
   if (!f.midpoint_force) return;
-  const double* h = f.meta->spacing;
+  // Hermite: the cell's interpolant at the lattice points, once (the bubbles' points are on it).
+  double lattice[3][3][3][3], unused[3][3][3][9];
+  if (scheme_ == Scheme::kHermite) hermite_lattice(coef_, f.meta->spacing, lattice, unused);
   auto interpolant = [&](const std::array<double, 3>& t, double* out) {
     if (scheme_ == Scheme::kTrilinear) {
       for (int r = 0; r < 3; ++r) out[r] = 0.0;
@@ -603,11 +604,7 @@ void HapticCursor::fit_cell_bubbles() {
       }
       return;
     }
-    double B[3][4], dB[3][4];
-    hermite_bases(t, h, B, dB);
-    std::array<double, 3> v{};
-    hermite_contract(coef_, B, dB, &v, nullptr);
-    std::copy_n(v.data(), 3, out);
+    std::copy_n(lattice[int(2 * t[0])][int(2 * t[1])][int(2 * t[2])], 3, out);
   };
   auto recorded = [&](int k, double* out) {
     double felt[3], felt_k[9];

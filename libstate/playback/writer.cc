@@ -135,6 +135,17 @@ std::array<double, 3> bubble_limits(const Content& c) {
   return limit;
 }
 
+// The clamp limit of a midpoint's stiffness entries (Meta::stiffness_limit): the largest |entry|
+// of any stored stiffness, configurations and midpoints; 0 without midpoint stiffness.
+double stiffness_limit(const Content& c) {
+  double limit = 0.0;
+  if (c.midpoint_stiffness.empty()) return limit;
+  for (double k : c.stiffness) limit = std::max(limit, std::abs(k));
+  for (double k : c.midpoint_stiffness)
+    if (std::isfinite(k)) limit = std::max(limit, std::abs(k));
+  return limit;
+}
+
 }  // namespace
 
 double force_change_bound(const Content& c) {
@@ -199,13 +210,7 @@ void write_file(Content c, const std::filesystem::path& file) {
   c.meta.num_triangles = static_cast<std::int32_t>(c.triangles.size() / 3);
   const std::array<double, 3> limit = bubble_limits(c);
   std::copy(limit.begin(), limit.end(), c.meta.bubble_limit);
-  c.meta.stiffness_limit = 0.0;
-  if (!c.midpoint_stiffness.empty()) {
-    for (double k : c.stiffness)
-      c.meta.stiffness_limit = std::max(c.meta.stiffness_limit, std::abs(k));
-    for (double k : c.midpoint_stiffness)
-      if (std::isfinite(k)) c.meta.stiffness_limit = std::max(c.meta.stiffness_limit, std::abs(k));
-  }
+  c.meta.stiffness_limit = stiffness_limit(c);
   c.meta.force_change_bound = force_change_bound(c);
   c.meta.has_displacement_slopes = c.displacement_slopes ? 1 : 0;
   const std::uint64_t slope_floats = c.displacement_slopes ? 9 * v : 0;

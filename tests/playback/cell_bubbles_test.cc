@@ -58,7 +58,9 @@ TEST(CellBubbles, ZeroOnTheFacesThatDoNotHoldTheirPoint) {
           std::array<double, 3> s{u(rng), u(rng), u(rng)};
           s[a] = o;
           const double w = bubble_weight(k, s, nullptr);
-          if (!on_face) EXPECT_EQ(w, 0.0) << k << " on face " << a << "/" << o;
+          if (!on_face) {
+            EXPECT_EQ(w, 0.0) << k << " on face " << a << "/" << o;
+          }
         }
       }
 }
