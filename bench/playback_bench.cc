@@ -125,6 +125,10 @@ void BM_FrameLiver(benchmark::State& state, Scheme scheme) {
 void BM_FrameSynthetic(benchmark::State& state, Scheme scheme) {
   frame(state, synthetic_playback(), "synthetic box, all nodes", scheme);
 }
+void BM_FrameSyntheticMidpoints(benchmark::State& state, Scheme scheme) {
+  frame(state, synthetic_midpoint_playback(), "synthetic box, all nodes, half-spacing cells",
+        scheme);
+}
 
 // One precise transition as hapstate-expand solves it: the liver at rest, the probe moved to
 // a face-neighbouring check-point (one grid spacing along z), the scene's sub-steps and
@@ -152,6 +156,8 @@ BENCHMARK_CAPTURE(BM_FrameLiver, trilinear, Scheme::kTrilinear)->Unit(benchmark:
 BENCHMARK_CAPTURE(BM_FrameLiver, hermite, Scheme::kHermite)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_FrameSynthetic, trilinear, Scheme::kTrilinear)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_FrameSynthetic, hermite, Scheme::kHermite)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_FrameSyntheticMidpoints, hermite, Scheme::kHermite)
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_NewtonSolve)->Unit(benchmark::kMillisecond);
 
 }  // namespace

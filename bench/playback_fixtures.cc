@@ -54,11 +54,14 @@ struct TempDir {
 };
 
 constexpr int kCells = 36;  // per axis: 37^3 = 50 653 nodes
-constexpr int kGrid = 5;    // check-points per axis
 constexpr double kSpacing = 0.25;
 constexpr double kStiffness = 2.0;  // N per mesh unit
 
-void write_synthetic(const std::filesystem::path& file) {
+// With `midpoints` the grid is 2 x 2 x 2 (one cell: 7 midpoints per configuration of 50 653
+// view nodes would take 2 GB on the 5 x 5 x 5 grid) and every midpoint's force, stiffness,
+// displacements and slopes are stored (the same linear fields, exact there).
+void write_synthetic(const std::filesystem::path& file, bool midpoints) {
+  const int grid = midpoints ? 2 : 5;
   const Mesh mesh = make_box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(10.0), kCells,
                                   kCells, kCells);
   const int nodes = mesh.num_nodes();
@@ -69,19 +72,19 @@ void write_synthetic(const std::filesystem::path& file) {
     m.origin[a] = rest[a];
     m.spacing[a] = kSpacing;
     m.rest_position[a] = rest[a];
-    m.lo[a] = -(kGrid / 2);
-    m.dims[a] = kGrid;
+    m.lo[a] = midpoints ? 0 : -(grid / 2);  // one cell: the rest point its first corner
+    m.dims[a] = grid;
   }
   m.max_force = 3.0;
   m.unit = 0.01;
   m.probe_mode = static_cast<std::int32_t>(playback::ProbeModeCode::kGrab);
   m.num_mesh_nodes = nodes;
   m.view_all_nodes = 1;
-  const int points = kGrid * kGrid * kGrid;
-  auto ijk = [](int g) {
-    return std::array<int, 3>{g / (kGrid * kGrid), (g / kGrid) % kGrid, g % kGrid};
+  const int points = grid * grid * grid;
+  auto ijk = [grid](int g) {
+    return std::array<int, 3>{g / (grid * grid), (g / grid) % grid, g % grid};
   };
-  m.rest_configuration = ((kGrid / 2) * kGrid + kGrid / 2) * kGrid + kGrid / 2;
+  m.rest_configuration = midpoints ? 0 : ((grid / 2) * grid + grid / 2) * grid + grid / 2;
   for (int g = 0; g < points; ++g) {  // configuration g at check-point g
     const auto p = ijk(g);
     c.checkpoints.insert(c.checkpoints.end(), {g, 1});
@@ -94,9 +97,8 @@ void write_synthetic(const std::filesystem::path& file) {
       if (d == 13) continue;  // the centre: directions are numbered 0..25 around it
       const std::array<int, 3> q{p[0] + d / 9 - 1, p[1] + (d / 3) % 3 - 1, p[2] + d % 3 - 1};
       const bool inside =
-          q[0] >= 0 && q[1] >= 0 && q[2] >= 0 && q[0] < kGrid && q[1] < kGrid && q[2] < kGrid;
-      c.transitions.push_back(inside ? (q[0] * kGrid + q[1]) * kGrid + q[2]
-                                     : playback::kOutsideGrid);
+          q[0] >= 0 && q[1] >= 0 && q[2] >= 0 && q[0] < grid && q[1] < grid && q[2] < grid;
+      c.transitions.push_back(inside ? (q[0] * grid + q[1]) * grid + q[2] : playback::kOutsideGrid);
     }
   }
   // Three smooth fields: a Gaussian bump around the probe along x, y and z.
@@ -120,6 +122,38 @@ void write_synthetic(const std::filesystem::path& file) {
       for (std::size_t n = 0; n < v; ++n)
         for (int a = 0; a < 3; ++a) out[3 * (b * v + n) + a] = a == b ? (*bump)[n] : 0.0f;
   };
+  if (midpoints) {
+    c.midpoint_force.assign(3 * playback::kMidpointDirections * points, 0.0);
+    c.midpoint_stiffness.assign(9 * playback::kMidpointDirections * points, 0.0);
+    c.midpoint_displacement_mask.assign(points, 0);
+    for (int g = 0; g < points; ++g)
+      for (int d = 0; d < playback::kMidpointDirections; ++d) {
+        const auto p = ijk(g);
+        const int* o = playback::kMidpointOffsets[d];
+        if (p[0] + o[0] >= grid || p[1] + o[1] >= grid || p[2] + o[2] >= grid) continue;
+        c.midpoint_displacement_mask[g] |= 1 << d;
+        const std::size_t at = playback::kMidpointDirections * std::size_t(g) + d;
+        for (int a = 0; a < 3; ++a) {
+          c.midpoint_force[3 * at + a] = -kStiffness * (p[a] + m.lo[a] + 0.5 * o[a]) * kSpacing;
+          c.midpoint_stiffness[9 * at + 4 * a] = -kStiffness;
+        }
+      }
+    c.midpoint_displacements = [bump, ijk, lo = m.lo[0], grid](std::int32_t k,
+                                                               std::span<float> out) {
+      const auto p = ijk(k);
+      const std::size_t v = bump->size();
+      for (int d = 0; d < playback::kMidpointDirections; ++d) {
+        const int* o = playback::kMidpointOffsets[d];
+        if (p[0] + o[0] >= grid || p[1] + o[1] >= grid || p[2] + o[2] >= grid) continue;
+        float* row = out.data() + 12 * v * d;
+        for (std::size_t n = 0; n < v; ++n)
+          for (int a = 0; a < 3; ++a) {
+            row[3 * n + a] = static_cast<float>((p[a] + lo + 0.5 * o[a]) * kSpacing) * (*bump)[n];
+            for (int b = 0; b < 3; ++b) row[3 * ((1 + b) * v + n) + a] = a == b ? (*bump)[n] : 0.0f;
+          }
+      }
+    };
+  }
   playback::write_file(std::move(c), file);
 }
 
@@ -150,7 +184,17 @@ const PlaybackFile& synthetic_playback() {
   static TempDir dir;
   static const std::unique_ptr<PlaybackFile> file = open_verified([] {
     const std::filesystem::path path = dir.path / "synthetic.bin";
-    write_synthetic(path);
+    write_synthetic(path, false);
+    return path;
+  });
+  return *file;
+}
+
+const PlaybackFile& synthetic_midpoint_playback() {
+  static TempDir dir;
+  static const std::unique_ptr<PlaybackFile> file = open_verified([] {
+    const std::filesystem::path path = dir.path / "synthetic_midpoints.bin";
+    write_synthetic(path, true);
     return path;
   });
   return *file;

@@ -23,6 +23,9 @@ const PlaybackFile& liver_playback();
 // exit): a box mesh of 37^3 = 50 653 nodes (every node a view node), a 5 x 5 x 5 grid with
 // one configuration per check-point, displacements from three smooth fields, linear forces.
 const PlaybackFile& synthetic_playback();
+// The same mesh on one cell (2 x 2 x 2 check-points) with every midpoint's data stored:
+// deform() on half-spacing cells.
+const PlaybackFile& synthetic_midpoint_playback();
 
 // The liver scene's Problem for the precise solver.
 const Problem& liver_problem();

@@ -135,6 +135,11 @@ struct Snapshot {
   double onset_depth = 0;
   std::array<double, 8> per_depth{};
   std::array<std::int32_t, 8> depth_source{};
+  // Hermite, per point of the cell's half-spacing lattice (index 9 x + 3 y + z, each 0..2 in
+  // half spacings): 0, or 1 + the index (configuration x kMidpointDirections + direction) of
+  // the stored midpoint whose displacements and slopes hold there; with any set, deform()
+  // interpolates each half-spacing cell as the cursor does the force (docs/playback.md).
+  std::array<std::int32_t, 27> midpoint{};
 };
 
 // Result of one haptic query.
@@ -241,10 +246,12 @@ class HapticCursor {
   int num_bubbles_ = 0;   // non-zero corrections
   bool fitted_ = false;   // the midpoint data of this cell (bubbles or lattice) are fitted
   bool lattice_ = false;  // Hermite with the midpoint stiffness: 8 half-spacing Hermite cells
-  std::array<CellCoefficients, 8> half_coef_{};  // their coefficients (bits x y z as corners)
+  std::array<CellCoefficients, 8> half_coef_{};   // their coefficients (bits x y z as corners)
+  std::array<std::int32_t, 27> midpoint_code_{};  // Snapshot::midpoint of this cell
   int recorded_midpoint(int k, double* force, double* stiffness) const;
   void fit_cell();
   void fit_cell_lattice();
+  void find_midpoint_displacements();
   void fit_cell_bubbles();
   void add_bubbles(const double (&m)[3], const double (&dm)[3], const double (&v)[3][2],
                    const double (&dv)[3][2], std::array<double, 3>* value,

@@ -40,6 +40,7 @@ typedef struct hs_snapshot {
   double onset_depth;
   double per_depth[8];
   int32_t depth_source[8];
+  int32_t midpoint[27]; /* 0, or 1 + the stored midpoint whose displacements hold at that point */
 } hs_snapshot;
 
 int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size);

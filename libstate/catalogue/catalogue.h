@@ -105,7 +105,8 @@ class Catalogue {
   Level next_level(CheckpointId checkpoint);
   // Largest configuration id in use (kInvalid if none): ids above it are free.
   ConfigId max_config_id();
-  // Every segment some configuration references: the complement is garbage.
+  // Every segment some configuration or transition (its midpoint vectors) references: the
+  // complement is garbage.
   std::set<SegmentId> referenced_segments();
 
   // --- transitions ---
@@ -125,6 +126,9 @@ class Catalogue {
   // Points configuration `id` at `blob` (nullopt: no vectors stored). Throws InputError if
   // there is no such configuration.
   void update_configuration_blob(ConfigId id, const std::optional<BlobRef>& blob);
+  // Points the midpoint vectors of transition (source, direction) at `blob`. Returns whether
+  // the row exists (a row deleted by a level merge is not an error).
+  bool update_transition_midpoint_blob(ConfigId source, Direction direction, const BlobRef& blob);
   // Every transition whose target is `from` targets `to` instead. Returns the rows changed.
   std::int64_t retarget_transitions(ConfigId from, ConfigId to);
   // Gives the transitions of `from` to source `to` in every direction `to` has not decided

@@ -29,7 +29,8 @@ constexpr const char* kNextLevel =
     "SELECT coalesce(max(level) + 1, 0) FROM configuration WHERE checkpoint = ?";
 constexpr const char* kMaxId = "SELECT max(id) FROM configuration";
 constexpr const char* kSegments =
-    "SELECT DISTINCT blob_segment FROM configuration WHERE blob_segment IS NOT NULL";
+    "SELECT blob_segment FROM configuration WHERE blob_segment IS NOT NULL UNION "
+    "SELECT midpoint_blob_segment FROM transition WHERE midpoint_blob_segment IS NOT NULL";
 
 #undef HAPSTATE_CONFIG_COLUMNS
 

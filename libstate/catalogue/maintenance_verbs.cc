@@ -9,6 +9,9 @@ namespace {
 
 constexpr const char* kUpdateBlob =
     "UPDATE configuration SET blob_segment = ?, blob_name = ? WHERE id = ?";
+constexpr const char* kUpdateMidpointBlob =
+    "UPDATE transition SET midpoint_blob_segment = ?, midpoint_blob_name = ? "
+    "WHERE source = ? AND direction = ?";
 constexpr const char* kRetarget = "UPDATE transition SET target = ? WHERE target = ?";
 constexpr const char* kMove =
     "UPDATE transition SET source = ?1 WHERE source = ?2 AND direction NOT IN "
@@ -30,6 +33,17 @@ void Catalogue::update_configuration_blob(ConfigId id, const std::optional<BlobR
   if (sqlite3_changes(impl_->db->get()) != 1) {
     throw InputError(impl_->label() + ": no configuration with id " + std::to_string(id.value()));
   }
+}
+
+bool Catalogue::update_transition_midpoint_blob(ConfigId source, Direction direction,
+                                                const BlobRef& blob) {
+  catalogue_detail::StatementUse s(impl_->statement(kUpdateMidpointBlob));
+  s->bind(1, blob.segment.value);
+  s->bind(2, blob.name);
+  s->bind(3, source.value());
+  s->bind(4, direction.index());
+  s->run();
+  return sqlite3_changes(impl_->db->get()) == 1;
 }
 
 std::int64_t Catalogue::retarget_transitions(ConfigId from, ConfigId to) {

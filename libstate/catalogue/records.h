@@ -131,6 +131,10 @@ struct Transition {
   // The haptic stiffness there, row-major, N per mesh unit (schema 4): with the midpoint force,
   // when it was computable; none in older rows.
   std::optional<std::array<double, 9>> midpoint_stiffness;
+  // The displacements and their slopes d u / d p there (schema 5): blobs/seg-NNNNNN.h5, group
+  // `name` ("m<source>_<direction>") holding `name`/u (float32, mesh units) and `name`/du_dp
+  // (float32, 3 columns); with the midpoint force, none in older rows.
+  std::optional<BlobRef> midpoint_blob;
 
   bool operator==(const Transition&) const = default;
 };

@@ -9,11 +9,11 @@ namespace {
   "source, direction, outcome, target, substeps, newton_iterations, final_residual, " \
   "wall_ms, failure_reason, factorisations, midpoint_fx, midpoint_fy, midpoint_fz, "  \
   "midpoint_k0, midpoint_k1, midpoint_k2, midpoint_k3, midpoint_k4, midpoint_k5, "    \
-  "midpoint_k6, midpoint_k7, midpoint_k8"
+  "midpoint_k6, midpoint_k7, midpoint_k8, midpoint_blob_segment, midpoint_blob_name"
 
 constexpr const char* kInsert =
     "INSERT INTO transition (" HAPSTATE_TRANSITION_COLUMNS
-    ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
+    ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
 constexpr const char* kRead =
     "SELECT " HAPSTATE_TRANSITION_COLUMNS " FROM transition WHERE source = ? AND direction = ?";
 constexpr const char* kOfSource =
@@ -51,6 +51,8 @@ Transition row_to_transition(const catalogue_detail::Statement& s, const std::st
     for (int i = 0; i < 9; ++i) k[i] = s.column_double(13 + i);
     t.midpoint_stiffness = k;
   }
+  if (!s.is_null(22) && !s.is_null(23))
+    t.midpoint_blob = BlobRef{SegmentId{s.column_int(22)}, s.column_text(23)};
   return t;
 }
 
@@ -85,6 +87,13 @@ void Catalogue::insert_transition(const Transition& t) {
     } else {
       s->bind_null(14 + k);
     }
+  }
+  if (t.midpoint_blob) {
+    s->bind(23, t.midpoint_blob->segment.value);
+    s->bind(24, t.midpoint_blob->name);
+  } else {
+    s->bind_null(23);
+    s->bind_null(24);
   }
   s->run();
 }

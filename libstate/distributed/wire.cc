@@ -188,6 +188,8 @@ void put(Writer& w, const TransitionSolve& s) {
   w.pod<std::uint8_t>(s.midpoint_stiffness.has_value());
   if (s.midpoint_stiffness)
     for (double k : *s.midpoint_stiffness) w.pod(k);
+  w.values(s.midpoint_u);
+  w.values(s.midpoint_du_dp);
 }
 
 TransitionSolve get_transition_solve(Reader& r) {
@@ -216,6 +218,8 @@ TransitionSolve get_transition_solve(Reader& r) {
     for (double& v : k) v = r.pod<double>();
     s.midpoint_stiffness = k;
   }
+  s.midpoint_u = r.values<float>();
+  s.midpoint_du_dp = r.values<float>();
   return s;
 }
 

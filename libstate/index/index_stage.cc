@@ -26,7 +26,10 @@ namespace {
 struct Gathered {
   playback::Content content;
   std::vector<Configuration> configs;  // in file order
-  ContentHash fingerprint;             // of everything the file is built from
+  // Per configuration and midpoint direction (kMidpointDirections each): where the
+  // displacements half-way are stored, if they are.
+  std::vector<std::optional<BlobRef>> midpoint_blobs;
+  ContentHash fingerprint;  // of everything the file is built from
 };
 
 ContentHash fingerprint_of(const std::vector<Configuration>& configs,
@@ -170,6 +173,14 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
       if (d >= 0)
         std::copy_n(t.midpoint_force->begin(), 3,
                     c.midpoint_force.begin() + 3 * (playback::kMidpointDirections * s->second + d));
+      if (d >= 0 && t.midpoint_blob) {
+        if (g.midpoint_blobs.empty()) {
+          g.midpoint_blobs.resize(playback::kMidpointDirections * ordered.size());
+          c.midpoint_displacement_mask.assign(ordered.size(), 0);
+        }
+        g.midpoint_blobs[playback::kMidpointDirections * s->second + d] = t.midpoint_blob;
+        c.midpoint_displacement_mask[s->second] |= 1 << d;
+      }
       if (d >= 0 && t.midpoint_stiffness) {
         if (c.midpoint_stiffness.empty())
           c.midpoint_stiffness.assign(9 * playback::kMidpointDirections * ordered.size(),
@@ -326,6 +337,32 @@ IndexReport run_index(const IndexOptions& options) {
             for (int r = 0; r < 3; ++r)
               out[3 * (a * v + n) + r] =
                   du_dp[std::size_t(a) * 3 * num_nodes + 3 * std::size_t(view_nodes[n]) + r];
+      };
+    if (!g.midpoint_blobs.empty())
+      g.content.midpoint_displacements = [&](std::int32_t k, std::span<float> out) {
+        const std::size_t v = view_nodes.size();
+        for (int d = 0; d < playback::kMidpointDirections; ++d) {
+          const std::optional<BlobRef>& ref =
+              g.midpoint_blobs[playback::kMidpointDirections * std::size_t(k) + d];
+          if (!ref) continue;
+          const std::vector<float> u = blobs.read_float32(ref->segment, ref->name + "/u");
+          const std::vector<float> du_dp = blobs.read_float32(ref->segment, ref->name + "/du_dp");
+          if (static_cast<int>(u.size()) != 3 * num_nodes ||
+              static_cast<int>(du_dp.size()) != 9 * num_nodes)
+            throw InputError(ctx.dir.blobs().string() + ": midpoint vectors " + ref->name +
+                             " have " + std::to_string(u.size()) + " and " +
+                             std::to_string(du_dp.size()) + " values, the mesh needs " +
+                             std::to_string(3 * num_nodes) + " and " +
+                             std::to_string(9 * num_nodes));
+          float* row = out.data() + 12 * v * d;
+          for (std::size_t n = 0; n < v; ++n)
+            for (int r = 0; r < 3; ++r) {
+              const std::size_t node = 3 * std::size_t(view_nodes[n]) + r;
+              row[3 * n + r] = u[node];
+              for (int a = 0; a < 3; ++a)
+                row[3 * ((1 + a) * v + n) + r] = du_dp[std::size_t(a) * 3 * num_nodes + node];
+            }
+        }
       };
     playback::write_file(std::move(g.content), report.output);
     progress.finish();

@@ -149,7 +149,12 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
       if (c.status != ConfigStatus::kMerged && !merged_ids.contains(c.id))
         live.push_back(std::move(c));
     }
-    const RepackPlan plan = plan_repack(live, blobs, options.repack);
+    // Every transition row stays (a merged configuration's too), and with it its midpoint
+    // vectors.
+    std::vector<Transition> midpoints;
+    for (Transition& t : catalogue.read_all_transitions())
+      if (t.midpoint_blob) midpoints.push_back(std::move(t));
+    const RepackPlan plan = plan_repack(live, midpoints, blobs, options.repack);
     report.dead_vectors = plan.dead_vectors;
     report.freelist_pages = freelist_pages(catalogue);
     report.nothing_to_do = merges.empty() && !plan.needed && report.garbage_segments == 0 &&
@@ -158,15 +163,17 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     if (options.dry_run) {
       report.merged_levels = static_cast<std::int64_t>(merges.size());
       report.repacked_configurations =
-          plan.needed ? static_cast<std::int64_t>(plan.moves.size()) : 0;
+          plan.needed ? std::count_if(plan.moves.begin(), plan.moves.end(),
+                                      [](const BlobMove& m) { return m.direction < 0; })
+                      : 0;
       // The segments the live configurations would reference afterwards: those the repack
       // leaves alone plus the ones it would write; byte sizes are not predicted.
       report.new_segments = count_repacked_segments(plan, blobs, options.repack);
       const std::set<SegmentId> emptied(plan.sources.begin(), plan.sources.end());
       std::set<SegmentId> kept;
-      for (const Configuration& c : live)
-        if (c.blob && !(plan.needed && emptied.contains(c.blob->segment)))
-          kept.insert(c.blob->segment);
+      for (const BlobMove& m : plan.moves)
+        if (!(plan.needed && emptied.contains(m.from.segment))) kept.insert(m.from.segment);
+      for (const SegmentId s : plan.pinned) kept.insert(s);
       report.after = report.before;
       report.after.segments = static_cast<std::int64_t>(kept.size()) + report.new_segments;
       return true;  // a dry run ends here
@@ -176,7 +183,9 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     if (plan.needed) {
       const SegmentProvenance provenance{scene_hash.hex(), "", "compact"};
       repacked = write_repacked_segments(plan, blobs, provenance, options.repack);
-      report.repacked_configurations = static_cast<std::int64_t>(repacked.new_refs.size());
+      report.repacked_configurations =
+          std::count_if(repacked.new_refs.begin(), repacked.new_refs.end(),
+                        [](const RepackResult::NewRef& r) { return r.direction < 0; });
       report.new_segments = static_cast<std::int64_t>(repacked.new_segments.size());
       say(log, "wrote " + std::to_string(report.new_segments) + " new segments");
     }
@@ -186,8 +195,13 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     if (!merges.empty() || !repacked.new_refs.empty()) {
       Transaction transaction(catalogue);
       const MergeCounts counts = apply_level_merges(catalogue, merges);
-      for (const auto& [config, ref] : repacked.new_refs)
-        catalogue.update_configuration_blob(config, ref);
+      for (const RepackResult::NewRef& r : repacked.new_refs) {
+        if (r.direction < 0) {
+          catalogue.update_configuration_blob(r.config, r.ref);
+        } else {
+          catalogue.update_transition_midpoint_blob(r.config, Direction(r.direction), r.ref);
+        }
+      }
       transaction.commit();
       report.merged_levels = counts.merged_levels;
       report.retargeted_transitions = counts.retargeted_transitions;

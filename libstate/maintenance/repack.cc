@@ -11,11 +11,19 @@
 namespace hapstate {
 namespace {
 
-// "c<digits>": the group of a configuration's vectors (docs/storage.md, naming scheme).
-bool is_configuration_group(std::string_view group) {
-  return group.size() > 1 && group[0] == 'c' &&
-         std::all_of(group.begin() + 1, group.end(),
-                     [](char ch) { return ch >= '0' && ch <= '9'; });
+bool all_digits(std::string_view s) {
+  return !s.empty() &&
+         std::all_of(s.begin(), s.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+}
+
+// "c<digits>": the group of a configuration's vectors; "m<digits>_<digits>": a transition's
+// midpoint vectors (docs/storage.md, naming scheme).
+bool is_state_group(std::string_view group) {
+  if (group.size() < 2) return false;
+  if (group[0] == 'c') return all_digits(group.substr(1));
+  const std::size_t underscore = group.find('_');
+  return group[0] == 'm' && underscore != std::string_view::npos &&
+         all_digits(group.substr(1, underscore - 1)) && all_digits(group.substr(underscore + 1));
 }
 
 // The live blob name `vector` lies under, or "" if none.
@@ -30,13 +38,16 @@ std::string owning_name(const std::string& vector, const std::set<std::string>& 
 
 }  // namespace
 
-RepackPlan plan_repack(std::span<const Configuration> live, const BlobStore& blobs,
-                       const RepackOptions& options) {
+RepackPlan plan_repack(std::span<const Configuration> live, std::span<const Transition> midpoints,
+                       const BlobStore& blobs, const RepackOptions& options) {
   RepackPlan plan;
+  std::vector<BlobMove> owners;  // every live blob, vectors filled below
+  for (const Configuration& c : live)
+    if (c.blob) owners.push_back({c.id, -1, *c.blob, {}});
+  for (const Transition& t : midpoints)
+    if (t.midpoint_blob) owners.push_back({t.source, t.direction.index(), *t.midpoint_blob, {}});
   std::map<SegmentId, std::set<std::string>> names_in;
-  for (const Configuration& c : live) {
-    if (c.blob) names_in[c.blob->segment].insert(c.blob->name);
-  }
+  for (const BlobMove& o : owners) names_in[o.from.segment].insert(o.from.name);
   std::map<std::pair<SegmentId, std::string>, std::vector<std::string>> vectors_of;
   std::int64_t dead = 0;
   for (const auto& [segment, names] : names_in) {
@@ -46,7 +57,7 @@ RepackPlan plan_repack(std::span<const Configuration> live, const BlobStore& blo
       const std::string owner = owning_name(vector, names);
       if (!owner.empty()) {
         vectors_of[{segment, owner}].push_back(vector);
-      } else if (is_configuration_group(vector.substr(0, vector.find('/')))) {
+      } else if (is_state_group(vector.substr(0, vector.find('/')))) {
         ++segment_dead;
       } else {
         foreign = true;
@@ -59,16 +70,16 @@ RepackPlan plan_repack(std::span<const Configuration> live, const BlobStore& blo
       plan.sources.push_back(segment);
     }
   }
-  for (const Configuration& c : live) {
-    if (!c.blob || plan.pinned.contains(c.blob->segment)) continue;
-    BlobMove move{c.id, *c.blob, vectors_of[{c.blob->segment, c.blob->name}]};
-    for (const std::string& v : move.vectors) {
-      plan.live_values += static_cast<std::int64_t>(blobs.size_of(c.blob->segment, v));
-    }
+  for (BlobMove& move : owners) {
+    if (plan.pinned.contains(move.from.segment)) continue;
+    move.vectors = vectors_of[{move.from.segment, move.from.name}];
+    for (const std::string& v : move.vectors)
+      plan.live_values += static_cast<std::int64_t>(blobs.size_of(move.from.segment, v));
     plan.moves.push_back(std::move(move));
   }
-  std::sort(plan.moves.begin(), plan.moves.end(),
-            [](const BlobMove& a, const BlobMove& b) { return a.config < b.config; });
+  std::sort(plan.moves.begin(), plan.moves.end(), [](const BlobMove& a, const BlobMove& b) {
+    return std::make_pair(a.config, a.direction) < std::make_pair(b.config, b.direction);
+  });
   plan.dead_vectors = dead;
   const std::int64_t cap = std::max<std::int64_t>(options.max_segment_values, 1);
   const auto wanted =
@@ -143,7 +154,7 @@ RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& bl
     const BlobMove& move = plan.moves[k];
     const auto key = std::make_pair(move.from.segment, move.from.name);
     if (packing.segment[k] < 0) {
-      result.new_refs.emplace_back(move.config, copied.at(key));
+      result.new_refs.push_back({move.config, move.direction, copied.at(key)});
       continue;
     }
     if (packing.segment[k] != current) {
@@ -170,7 +181,7 @@ RepackResult write_repacked_segments(const RepackPlan& plan, const BlobStore& bl
     result.values_written += packing.values[k];
     const BlobRef ref{writer->id(), move.from.name};
     copied.emplace(key, ref);
-    result.new_refs.emplace_back(move.config, ref);
+    result.new_refs.push_back({move.config, move.direction, ref});
   }
   close_current();
   return result;

@@ -26,16 +26,18 @@ struct RepackOptions {
   int zstd_level = 3;
 };
 
-// One configuration whose vectors move.
+// One blob whose vectors move: a configuration's, or the midpoint vectors of its transition
+// in `direction`.
 struct BlobMove {
   ConfigId config;
+  int direction = -1;  // >= 0: the midpoint blob of transition (config, direction)
   BlobRef from;
   std::vector<std::string> vectors;  // full names in `from.segment`, e.g. "c42/u"
 };
 
 struct RepackPlan {
   bool needed = false;             // false: nothing is written
-  std::vector<BlobMove> moves;     // by config id
+  std::vector<BlobMove> moves;     // by (config id, direction)
   std::vector<SegmentId> sources;  // segments emptied by the moves
   std::set<SegmentId> pinned;      // segments holding vectors that belong to no
                                    // configuration (e.g. the mesh): never repacked
@@ -43,16 +45,22 @@ struct RepackPlan {
   std::int64_t dead_vectors = 0;   // vectors of merged or deleted configurations
 };
 
-// Decides what to repack. `live` = the configurations that keep their vectors (not merged).
-// In a segment referenced by `live`, a vector is live if it lies under a live blob name,
-// dead if its top group is "c<digits>" and it is not live, foreign otherwise (which pins the
-// segment). Repacking is needed when the repackable segments hold a dead vector or are more
-// than ceil(live_values / max_segment_values). Reads segment listings only.
-RepackPlan plan_repack(std::span<const Configuration> live, const BlobStore& blobs,
-                       const RepackOptions& options);
+// Decides what to repack. `live` = the configurations that keep their vectors (not merged),
+// `midpoints` = the transitions whose midpoint vectors are kept (their midpoint_blob).
+// In a segment referenced by either, a vector is live if it lies under a live blob name,
+// dead if its top group is "c<digits>" or "m<digits>_<digits>" and it is not live, foreign
+// otherwise (which pins the segment). Repacking is needed when the repackable segments hold a dead
+// vector or are more than ceil(live_values / max_segment_values). Reads segment listings only.
+RepackPlan plan_repack(std::span<const Configuration> live, std::span<const Transition> midpoints,
+                       const BlobStore& blobs, const RepackOptions& options);
 
 struct RepackResult {
-  std::vector<std::pair<ConfigId, BlobRef>> new_refs;  // by config id
+  struct NewRef {
+    ConfigId config;
+    int direction = -1;  // as BlobMove
+    BlobRef ref;
+  };
+  std::vector<NewRef> new_refs;  // as plan.moves
   std::vector<SegmentId> new_segments;
   std::int64_t values_written = 0;
 };

@@ -516,11 +516,30 @@ int HapticCursor::recorded_midpoint(int k, double* force, double* stiffness) con
 void HapticCursor::fit_cell() {
   fitted_ = true;
   num_bubbles_ = 0;
+  find_midpoint_displacements();
   lattice_ = scheme_ == Scheme::kHermite && file_.impl().midpoint_stiffness;
   if (lattice_) {
     fit_cell_lattice();
   } else {
     fit_cell_bubbles();
+  }
+}
+
+// The midpoints of this cell whose displacements deform() uses (Snapshot::midpoint): those
+// whose force the cursor uses (recorded_midpoint) and whose displacements the file holds; none
+// in a cell near the contact onset (its displacements follow the onset blend, corners only).
+void HapticCursor::find_midpoint_displacements() {
+  const PlaybackFile::Impl& f = file_.impl();
+  midpoint_code_.fill(0);
+  if (!f.midpoint_mask || onset_) return;
+  for (int k = 0; k < playback::kCellBubbles; ++k) {
+    double felt[3], felt_k[9];
+    if (recorded_midpoint(k, felt, felt_k) == 0) continue;
+    const playback::BubbleSpec b = playback::bubble_spec(k);
+    const std::int32_t source = corners_[b.source_corner].configuration;
+    if (!((f.midpoint_mask[source] >> b.direction) & 1)) continue;
+    const int x = int(2 * b.point[0]), y = int(2 * b.point[1]), z = int(2 * b.point[2]);
+    midpoint_code_[9 * x + 3 * y + z] = playback::kMidpointDirections * source + b.direction + 1;
   }
 }
 
@@ -814,6 +833,7 @@ void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
   slot.secant_corners = 0;
   slot.onset_weight = onset.weight;
   slot.onset_depth = onset.depth;
+  slot.midpoint = midpoint_code_;
   for (int c = 0; c < 8; ++c) {
     const Corner& k = corners_[c];
     const bool secant = onset_ && k.secant;

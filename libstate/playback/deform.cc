@@ -1,13 +1,13 @@
-// The displacements of the view nodes for a snapshot (visual thread): the corner arrays of the
-// cursor's cell blended with scalar weights. Trilinear: the 8 corners' displacements. Hermite:
-// the same tensor-product cubic as the force (docs/playback.md), with each corner's
-// displacement slopes d u / d p as the derivatives and the cross derivatives estimated from
-// the slopes of the corners on the same cell face; an extended corner's displacements are its
-// source's extended by the source's slopes, a secant corner's (a free check-point beside the
-// contact onset, cursor.cc) its source's scaled; just past the onset the depth model is blended
-// in (Snapshot::onset_weight). Either way the result is a sum over at most 40 arrays
-// (8 configurations x value and 3 slopes, and near the onset up to 8 more configurations' values
-// for the depth model) with weights computed once per frame.
+// The displacements of the view nodes for a snapshot (visual thread): stored arrays blended with
+// scalar weights. Trilinear: the 8 corners' displacements. Hermite: the same tensor-product cubic
+// as the force (docs/playback.md), with each corner's displacement slopes d u / d p as the
+// derivatives and the cross derivatives estimated from the slopes of the corners on the same
+// cell face; an extended corner's displacements are its source's extended by the source's
+// slopes, a secant corner's (a free check-point beside the contact onset, cursor.cc) its
+// source's scaled. Where the snapshot marks stored midpoint displacements (Snapshot::midpoint)
+// the cubic is that of the half-spacing cell the probe is in, as the force's. Just past the
+// onset the depth model is blended in (Snapshot::onset_weight). The weights are computed once
+// per frame; the arrays are streamed once.
 #include "playback/file_impl.h"
 
 #include <algorithm>
@@ -18,10 +18,11 @@ namespace {
 // The arrays to add and their weights, one entry per distinct (configuration, array).
 class Blend {
  public:
-  static constexpr int kMax = 40;
+  static constexpr int kMax = 80;
   explicit Blend(double scale) : scale_(scale) {}
   void set_scale(double scale) { scale_ = scale; }  // of the weights added from now on
-  // kind 0: the displacements of configuration k, kind 1 + a: its slopes along axis a.
+  // kind 0: the displacements of configuration k, kind 1 + a: its slopes along axis a; kind 4:
+  // the displacements of stored midpoint k (Snapshot::midpoint - 1), kind 5 + a: their slopes.
   void add(std::int32_t k, int kind, double w) {
     w *= scale_;
     if (k < 0 || w == 0.0) return;  // -1: a zero corner, nothing to add
@@ -30,7 +31,8 @@ class Blend {
         weight_[j] += w;
         return;
       }
-    if (count_ == kMax) return;  // cannot happen: 8 corners x 4 arrays + 8 depth sources
+    // Cannot happen: 8 corners x 4 arrays, 7 midpoints x 4 and 8 depth sources at most.
+    if (count_ == kMax) return;
     config_[count_] = k, kind_[count_] = kind, weight_[count_++] = w;
   }
   // out += Σ weight x array, in blocks so that out stays in cache while the arrays stream by.
@@ -41,7 +43,9 @@ class Blend {
     float w[kMax];
     for (int j = 0; j < count_; ++j) {
       const std::size_t k = static_cast<std::size_t>(config_[j]);
-      src[j] = kind_[j] == 0 ? f.displacements + n * k : f.slopes + n * (3 * k + kind_[j] - 1);
+      src[j] = kind_[j] == 0  ? f.displacements + n * k
+               : kind_[j] < 4 ? f.slopes + n * (3 * k + kind_[j] - 1)
+                              : f.midpoint_displacements + n * (4 * k + kind_[j] - 4);
       w[j] = static_cast<float>(weight_[j]);
     }
     // Eight arrays per pass over a block (the output block is loaded and stored once per eight
@@ -98,6 +102,7 @@ class Corners {
   bool secant(int c) const { return (s_.secant_corners >> c) & 1; }
   // The source's displacements plus (extended corner) its slopes times the shift; a secant
   // corner: the source's displacements times secant[0].
+  void add_value(int c, double w, Blend* blend) const { add_value(c, w, true, blend); }
   void add_value(int c, double w, bool with_shift, Blend* blend) const {
     if (secant(c)) return blend->add(config_[c], 0, w * s_.secant[c][0]);
     blend->add(config_[c], 0, w);
@@ -122,31 +127,44 @@ void add_trilinear(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend)
   for (int c = 0; c < 8; ++c) corners.add_value(c, s.weight[c], false, blend);
 }
 
-// The Hermite interpolant's weights: corner c contributes its value, its slopes along each axis,
-// and the cross derivatives of each face pair (a, b): half the difference quotients of the
-// slopes along a across b and along b across a (the force's estimate, cursor.cc).
-void add_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
-  const double* h = f.meta->spacing;
-  double B[3][4];  // per axis: value and derivative bases of side 0 and side 1 (derivative x h)
-  for (int a = 0; a < 3; ++a) {
-    const double t = std::clamp(s.cell_position[a], 0.0, 1.0);
-    B[a][2] = t * t * (3.0 - 2.0 * t);
-    B[a][0] = 1.0 - B[a][2];
-    B[a][1] = t * (1.0 - t) * (1.0 - t) * h[a];
-    B[a][3] = -t * t * (1.0 - t) * h[a];
+// Per axis, the cubic Hermite bases at t in [0, 1] of a cell of width h: value and derivative
+// bases of side 0 and side 1 (the derivative bases x h, so that they take slopes per mesh unit);
+// with `derivative`, their derivatives with respect to the coordinate (per mesh unit).
+void hermite_bases(double t, double h, bool derivative, double* B) {
+  if (!derivative) {
+    B[2] = t * t * (3.0 - 2.0 * t);
+    B[0] = 1.0 - B[2];
+    B[1] = t * (1.0 - t) * (1.0 - t) * h;
+    B[3] = -t * t * (1.0 - t) * h;
+  } else {
+    B[2] = 6.0 * t * (1.0 - t) / h;
+    B[0] = -B[2];
+    B[1] = (1.0 - t) * (1.0 - 3.0 * t);
+    B[3] = t * (3.0 * t - 2.0);
   }
-  const Corners corners(f, s);
+}
+
+// The weights of a Hermite cell of widths h whose 8 corners' values and slopes `points` adds
+// (add_value(c, w, blend), add_slope(c, a, w, blend)), at cell position t, times `scale`: its
+// value, or with axis >= 0 its derivative along that axis. The cross derivatives of each face
+// pair (a, b) are half the difference quotients of the slopes along a across b and along b
+// across a (the force's estimate, cursor.cc).
+template <class Points>
+void add_hermite(const Points& points, const std::array<double, 3>& t, const double* h, int axis,
+                 double scale, Blend* blend) {
+  double B[3][4];
+  for (int a = 0; a < 3; ++a) hermite_bases(std::clamp(t[a], 0.0, 1.0), h[a], a == axis, B[a]);
   static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_side(c);
     auto weight = [&](int kx, int ky, int kz) {
-      return B[0][2 * o[0] + kx] * B[1][2 * o[1] + ky] * B[2][2 * o[2] + kz];
+      return scale * B[0][2 * o[0] + kx] * B[1][2 * o[1] + ky] * B[2][2 * o[2] + kz];
     };
-    corners.add_value(c, weight(0, 0, 0), true, blend);
+    points.add_value(c, weight(0, 0, 0), blend);
     for (int a = 0; a < 3; ++a) {
       int k[3] = {0, 0, 0};
       k[a] = 1;
-      corners.add_slope(c, a, weight(k[0], k[1], k[2]), blend);
+      points.add_slope(c, a, weight(k[0], k[1], k[2]), blend);
     }
     for (const auto& pair : kPair) {
       const int a = pair[0], b = pair[1];
@@ -154,18 +172,74 @@ void add_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
       k[a] = k[b] = 1;
       const double w = 0.5 * weight(k[0], k[1], k[2]);
       const double sa = o[a] ? 1.0 : -1.0, sb = o[b] ? 1.0 : -1.0;
-      corners.add_slope(c, a, w * sb / h[b], blend);
-      corners.add_slope(c ^ (4 >> b), a, -w * sb / h[b], blend);
-      corners.add_slope(c, b, w * sa / h[a], blend);
-      corners.add_slope(c ^ (4 >> a), b, -w * sa / h[a], blend);
+      points.add_slope(c, a, w * sb / h[b], blend);
+      points.add_slope(c ^ (4 >> b), a, -w * sb / h[b], blend);
+      points.add_slope(c, b, w * sa / h[a], blend);
+      points.add_slope(c ^ (4 >> a), b, -w * sa / h[a], blend);
     }
   }
+}
+
+// The corners of one half-spacing cell (`sub`, bits x y z as the corners) as points of
+// add_hermite: the cell corner among them takes its data (Corners), a midpoint the stored
+// displacements and slopes (Snapshot::midpoint), any other midpoint the whole cell's Hermite
+// interpolant's value and derivative there. With every midpoint stored this is the Hermite
+// interpolant of a grid of half the spacing, as the cursor's force (cursor.cc).
+class HalfCellPoints {
+ public:
+  HalfCellPoints(const Corners& corners, const Snapshot& s, const double* h, int sub)
+      : corners_(corners), s_(s), h_(h), sub_(corner_side(sub)) {}
+  void add_value(int c, double w, Blend* blend) const { add(c, -1, w, blend); }
+  void add_slope(int c, int a, double w, Blend* blend) const { add(c, a, w, blend); }
+
+ private:
+  // The value (axis -1) or the slope along `axis` at point c, times w.
+  void add(int c, int axis, double w, Blend* blend) const {
+    if (w == 0.0) return;
+    const auto o = corner_side(c);
+    const int L[3] = {sub_[0] + o[0], sub_[1] + o[1], sub_[2] + o[2]};
+    if (L[0] % 2 == 0 && L[1] % 2 == 0 && L[2] % 2 == 0) {
+      const int corner = ((L[0] / 2) << 2) | ((L[1] / 2) << 1) | (L[2] / 2);
+      if (axis < 0) return corners_.add_value(corner, w, blend);
+      return corners_.add_slope(corner, axis, w, blend);
+    }
+    const std::int32_t code = s_.midpoint[9 * L[0] + 3 * L[1] + L[2]];
+    if (code > 0) return blend->add(code - 1, axis < 0 ? 4 : 5 + axis, w);
+    const std::array<double, 3> at = {0.5 * L[0], 0.5 * L[1], 0.5 * L[2]};
+    add_hermite(corners_, at, h_, axis, w, blend);
+  }
+
+  const Corners& corners_;
+  const Snapshot& s_;
+  const double* h_;
+  std::array<int, 3> sub_;
+};
+
+void add_cell_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
+  const Corners corners(f, s);
+  const double* h = f.meta->spacing;
+  const bool midpoints =
+      f.midpoint_displacements &&
+      std::any_of(s.midpoint.begin(), s.midpoint.end(), [&](std::int32_t code) {
+        return code > 0 && code <= playback::kMidpointDirections * f.meta->num_configurations;
+      });
+  if (!midpoints) return add_hermite(corners, s.cell_position, h, -1, 1.0, blend);
+  int sub = 0;
+  std::array<double, 3> t{};
+  const double half[3] = {0.5 * h[0], 0.5 * h[1], 0.5 * h[2]};
+  for (int a = 0; a < 3; ++a) {
+    const double p = std::clamp(s.cell_position[a], 0.0, 1.0);
+    const int side = p >= 0.5 ? 1 : 0;
+    sub |= side << (2 - a);
+    t[a] = 2.0 * p - side;
+  }
+  add_hermite(HalfCellPoints(corners, s, h, sub), t, half, -1, 1.0, blend);
 }
 
 void blend(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float> out) {
   Blend blend(1.0 - s.onset_weight);
   if (s.scheme == Scheme::kHermite && f.slopes)
-    add_hermite(f, s, &blend);
+    add_cell_hermite(f, s, &blend);
   else
     add_trilinear(f, s, &blend);
   // Just past the contact onset: the depth model's share.

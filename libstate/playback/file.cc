@@ -56,6 +56,10 @@ std::string section_name(SectionId id) {
       return "midpoint force";
     case SectionId::kMidpointStiffness:
       return "midpoint stiffness";
+    case SectionId::kMidpointDisplacementMask:
+      return "midpoint displacement mask";
+    case SectionId::kMidpointDisplacements:
+      return "midpoint displacements";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -191,6 +195,15 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     fail("section 'midpoint stiffness' has " + std::to_string(midpoint_k_bytes) +
          " bytes, the header implies 0 or " +
          std::to_string(midpoint_bytes == 0 ? 0 : 72 * playback::kMidpointDirections * n));
+  const std::uint64_t mask_bytes = bytes[static_cast<int>(SectionId::kMidpointDisplacementMask)];
+  const std::uint64_t midpoint_u_bytes = bytes[static_cast<int>(SectionId::kMidpointDisplacements)];
+  if (mask_bytes != 0 && mask_bytes != 4 * n)
+    fail("section 'midpoint displacement mask' has " + std::to_string(mask_bytes) +
+         " bytes, the header implies 0 or " + std::to_string(4 * n));
+  if (midpoint_u_bytes != (mask_bytes == 0 ? 0 : 48 * playback::kMidpointDirections * v * n))
+    fail("section 'midpoint displacements' has " + std::to_string(midpoint_u_bytes) +
+         " bytes, the header implies " +
+         std::to_string(mask_bytes == 0 ? 0 : 48 * playback::kMidpointDirections * v * n));
   if (!(m2.stiffness_limit >= 0) || !std::isfinite(m2.stiffness_limit))
     fail("meta: stiffness limit is not a finite number >= 0");
   for (int k = 0; k < 3; ++k)
@@ -218,6 +231,12 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     f.midpoint_force = reinterpret_cast<const double*>(section(SectionId::kMidpointForce));
   if (midpoint_k_bytes != 0)
     f.midpoint_stiffness = reinterpret_cast<const double*>(section(SectionId::kMidpointStiffness));
+  if (mask_bytes != 0) {
+    f.midpoint_mask =
+        reinterpret_cast<const std::int32_t*>(section(SectionId::kMidpointDisplacementMask));
+    f.midpoint_displacements =
+        reinterpret_cast<const float*>(section(SectionId::kMidpointDisplacements));
+  }
   if (contact) {
     f.clearance = reinterpret_cast<const double*>(section(SectionId::kClearance));
     f.onset = reinterpret_cast<const playback::OnsetCorner*>(section(SectionId::kOnset));
@@ -282,6 +301,10 @@ void PlaybackFile::verify() const {
     if (std::isinf(f.midpoint_stiffness[k]))
       fail("configuration " + std::to_string(k / (9 * playback::kMidpointDirections)) +
            ": midpoint stiffness infinite");
+  for (std::int64_t c = 0; f.midpoint_mask && c < n; ++c)
+    if (f.midpoint_mask[c] < 0 || f.midpoint_mask[c] >= (1 << playback::kMidpointDirections))
+      fail("configuration " + std::to_string(c) + ": midpoint displacement mask " +
+           std::to_string(f.midpoint_mask[c]) + " out of range");
   for (std::int64_t g = 0; f.clearance && g < points; ++g)
     if (!finite(f.clearance + 4 * g, 4))
       fail("check-point " + std::to_string(g) + ": clearance not finite");

@@ -34,6 +34,17 @@ struct PlaybackFile::Impl {
   const double* midpoint_force = nullptr;
   // 9 x kMidpointDirections per configuration (NaN: none); nullptr: the file has none.
   const double* midpoint_stiffness = nullptr;
+  // Bit d per configuration: its midpoint in direction d has displacements; nullptr: none.
+  const std::int32_t* midpoint_mask = nullptr;
+  // 12 x kMidpointDirections per view node per configuration (section 19); with the mask.
+  const float* midpoint_displacements = nullptr;
+  // The displacements (kind 0) or their slope along axis kind - 1 at configuration c's
+  // midpoint in direction d: 3 per view node.
+  const float* midpoint_array(std::int32_t c, int d, int kind) const {
+    const std::size_t n = 3 * static_cast<std::size_t>(meta->num_view_nodes);
+    return midpoint_displacements +
+           n * (4 * (playback::kMidpointDirections * static_cast<std::size_t>(c) + d) + kind);
+  }
 
   // Linear index of grid point ijk (absolute grid indices), or -1 outside the grid.
   std::int32_t point_index(const std::array<std::int32_t, 3>& ijk) const {

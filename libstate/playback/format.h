@@ -1,5 +1,5 @@
 // The playback file's layout on disk (docs/playback.md): little-endian, a 64-byte header,
-// a table of sections, every section's data 64-byte aligned. Version 6 (kVersion).
+// a table of sections, every section's data 64-byte aligned. Version 7 (kVersion).
 //
 //   header | section table | section data ...
 //
@@ -17,8 +17,9 @@ static_assert(std::endian::native == std::endian::little,
               "the playback file is little-endian and mapped as is");
 
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
-// 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness
-inline constexpr std::uint32_t kVersion = 6;
+// 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness, 7: midpoint
+// displacements
+inline constexpr std::uint32_t kVersion = 7;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -65,8 +66,16 @@ enum class SectionId : std::uint32_t {
   // stiffness at the same points, NaN where none was solved; empty when the state space
   // recorded none (the cursor then fits bubbles to the midpoint forces instead).
   kMidpointStiffness = 17,
+  // int32 per configuration: bit d set where the displacements half-way through its move in
+  // direction kMidpointOffsets[d] are stored (section 19); empty when none are.
+  kMidpointDisplacementMask = 18,
+  // float32 per configuration, per midpoint direction d: the displacements (3 per view node,
+  // mesh units), then their slopes along probe axis x, y, z (3 arrays of 3 per view node,
+  // dimensionless): 12 x kMidpointDirections per view node; zero where the mask bit is clear;
+  // empty with the mask.
+  kMidpointDisplacements = 19,
 };
-inline constexpr int kSectionCount = 17;
+inline constexpr int kSectionCount = 19;
 
 // The directions whose moves record the force half-way (offsets all >= 0): per configuration,
 // one edge, face and cell of the grid seen from their lowest corner.

@@ -75,6 +75,9 @@ void check_content(const Content& c, const std::filesystem::path& file) {
     if (!(c.meta.spacing[a] > 0)) bad("grid spacing must be positive");
   }
   if (c.checkpoints.size() != 2 * points) bad("check-point table size");
+  if (!c.midpoint_displacement_mask.empty() &&
+      (c.midpoint_displacement_mask.size() != n || !c.midpoint_displacements))
+    bad("midpoint displacement mask size, or no midpoint displacements for it");
   if (c.config_level.size() != n || c.config_zero.size() != n || c.force.size() != 3 * n ||
       c.stiffness.size() != 9 * n || c.transitions.size() != 26 * n)
     bad("configuration table sizes");
@@ -214,6 +217,8 @@ void write_file(Content c, const std::filesystem::path& file) {
   c.meta.force_change_bound = force_change_bound(c);
   c.meta.has_displacement_slopes = c.displacement_slopes ? 1 : 0;
   const std::uint64_t slope_floats = c.displacement_slopes ? 9 * v : 0;
+  const std::uint64_t midpoint_floats =
+      c.midpoint_displacement_mask.empty() ? 0 : 12 * kMidpointDirections * v;
 
   struct Pending {
     SectionId id;
@@ -251,6 +256,14 @@ void write_file(Content c, const std::filesystem::path& file) {
        8 * c.midpoint_force.size()},
       {SectionId::kMidpointStiffness, 72 * kMidpointDirections, bytes_of(c.midpoint_stiffness),
        8 * c.midpoint_stiffness.size()},
+      {SectionId::kMidpointDisplacementMask, 4, bytes_of(c.midpoint_displacement_mask),
+       4 * c.midpoint_displacement_mask.size()},
+      {SectionId::kMidpointDisplacements,
+       static_cast<std::uint32_t>(48 * kMidpointDirections),
+       {},
+       4 * midpoint_floats * n,
+       &c.midpoint_displacements,
+       midpoint_floats},
   };
 
   std::filesystem::path tmp = file;

@@ -31,6 +31,12 @@ struct Content {
   // 9 x kMidpointDirections per configuration (NaN: none), or empty: none recorded (then also
   // when midpoint_force is empty).
   std::vector<double> midpoint_stiffness;
+  // Per configuration, bit d: the displacements at the midpoint in direction d are given by
+  // midpoint_displacements; empty: none (the file then has none).
+  std::vector<std::int32_t> midpoint_displacement_mask;
+  // Fills `out` (12 x kMidpointDirections per view node, the layout of section 19) for
+  // configuration c; called only when the mask is not empty.
+  std::function<void(std::int32_t c, std::span<float> out)> midpoint_displacements;
   // Fills `out` (3 per view node) with the displacements of configuration c.
   std::function<void(std::int32_t c, std::span<float> out)> displacements;
   // Fills `out` (9 per view node: the x, y, z arrays of 3 per view node) with the

@@ -47,6 +47,13 @@ BatchDecision decide_batch(const std::vector<TransitionTask>& tasks,
     t.outcome = TransitionOutcome::kReached;
     t.midpoint_force = solve.midpoint_force;
     t.midpoint_stiffness = solve.midpoint_stiffness;
+    if (!solve.midpoint_u.empty()) {
+      std::string name = "m";
+      name += std::to_string(task.source.id.value());
+      name += '_';
+      name += std::to_string(task.direction.index());
+      t.midpoint_blob = BlobRef{settings.segment, std::move(name)};
+    }
     // Compare with every level at the target, stored or new in this batch.
     const std::vector<double> summary = settings.sketch->summary(solve.vectors.u);
     // Sticking contact: levels with a different touched set are never equal, so the bound may

@@ -74,6 +74,8 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
     if (records_midpoint(task.direction)) {
       out.midpoint_force = std::array<double, 3>{};
       out.midpoint_stiffness = std::array<double, 9>{};
+      out.midpoint_u.assign(solver.num_dofs(), 0.0f);
+      out.midpoint_du_dp.assign(3 * static_cast<std::size_t>(solver.num_dofs()), 0.0f);
     }
     out.vectors.u.assign(solver.num_dofs(), 0.0);
     out.vectors.t.assign(probe_.layout().t_size(0), 0.0);  // the layout of a stored zero state
@@ -90,8 +92,13 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
     if (half.ok) {
       const Eigen::Vector3d f = solver.force_felt();
       out.midpoint_force = std::array<double, 3>{f.x(), f.y(), f.z()};
+      const Eigen::VectorXd& u_m = solver.state_m();
+      out.midpoint_u.resize(static_cast<std::size_t>(u_m.size()));
+      for (Eigen::Index d = 0; d < u_m.size(); ++d)
+        out.midpoint_u[d] = static_cast<float>(u_m[d] / problem_.unit);
       const long long before = solver.timings().factorizations;
-      const Eigen::Matrix3d k = solver.haptic_stiffness();
+      Eigen::MatrixX3d du_dp;
+      const Eigen::Matrix3d k = solver.haptic_stiffness(&du_dp);
       half.factorisations += static_cast<int>(solver.timings().factorizations - before);
       if (k.allFinite()) {
         std::array<double, 9> row_major{};
@@ -99,6 +106,7 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
           for (int c = 0; c < 3; ++c) row_major[3 * r + c] = k(r, c);
         out.midpoint_stiffness = row_major;
       }
+      out.midpoint_du_dp = stiffness_result(k, du_dp).du_dp;
       out.move = probe_.move_to(solver, task.to);
       add_cost(half, false, &out.move);
     } else {
@@ -106,7 +114,10 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
       out.move = probe_.move_to(solver, task.to);
       add_cost(half, true, &out.move);
     }
-    if (!out.move.ok) out.midpoint_force.reset(), out.midpoint_stiffness.reset();
+    if (!out.move.ok) {
+      out.midpoint_force.reset(), out.midpoint_stiffness.reset();
+      out.midpoint_u.clear(), out.midpoint_du_dp.clear();
+    }
   } else {
     out.move = probe_.move_to(solver, task.to);
   }

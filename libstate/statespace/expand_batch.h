@@ -44,6 +44,10 @@ struct TransitionSolve {
   // Felt half-way through the move (directions with offsets >= 0, when that half converged).
   std::optional<std::array<double, 3>> midpoint_force;
   std::optional<std::array<double, 9>> midpoint_stiffness;  // the haptic stiffness there
+  // The displacements there (mesh units) and their slopes d u / d p (3 columns), float32 as
+  // stored; empty when there is no midpoint force.
+  std::vector<float> midpoint_u;
+  std::vector<float> midpoint_du_dp;
 };
 
 // Whether a move in `direction` stops half-way to record the force there (Transition::

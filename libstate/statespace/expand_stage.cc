@@ -220,7 +220,10 @@ class Expander {
     }
 
     // Vectors first, durable, then the rows that reference them.
-    if (!decision.fresh.empty()) {
+    const bool midpoints =
+        std::any_of(decision.transitions.begin(), decision.transitions.end(),
+                    [](const Transition& t) { return t.midpoint_blob.has_value(); });
+    if (!decision.fresh.empty() || midpoints) {
       SegmentWriter writer(blobs_.directory(), settings.segment,
                            SegmentProvenance{ctx_.scene_record.hash.hex(), "", "expand"});
       for (std::size_t k = 0; k < decision.fresh.size(); ++k) {
@@ -234,6 +237,13 @@ class Expander {
           writer.write(n.config.blob->name + "/multipliers", n.vectors->multipliers);
         if (probe_->stores_touched())
           writer.write(n.config.blob->name + "/touched", std::span<const int>(n.vectors->touched));
+      }
+      for (std::size_t k = 0; k < decision.transitions.size(); ++k) {
+        const Transition& t = decision.transitions[k];
+        if (!t.midpoint_blob) continue;
+        writer.write(t.midpoint_blob->name + "/u", std::span<const float>(solves[k].midpoint_u));
+        writer.write(t.midpoint_blob->name + "/du_dp",
+                     std::span<const float>(solves[k].midpoint_du_dp));
       }
       writer.close();
     }

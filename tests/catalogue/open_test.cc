@@ -99,7 +99,7 @@ TEST(CatalogueOpen, CreateSetsWalApplicationIdAndVersion) {
   }
   EXPECT_EQ(raw_sql(file, "PRAGMA journal_mode"), "wal");
   EXPECT_EQ(raw_sql(file, "PRAGMA application_id"), std::to_string(0x48415053));
-  EXPECT_EQ(raw_sql(file, "PRAGMA user_version"), "4");
+  EXPECT_EQ(raw_sql(file, "PRAGMA user_version"), "5");
   EXPECT_EQ(raw_sql(file, "SELECT count(*) FROM configuration"), "1");
   EXPECT_EQ(raw_sql(file, "SELECT name FROM sqlite_schema WHERE name = 'configuration_frontier'"),
             "configuration_frontier");
@@ -135,7 +135,7 @@ TEST(CatalogueOpen, MissingFileIsNotCreatedUnlessAsked) {
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadOnly); }, "no catalogue here");
   EXPECT_FALSE(std::filesystem::exists(file));
   Catalogue cat(file, OpenMode::kMigrate);  // migration from nothing
-  EXPECT_EQ(cat.schema_version(), 4);
+  EXPECT_EQ(cat.schema_version(), 5);
 }
 
 TEST(CatalogueOpen, EmptyFileIsMigratedFromScratch) {
@@ -144,7 +144,7 @@ TEST(CatalogueOpen, EmptyFileIsMigratedFromScratch) {
   std::ofstream(file).close();
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); }, "empty catalogue");
   Catalogue cat(file, OpenMode::kCreate);
-  EXPECT_EQ(cat.schema_version(), 4);
+  EXPECT_EQ(cat.schema_version(), 5);
   EXPECT_EQ(cat.integrity_check(), "ok");
 }
 
@@ -159,7 +159,7 @@ TEST(CatalogueOpen, FutureSchemaVersionIsRefusedAndFileUnchanged) {
   ASSERT_FALSE(std::filesystem::exists(file.string() + "-wal"));  // checkpointed on close
   expect_refused_untouched(
       file,
-      file.string() + " has schema version 7, this hapstate supports up to 4: upgrade hapstate");
+      file.string() + " has schema version 7, this hapstate supports up to 5: upgrade hapstate");
 }
 
 TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {
@@ -169,7 +169,7 @@ TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {
                     std::to_string(Catalogue::kApplicationId));
   const std::string before = file_bytes(file);
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
-                     "has schema version 0, this hapstate needs 4: run any writing stage on it");
+                     "has schema version 0, this hapstate needs 5: run any writing stage on it");
   expect_input_error([&] { Catalogue cat(file, OpenMode::kCreate); },
                      "run any writing stage on it");
   EXPECT_EQ(file_bytes(file), before);
@@ -271,7 +271,8 @@ namespace {
 
 // A catalogue of schema 1 (written with schema/0001_initial.sql alone, as hapstate 0.1 did) is
 // migrated by a writing open: the transition table gains `factorisations` (old rows count 0)
-// and the midpoint force and stiffness (old rows have none); a new row keeps them.
+// and the midpoint force, stiffness and displacement blob (old rows have none); a new row keeps
+// them.
 TEST(CatalogueOpen, SchemaOneIsMigratedAndOldTransitionsCountNoFactorisations) {
   TempDir dir("open");
   const auto file = dir.path() / "catalogue.sqlite";
@@ -288,20 +289,22 @@ TEST(CatalogueOpen, SchemaOneIsMigratedAndOldTransitionsCountNoFactorisations) {
       "INSERT INTO transition (source, direction, outcome, target, substeps, "
       "newton_iterations, final_residual, wall_ms) VALUES (1, 3, 1, NULL, 0, 0, 0, 0)");
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
-                     "has schema version 1, this hapstate needs 4");
+                     "has schema version 1, this hapstate needs 5");
   Catalogue cat(file, OpenMode::kMigrate);
-  EXPECT_EQ(cat.schema_version(), 4);
+  EXPECT_EQ(cat.schema_version(), 5);
   const auto t = cat.read_transition(ConfigId(1), Direction(3));
   ASSERT_TRUE(t.has_value());
   EXPECT_EQ(t->factorisations, 0);
   EXPECT_FALSE(t->midpoint_force.has_value());
   EXPECT_FALSE(t->midpoint_stiffness.has_value());
+  EXPECT_FALSE(t->midpoint_blob.has_value());
   Transition u = *t;
   u.direction = Direction(25);
   u.outcome = TransitionOutcome::kReached;
   u.target = ConfigId(1);
   u.midpoint_force = std::array<double, 3>{0.25, -1.5, 3e-7};
   u.midpoint_stiffness = std::array<double, 9>{-1, 0.5, 0, 0.5, -2, 1e-9, 0, 1e-9, -3};
+  u.midpoint_blob = BlobRef{SegmentId{7}, "m1_25"};
   cat.insert_transition(u);
   EXPECT_EQ(cat.read_transition(ConfigId(1), Direction(25)), u);
   EXPECT_EQ(cat.integrity_check(), "ok");

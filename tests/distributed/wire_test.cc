@@ -47,6 +47,8 @@ TEST(Wire, TransitionResultRoundTrips) {
   s.force = {0.1, -0.2, 0.3};
   s.midpoint_force = std::array<double, 3>{0.05, -0.1, 0.15};
   s.midpoint_stiffness = std::array<double, 9>{-1, 0.2, 0, 0.2, -1.5, 0, 0, 0, -2.5};
+  s.midpoint_u = {0.5f, -0.25f, 1e-7f};
+  s.midpoint_du_dp = {1, 0, 0, 0, 1, 0, 0.5f, 0, 1};
   wire::Writer w;
   wire::put(w, s);
   wire::Reader r(w.bytes().data(), w.bytes().size());
@@ -70,6 +72,8 @@ TEST(Wire, TransitionResultRoundTrips) {
   EXPECT_EQ(t.force, s.force);
   EXPECT_EQ(t.midpoint_force, s.midpoint_force);
   EXPECT_EQ(t.midpoint_stiffness, s.midpoint_stiffness);
+  EXPECT_EQ(t.midpoint_u, s.midpoint_u);
+  EXPECT_EQ(t.midpoint_du_dp, s.midpoint_du_dp);
 }
 
 TEST(Wire, TransitionChunkRoundTripsWithSharedSources) {

@@ -3,6 +3,7 @@
 #include "maintenance/compact.h"
 #include "../blobs/temp_dir.h"
 #include "blobs/blob_store.h"
+#include "blobs/segment_writer.h"
 #include "catalogue/catalogue.h"
 #include "maintenance/level_compare.h"
 #include "maintenance/level_merge.h"
@@ -283,6 +284,48 @@ TEST(Compact, SmallSegmentCapGivesSeveralSegments) {
   EXPECT_EQ(r.after.segments, 3);
   expect_all_blobs_readable(dir.path());
   EXPECT_TRUE(compact_state(dir.path(), o).nothing_to_do);
+}
+
+// The midpoint vectors of a transition move with it: repacked beside the configurations and
+// repointed (a merged configuration keeps its transition rows, and they their vectors); a
+// midpoint group no row references is dead.
+TEST(Compact, MidpointVectorsAreRepackedWithTheirTransitions) {
+  TempDir dir("compact");
+  test_util::write_synthetic_state(dir.path());
+  const std::vector<float> kept_u = {0.5f, -0.25f, 2.0f};
+  const std::vector<float> kept_slopes = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  {
+    Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadWrite);
+    BlobStore blobs(dir.path() / "blobs");
+    const SegmentId id = blobs.next_segment_id();
+    SegmentWriter writer(dir.path() / "blobs", id, SegmentProvenance{"", "", "expand"});
+    writer.write("m2_21/u", std::span<const float>(kept_u));
+    writer.write("m2_21/du_dp", std::span<const float>(kept_slopes));
+    writer.write("m4_21/u", std::span<const float>(kept_u));  // c4 is merged into c3
+    writer.write("m9_3/u", std::span<const float>(kept_u));   // no such transition
+    writer.close();
+    ASSERT_TRUE(cat.update_transition_midpoint_blob(ConfigId(2), Direction(21), {id, "m2_21"}));
+    ASSERT_TRUE(cat.update_transition_midpoint_blob(ConfigId(4), Direction(21), {id, "m4_21"}));
+  }
+  const CompactReport r = compact_state(dir.path(), {});
+  EXPECT_EQ(r.repacked_configurations, 5);
+  EXPECT_EQ(r.dead_vectors, 7);  // c4 and c8: u, t, h; m9_3/u
+  EXPECT_EQ(r.after.segments, 1);
+  Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
+  const auto t = cat.read_transition(ConfigId(2), Direction(21));
+  ASSERT_TRUE(t && t->midpoint_blob);
+  const SegmentId packed = cat.read_configuration(ConfigId(2)).blob->segment;
+  EXPECT_EQ(t->midpoint_blob->segment, packed);
+  EXPECT_EQ(t->midpoint_blob->name, "m2_21");
+  BlobStore blobs(dir.path() / "blobs");
+  EXPECT_EQ(blobs.read_float32(packed, "m2_21/u"), kept_u);
+  EXPECT_EQ(blobs.read_float32(packed, "m2_21/du_dp"), kept_slopes);
+  EXPECT_EQ(cat.read_transition(ConfigId(4), Direction(21))->midpoint_blob->segment, packed);
+  EXPECT_TRUE(blobs.contains(packed, "m4_21/u"));
+  EXPECT_FALSE(blobs.contains(packed, "m9_3/u"));
+  expect_all_blobs_readable(dir.path());
+  expect_consistent(dir.path());
+  EXPECT_TRUE(compact_state(dir.path(), {}).nothing_to_do);
 }
 
 }  // namespace

@@ -461,6 +461,63 @@ TEST_F(Cursor, MidpointStiffnessEqualsTheHalfSpacingGrid) {
   EXPECT_LE(stiffness, 1e-10);
 }
 
+// With the midpoint displacements and slopes too, deform() interpolates each half-spacing cell
+// as the force: the same displacements as the grid of half the spacing, exact at the stored
+// midpoints, and a file without them keeps the corner cubic (a larger error).
+TEST_F(Cursor, MidpointDisplacementsEqualTheHalfSpacingGrid) {
+  const Field field;
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  playback::Content content = test_util::synthetic_content(field, h);
+  test_util::add_midpoint_forces(&content, field, true);
+  PlaybackFile corners_only(write(content, "corners_only.bin"));
+  test_util::add_midpoint_displacements(&content, field);
+  PlaybackFile lattice(write(content, "lattice_u.bin"));
+  PlaybackFile fine(write(test_util::synthetic_content(field, 0.5 * h), "fine_u.bin"));
+  HapticCursor coarse_cursor(lattice, Scheme::kHermite), fine_cursor(fine, Scheme::kHermite),
+      plain_cursor(corners_only, Scheme::kHermite);
+  std::vector<float> a(3 * test_util::kSyntheticViewNodes), b(a.size()), c(a.size());
+  auto displacements_at = [&](HapticCursor& cursor, const PlaybackFile& file,
+                              const Eigen::Vector3d& p, std::vector<float>* out) {
+    cursor.force(arr(p));
+    Snapshot snap;
+    cursor.snapshot(&snap);
+    displacements(file, snap, *out);
+  };
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-0.999, 0.999);  // the fine grid spans +-h
+  double to_fine = 0, lattice_error = 0, plain_error = 0, scale = 0;
+  for (int n = 0; n < 500; ++n) {
+    const Eigen::Vector3d p =
+        field.origin + Eigen::Vector3d(u(rng) * h[0], u(rng) * h[1], u(rng) * h[2]);
+    displacements_at(coarse_cursor, lattice, p, &a);
+    displacements_at(fine_cursor, fine, p, &b);
+    displacements_at(plain_cursor, corners_only, p, &c);
+    for (int v = 0; v < test_util::kSyntheticViewNodes; ++v) {
+      const Eigen::Vector3d exact = test_util::synthetic_displacement(field, v, p);
+      const Eigen::Vector3d x(a[3 * v], a[3 * v + 1], a[3 * v + 2]);
+      to_fine =
+          std::max(to_fine, (x - Eigen::Vector3d(b[3 * v], b[3 * v + 1], b[3 * v + 2])).norm());
+      lattice_error = std::max(lattice_error, (x - exact).norm());
+      plain_error = std::max(
+          plain_error, (Eigen::Vector3d(c[3 * v], c[3 * v + 1], c[3 * v + 2]) - exact).norm());
+      scale = std::max(scale, exact.norm());
+    }
+  }
+  std::printf(
+      "displacement error: corners only %.3g, half-spacing cells %.3g (to the fine grid "
+      "%.3g, displacements up to %.3g)\n",
+      plain_error, lattice_error, to_fine, scale);
+  EXPECT_LE(to_fine, 1e-6 * scale);  // float32 storage
+  EXPECT_LT(lattice_error, plain_error / 6);
+  // Exact at a stored midpoint: the centre of the cell above the rest point.
+  const Eigen::Vector3d centre = field.origin + 0.5 * h;
+  displacements_at(coarse_cursor, lattice, centre, &a);
+  for (int v = 0; v < test_util::kSyntheticViewNodes; ++v) {
+    const Eigen::Vector3d exact = test_util::synthetic_displacement(field, v, centre);
+    EXPECT_LE((Eigen::Vector3d(a[3 * v], a[3 * v + 1], a[3 * v + 2]) - exact).norm(), 1e-6 * scale);
+  }
+}
+
 // A recorded value is used only where the source's move leads to the configuration the cell
 // shows at the other end: with the +x move of the rest configuration marked failed, the force at
 // that edge's midpoint is the plain Hermite one, and the rest of the cell still uses its recorded
@@ -485,14 +542,39 @@ TEST_F(Cursor, MidpointForceOfAMoveThatDoesNotReachTheCornerIsNotUsed) {
     const Eigen::Vector3d centre = field.origin + 0.5 * h;
     EXPECT_LT((vec(with.force(arr(centre)).value) - field.force(centre)).norm(), 1e-12);
   }
+  // The displacements likewise: at that edge's midpoint those of the corners' cubic (the plain
+  // file's), at the cell centre the stored ones.
+  test_util::add_midpoint_displacements(&content, field);
+  PlaybackFile file(write(content, "midpoints_u.bin"));
+  HapticCursor with(file, Scheme::kHermite), without(plain, Scheme::kHermite);
+  std::vector<float> a(3 * test_util::kSyntheticViewNodes), b(a.size());
+  Snapshot snap;
+  const Eigen::Vector3d edge = field.origin + Eigen::Vector3d(0.5 * h[0], 0, 0);
+  with.force(arr(edge));
+  with.snapshot(&snap);
+  displacements(file, snap, a);
+  without.force(arr(edge));
+  without.snapshot(&snap);
+  displacements(plain, snap, b);
+  for (std::size_t r = 0; r < a.size(); ++r) EXPECT_NEAR(a[r], b[r], 1e-6) << r;
+  const Eigen::Vector3d centre = field.origin + 0.5 * h;
+  with.force(arr(centre));
+  with.snapshot(&snap);
+  displacements(file, snap, a);
+  for (int v = 0; v < test_util::kSyntheticViewNodes; ++v)
+    EXPECT_LE((Eigen::Vector3d(a[3 * v], a[3 * v + 1], a[3 * v + 2]) -
+               test_util::synthetic_displacement(field, v, centre))
+                  .norm(),
+              1e-6);
 }
 
 TEST_F(Cursor, ForceAndSnapshotDoNotAllocate) {
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
   playback::Content c = test_util::synthetic_content(field_, h);
   for (int d = 0; d < 26 * 125; d += 5)
-    c.transitions[d] = playback::kFailed;      // extended corners too
-  test_util::add_midpoint_forces(&c, field_);  // the half-cell fit at each cell entry too
+    c.transitions[d] = playback::kFailed;             // extended corners too
+  test_util::add_midpoint_forces(&c, field_);         // the half-cell fit at each cell entry too
+  test_util::add_midpoint_displacements(&c, field_);  // and the half-cell deform
   PlaybackFile file(write(std::move(c), "alloc.bin"));
   HapticCursor cursor(file, Scheme::kHermite);
   std::vector<float> pos(3 * test_util::kSyntheticViewNodes);

@@ -165,6 +165,52 @@ void add_midpoint_forces(playback::Content* c, const ForceField& field, bool sti
   }
 }
 
+// Adds the displacements and their slopes half-way through every move in the kMidpointOffsets
+// directions that stays in the grid (synthetic_displacement there), as the expansion records
+// them (call after add_midpoint_forces: the cursor uses a midpoint's displacements only where it
+// uses its force).
+inline void add_midpoint_displacements(playback::Content* c, const Field& field) {
+  const playback::Meta m = c->meta;
+  const std::vector<std::int32_t> checkpoint = c->config_checkpoint;
+  const std::size_t n = checkpoint.size();
+  auto ijk_of = [m](int g) {
+    return std::array<int, 3>{g / (m.dims[1] * m.dims[2]) + m.lo[0],
+                              (g / m.dims[2]) % m.dims[1] + m.lo[1], g % m.dims[2] + m.lo[2]};
+  };
+  auto midpoint = [m, ijk_of](int g, int d, Eigen::Vector3d* p) {
+    const auto ijk = ijk_of(g);
+    const int* o = playback::kMidpointOffsets[d];
+    for (int a = 0; a < 3; ++a) {
+      if (ijk[a] + o[a] >= m.lo[a] + m.dims[a]) return false;
+      (*p)[a] = m.origin[a] + (ijk[a] + 0.5 * o[a]) * m.spacing[a];
+    }
+    return true;
+  };
+  c->midpoint_displacement_mask.assign(n, 0);
+  for (std::size_t k = 0; k < n; ++k)
+    for (int d = 0; d < playback::kMidpointDirections; ++d) {
+      Eigen::Vector3d p;
+      if (midpoint(checkpoint[k], d, &p)) c->midpoint_displacement_mask[k] |= 1 << d;
+    }
+  c->midpoint_displacements = [field, checkpoint, midpoint](std::int32_t k, std::span<float> out) {
+    constexpr int v = kSyntheticViewNodes;
+    for (int d = 0; d < playback::kMidpointDirections; ++d) {
+      Eigen::Vector3d p;
+      if (!midpoint(checkpoint[k], d, &p)) continue;
+      float* row = out.data() + 12 * v * d;
+      for (int node = 0; node < v; ++node) {
+        const Eigen::Vector3d u = synthetic_displacement(field, node, p);
+        const Eigen::Matrix3d s = synthetic_displacement_slope(field, node, p);
+        for (int r = 0; r < 3; ++r) {
+          row[3 * node + r] = static_cast<float>(u[r]);
+          for (int a = 0; a < 3; ++a)
+            row[3 * ((1 + a) * v + node) + r] = static_cast<float>(s(r, a));
+        }
+      }
+    }
+  };
+}
+
 // Grid direction index of offset (di, dj, dk) (catalogue/direction.h numbering).
 inline int direction_of(int di, int dj, int dk) {
   const int c = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);

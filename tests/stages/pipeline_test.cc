@@ -10,6 +10,8 @@
 #include "statespace/level_match.h"
 
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <regex>
 
 namespace hapstate::test_util {
@@ -81,6 +83,58 @@ TEST_F(Pipeline, ExpansionTerminatesWithinTheForceLimit) {
   }
   EXPECT_EQ(failed, 0);
   EXPECT_EQ(outside, 288);  // neighbours beyond the 5 x 3 x 3 box
+}
+
+// Every move that records a midpoint force stores the displacements and their slopes there
+// too, and they agree with the stored states at both ends: u(mid) is near their mean, and the
+// slope times the move is their central difference (second order: the beam bends little).
+TEST_F(Pipeline, MidpointDisplacementsAgreeWithTheStatesAtBothEnds) {
+  const Snapshot s = snapshot(reference());
+  BlobStore blobs(reference() / "blobs");
+  std::map<ConfigId, Configuration> by_id;
+  for (const Configuration& c : s.configurations) by_id[c.id] = c;
+  auto u_of = [&](ConfigId id) {
+    const Configuration& c = by_id.at(id);
+    return c.blob ? blobs.read(c.blob->segment, c.blob->name + "/u") : std::vector<double>{};
+  };
+  constexpr double kSpacing = 0.1;  // pipelines/beam/scene.toml
+  int checked = 0;
+  double worst_mean = 0, worst_difference = 0;
+  for (const Transition& t : s.transitions) {
+    if (t.outcome != TransitionOutcome::kReached) continue;
+    ASSERT_EQ(t.midpoint_force.has_value(), t.midpoint_blob.has_value());
+    if (!t.midpoint_blob) continue;
+    const std::vector<float> mid =
+        blobs.read_float32(t.midpoint_blob->segment, t.midpoint_blob->name + "/u");
+    const std::vector<float> slope =
+        blobs.read_float32(t.midpoint_blob->segment, t.midpoint_blob->name + "/du_dp");
+    std::vector<double> from = u_of(t.source), to = u_of(t.target);
+    const std::size_t n = mid.size();
+    ASSERT_EQ(slope.size(), 3 * n);
+    if (from.empty()) from.assign(n, 0.0);
+    if (to.empty()) to.assign(n, 0.0);
+    ASSERT_EQ(from.size(), n);
+    ASSERT_EQ(to.size(), n);
+    const auto o = t.direction.offset();
+    double span = 0, mean = 0, difference = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      double predicted = 0;
+      for (int a = 0; a < 3; ++a) predicted += slope[a * n + k] * o[a] * kSpacing;
+      span = std::max(span, std::abs(to[k] - from[k]));
+      mean = std::max(mean, std::abs(mid[k] - 0.5 * (from[k] + to[k])));
+      difference = std::max(difference, std::abs(to[k] - from[k] - predicted));
+    }
+    worst_mean = std::max(worst_mean, mean / span);
+    worst_difference = std::max(worst_difference, difference / span);
+    ++checked;
+  }
+  std::printf(
+      "[ info ] %d midpoints: |u(mid) - mean| <= %.3g, |difference - slope x move| <= %.3g "
+      "of the largest change\n",
+      checked, worst_mean, worst_difference);
+  EXPECT_GT(checked, 100);
+  EXPECT_LE(worst_mean, 0.05);
+  EXPECT_LE(worst_difference, 0.01);
 }
 
 TEST_F(Pipeline, ZeroConfigurationAtTheRestCheckpoint) {

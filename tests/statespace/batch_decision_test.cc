@@ -116,6 +116,8 @@ TEST_F(Decide, MatchesStoredAndSameBatchLevelsAndNumbersNewOnesInTaskOrder) {
                                          reached(0.801, 0.6), reached(0.2, 0.1), reached(1.2, 0.9)};
   solves[3].midpoint_force = std::array<double, 3>{0.05, 0, 0};
   solves[3].midpoint_stiffness = std::array<double, 9>{-1, 0, 0, 0, -1, 0, 0, 0, -1};
+  solves[3].midpoint_u = {0.01f, 0, 0};
+  solves[3].midpoint_du_dp = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   const BatchDecision d = decide_batch(tasks, solves, stored_, settings_);
   ASSERT_EQ(d.transitions.size(), 5u);
   EXPECT_EQ(d.transitions[0].target, ConfigId(10));
@@ -127,6 +129,12 @@ TEST_F(Decide, MatchesStoredAndSameBatchLevelsAndNumbersNewOnesInTaskOrder) {
   EXPECT_EQ(d.transitions[3].midpoint_force, solves[3].midpoint_force);
   EXPECT_EQ(d.transitions[3].midpoint_stiffness, solves[3].midpoint_stiffness);
   EXPECT_FALSE(d.transitions[0].midpoint_force.has_value());
+  // Its displacements go into the batch's segment, named after the transition.
+  ASSERT_TRUE(d.transitions[3].midpoint_blob.has_value());
+  EXPECT_EQ(d.transitions[3].midpoint_blob->segment, settings_.segment);
+  EXPECT_EQ(d.transitions[3].midpoint_blob->name,
+            "m" + std::to_string(tasks[3].source.id.value()) + "_1");
+  EXPECT_FALSE(d.transitions[0].midpoint_blob.has_value());
   ASSERT_EQ(d.fresh.size(), 3u);
   EXPECT_EQ(d.fresh[0].config.level, Level(1));
   EXPECT_EQ(d.fresh[1].config.level, Level(0));
