@@ -2,7 +2,9 @@
 // for a state directory, the blob segments' bytes on disk per configuration beside the raw
 // bytes of its vectors (in their stored types) and those bytes compressed by zstd alone, one
 // configuration at a time, at the level the segments use (what a perfect container would
-// take). Usage: storage_bench STATE_DIR
+// take). A transition's midpoint vectors (groups m<source>_<direction>) count with the
+// configurations: per configuration is per configuration group, midpoints included. Usage:
+// storage_bench STATE_DIR
 #include "blobs/blob_store.h"
 #include "blobs/zstd_filter.h"
 
@@ -23,7 +25,7 @@ int main(int argc, char** argv) {
   const std::filesystem::path blobs_dir = std::filesystem::path(argv[1]) / "blobs";
   try {
     BlobStore blobs(blobs_dir);
-    long long configurations = 0, raw = 0, compressed = 0, on_disk = 0;
+    long long configurations = 0, midpoints = 0, raw = 0, compressed = 0, on_disk = 0;
     std::map<std::string, long long> raw_by_leaf;
     for (SegmentId id : blobs.list_segments()) {
       on_disk +=
@@ -54,7 +56,7 @@ int main(int argc, char** argv) {
         const std::size_t n =
             ZSTD_compress(out.data(), out.size(), bytes.data(), bytes.size(), kDefaultZstdLevel);
         if (ZSTD_isError(n)) throw std::runtime_error(ZSTD_getErrorName(n));
-        ++configurations;
+        ++(group[0] == 'm' ? midpoints : configurations);
         raw += static_cast<long long>(bytes.size());
         compressed += static_cast<long long>(n);
       }
@@ -62,7 +64,8 @@ int main(int argc, char** argv) {
     if (configurations == 0)
       throw std::runtime_error(blobs_dir.string() + ": no stored configurations");
     const double c = static_cast<double>(configurations);
-    std::printf("%s: %lld configurations in blobs\n", argv[1], configurations);
+    std::printf("%s: %lld configurations and %lld midpoints in blobs\n", argv[1], configurations,
+                midpoints);
     std::printf("  on disk            %10.0f bytes per configuration\n", on_disk / c);
     std::printf("  raw vectors        %10.0f bytes per configuration (", raw / c);
     for (const auto& [leaf, bytes] : raw_by_leaf) std::printf(" %s %.0f", leaf.c_str(), bytes / c);
