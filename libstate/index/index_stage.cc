@@ -338,7 +338,8 @@ IndexReport run_index(const IndexOptions& options) {
               out[3 * (a * v + n) + r] =
                   du_dp[std::size_t(a) * 3 * num_nodes + 3 * std::size_t(view_nodes[n]) + r];
       };
-    if (!g.midpoint_blobs.empty())
+    if (!report.slopes) g.content.midpoint_displacement_mask.clear();  // deform() needs both
+    if (!g.content.midpoint_displacement_mask.empty())
       g.content.midpoint_displacements = [&](std::int32_t k, std::span<float> out) {
         const std::size_t v = view_nodes.size();
         for (int d = 0; d < playback::kMidpointDirections; ++d) {

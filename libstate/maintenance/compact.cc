@@ -194,14 +194,13 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     // 4. One transaction: merges and blob references, all or nothing.
     if (!merges.empty() || !repacked.new_refs.empty()) {
       Transaction transaction(catalogue);
-      const MergeCounts counts = apply_level_merges(catalogue, merges);
-      for (const RepackResult::NewRef& r : repacked.new_refs) {
-        if (r.direction < 0) {
-          catalogue.update_configuration_blob(r.config, r.ref);
-        } else {
+      // Midpoint references first: a merge may give a transition row to another source.
+      for (const RepackResult::NewRef& r : repacked.new_refs)
+        if (r.direction >= 0)
           catalogue.update_transition_midpoint_blob(r.config, Direction(r.direction), r.ref);
-        }
-      }
+      const MergeCounts counts = apply_level_merges(catalogue, merges);
+      for (const RepackResult::NewRef& r : repacked.new_refs)
+        if (r.direction < 0) catalogue.update_configuration_blob(r.config, r.ref);
       transaction.commit();
       report.merged_levels = counts.merged_levels;
       report.retargeted_transitions = counts.retargeted_transitions;

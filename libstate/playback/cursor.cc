@@ -485,7 +485,8 @@ void HapticCursor::update_coefficients() {
         file_.impl().meta->spacing, [&](int c) { return force_of(c)[r]; },
         [&](int c, int a) { return stiffness_of(c)[3 * r + a]; },
         [&](int x, int y, int z) -> double& { return coef_[x][y][r][z]; });
-  fitted_ = false;  // the midpoint data are fitted at the first force() in this cell
+  fitted_ = false;         // the midpoint data are fitted at the first force() in this cell
+  midpoint_code_.fill(0);  // (and found then: a snapshot before shows the corners' cubic)
 }
 
 static_assert(playback::kCellBubbles == 19, "HapticCursor::bubble_ holds one per bubble");

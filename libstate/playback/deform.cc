@@ -180,6 +180,17 @@ void add_hermite(const Points& points, const std::array<double, 3>& t, const dou
   }
 }
 
+// Whether Snapshot::midpoint code names a midpoint the file stores (a snapshot from elsewhere,
+// e.g. the C interface, is not trusted: any other code means none).
+bool stored_midpoint(const PlaybackFile::Impl& f, std::int32_t code) {
+  if (!f.midpoint_mask || code <= 0) return false;
+  const std::int64_t k = code - 1;
+  if (k >= std::int64_t{playback::kMidpointDirections} * f.meta->num_configurations) return false;
+  return (f.midpoint_mask[k / playback::kMidpointDirections] >>
+          (k % playback::kMidpointDirections)) &
+         1;
+}
+
 // The corners of one half-spacing cell (`sub`, bits x y z as the corners) as points of
 // add_hermite: the cell corner among them takes its data (Corners), a midpoint the stored
 // displacements and slopes (Snapshot::midpoint), any other midpoint the whole cell's Hermite
@@ -187,8 +198,9 @@ void add_hermite(const Points& points, const std::array<double, 3>& t, const dou
 // interpolant of a grid of half the spacing, as the cursor's force (cursor.cc).
 class HalfCellPoints {
  public:
-  HalfCellPoints(const Corners& corners, const Snapshot& s, const double* h, int sub)
-      : corners_(corners), s_(s), h_(h), sub_(corner_side(sub)) {}
+  HalfCellPoints(const PlaybackFile::Impl& f, const Corners& corners, const Snapshot& s,
+                 const double* h, int sub)
+      : f_(f), corners_(corners), s_(s), h_(h), sub_(corner_side(sub)) {}
   void add_value(int c, double w, Blend* blend) const { add(c, -1, w, blend); }
   void add_slope(int c, int a, double w, Blend* blend) const { add(c, a, w, blend); }
 
@@ -204,11 +216,12 @@ class HalfCellPoints {
       return corners_.add_slope(corner, axis, w, blend);
     }
     const std::int32_t code = s_.midpoint[9 * L[0] + 3 * L[1] + L[2]];
-    if (code > 0) return blend->add(code - 1, axis < 0 ? 4 : 5 + axis, w);
+    if (stored_midpoint(f_, code)) return blend->add(code - 1, axis < 0 ? 4 : 5 + axis, w);
     const std::array<double, 3> at = {0.5 * L[0], 0.5 * L[1], 0.5 * L[2]};
     add_hermite(corners_, at, h_, axis, w, blend);
   }
 
+  const PlaybackFile::Impl& f_;
   const Corners& corners_;
   const Snapshot& s_;
   const double* h_;
@@ -218,11 +231,8 @@ class HalfCellPoints {
 void add_cell_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
   const Corners corners(f, s);
   const double* h = f.meta->spacing;
-  const bool midpoints =
-      f.midpoint_displacements &&
-      std::any_of(s.midpoint.begin(), s.midpoint.end(), [&](std::int32_t code) {
-        return code > 0 && code <= playback::kMidpointDirections * f.meta->num_configurations;
-      });
+  const bool midpoints = std::any_of(s.midpoint.begin(), s.midpoint.end(),
+                                     [&](std::int32_t code) { return stored_midpoint(f, code); });
   if (!midpoints) return add_hermite(corners, s.cell_position, h, -1, 1.0, blend);
   int sub = 0;
   std::array<double, 3> t{};
@@ -233,7 +243,7 @@ void add_cell_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* ble
     sub |= side << (2 - a);
     t[a] = 2.0 * p - side;
   }
-  add_hermite(HalfCellPoints(corners, s, h, sub), t, half, -1, 1.0, blend);
+  add_hermite(HalfCellPoints(f, corners, s, h, sub), t, half, -1, 1.0, blend);
 }
 
 void blend(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float> out) {

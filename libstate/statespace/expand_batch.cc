@@ -106,7 +106,11 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
           for (int c = 0; c < 3; ++c) row_major[3 * r + c] = k(r, c);
         out.midpoint_stiffness = row_major;
       }
-      out.midpoint_du_dp = stiffness_result(k, du_dp).du_dp;
+      if (k.allFinite()) {
+        out.midpoint_du_dp = stiffness_result(k, du_dp).du_dp;
+      } else {
+        out.midpoint_u.clear();  // no slopes there: the corners' cubic serves
+      }
       out.move = probe_.move_to(solver, task.to);
       add_cost(half, false, &out.move);
     } else {

@@ -303,9 +303,11 @@ TEST(Compact, MidpointVectorsAreRepackedWithTheirTransitions) {
     writer.write("m2_21/du_dp", std::span<const float>(kept_slopes));
     writer.write("m4_21/u", std::span<const float>(kept_u));  // c4 is merged into c3
     writer.write("m9_3/u", std::span<const float>(kept_u));   // no such transition
+    writer.write("m4_13/u", std::span<const float>(kept_u));  // a row the merge gives to c3
     writer.close();
     ASSERT_TRUE(cat.update_transition_midpoint_blob(ConfigId(2), Direction(21), {id, "m2_21"}));
     ASSERT_TRUE(cat.update_transition_midpoint_blob(ConfigId(4), Direction(21), {id, "m4_21"}));
+    ASSERT_TRUE(cat.update_transition_midpoint_blob(ConfigId(4), Direction(13), {id, "m4_13"}));
   }
   const CompactReport r = compact_state(dir.path(), {});
   EXPECT_EQ(r.repacked_configurations, 5);
@@ -323,6 +325,10 @@ TEST(Compact, MidpointVectorsAreRepackedWithTheirTransitions) {
   EXPECT_EQ(cat.read_transition(ConfigId(4), Direction(21))->midpoint_blob->segment, packed);
   EXPECT_TRUE(blobs.contains(packed, "m4_21/u"));
   EXPECT_FALSE(blobs.contains(packed, "m9_3/u"));
+  const auto moved = cat.read_transition(ConfigId(3), Direction(13));
+  ASSERT_TRUE(moved && moved->midpoint_blob);
+  EXPECT_EQ(*moved->midpoint_blob, (BlobRef{packed, "m4_13"}));
+  EXPECT_EQ(blobs.read_float32(packed, "m4_13/u"), kept_u);
   expect_all_blobs_readable(dir.path());
   expect_consistent(dir.path());
   EXPECT_TRUE(compact_state(dir.path(), {}).nothing_to_do);

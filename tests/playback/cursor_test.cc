@@ -463,7 +463,8 @@ TEST_F(Cursor, MidpointStiffnessEqualsTheHalfSpacingGrid) {
 
 // With the midpoint displacements and slopes too, deform() interpolates each half-spacing cell
 // as the force: the same displacements as the grid of half the spacing, exact at the stored
-// midpoints, and a file without them keeps the corner cubic (a larger error).
+// midpoints, and a file without them keeps the corner cubic (a larger error). A snapshot whose
+// midpoint codes name nothing stored (damaged, or from the C interface) gives that cubic too.
 TEST_F(Cursor, MidpointDisplacementsEqualTheHalfSpacingGrid) {
   const Field field;
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
@@ -509,6 +510,21 @@ TEST_F(Cursor, MidpointDisplacementsEqualTheHalfSpacingGrid) {
       plain_error, lattice_error, to_fine, scale);
   EXPECT_LE(to_fine, 1e-6 * scale);  // float32 storage
   EXPECT_LT(lattice_error, plain_error / 6);
+  {
+    const Eigen::Vector3d p = field.origin + Eigen::Vector3d(0.3 * h[0], 0.6 * h[1], 0.2 * h[2]);
+    coarse_cursor.force(arr(p));
+    Snapshot snap;
+    coarse_cursor.snapshot(&snap);
+    ASSERT_GT(*std::max_element(snap.midpoint.begin(), snap.midpoint.end()), 0);
+    const std::int32_t bad[] = {-5, 0x7fffffff, 7 * 125 + 1};
+    for (int k = 0; k < 27; ++k) snap.midpoint[k] = bad[k % 3];
+    displacements(lattice, snap, a);
+    plain_cursor.force(arr(p));
+    Snapshot plain_snap;
+    plain_cursor.snapshot(&plain_snap);
+    displacements(corners_only, plain_snap, c);
+    for (std::size_t r = 0; r < a.size(); ++r) EXPECT_EQ(a[r], c[r]) << r;
+  }
   // Exact at a stored midpoint: the centre of the cell above the rest point.
   const Eigen::Vector3d centre = field.origin + 0.5 * h;
   displacements_at(coarse_cursor, lattice, centre, &a);
