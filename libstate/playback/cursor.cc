@@ -2,6 +2,7 @@
 // (docs/playback.md). Nothing here allocates, locks or calls the system after construction.
 #include "playback/cell_bubbles.h"
 #include "playback/file_impl.h"
+#include "playback/hermite_bases.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +10,8 @@
 
 namespace hapstate {
 namespace {
+
+using playback::hermite_bases;
 
 // The band above the contact onset, in units of the smallest spacing, over which the force
 // blends from the depth model into the interpolated force (apply_onset).
@@ -28,24 +31,6 @@ double trilinear_weight(int c, const std::array<double, 3>& t) {
 int direction_index(int di, int dj, int dk) {
   const int c = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);
   return c < 13 ? c : c - 1;
-}
-
-// Per axis a the 4 cubic Hermite bases at cell position s[a], B[a][2 o + k] (o the corner side;
-// k 0 the value basis, 1 the derivative basis in physical units, spacing h[a]), and their
-// derivatives dB with respect to the probe coordinate.
-void hermite_bases(const std::array<double, 3>& s, const double* h, double (&B)[3][4],
-                   double (&dB)[3][4]) {
-  for (int a = 0; a < 3; ++a) {
-    const double t = s[a];
-    B[a][2] = t * t * (3.0 - 2.0 * t);
-    B[a][0] = 1.0 - B[a][2];
-    B[a][1] = t * (1.0 - t) * (1.0 - t) * h[a];
-    B[a][3] = -t * t * (1.0 - t) * h[a];
-    dB[a][2] = 6.0 * t * (1.0 - t) / h[a];
-    dB[a][0] = -dB[a][2];
-    dB[a][1] = (1.0 - t) * (1.0 - 3.0 * t);
-    dB[a][3] = t * (3.0 * t - 2.0);
-  }
 }
 
 // A Hermite cell's value and its derivative (row-major, per mesh unit) at

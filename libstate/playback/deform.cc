@@ -9,6 +9,7 @@
 // onset the depth model is blended in (Snapshot::onset_weight). The weights are computed once
 // per frame; the arrays are streamed once.
 #include "playback/file_impl.h"
+#include "playback/hermite_bases.h"
 
 #include <algorithm>
 
@@ -127,23 +128,6 @@ void add_trilinear(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend)
   for (int c = 0; c < 8; ++c) corners.add_value(c, s.weight[c], false, blend);
 }
 
-// Per axis, the cubic Hermite bases at t in [0, 1] of a cell of width h: value and derivative
-// bases of side 0 and side 1 (the derivative bases x h, so that they take slopes per mesh unit);
-// with `derivative`, their derivatives with respect to the coordinate (per mesh unit).
-void hermite_bases(double t, double h, bool derivative, double* B) {
-  if (!derivative) {
-    B[2] = t * t * (3.0 - 2.0 * t);
-    B[0] = 1.0 - B[2];
-    B[1] = t * (1.0 - t) * (1.0 - t) * h;
-    B[3] = -t * t * (1.0 - t) * h;
-  } else {
-    B[2] = 6.0 * t * (1.0 - t) / h;
-    B[0] = -B[2];
-    B[1] = (1.0 - t) * (1.0 - 3.0 * t);
-    B[3] = t * (3.0 * t - 2.0);
-  }
-}
-
 // The weights of a Hermite cell of widths h whose 8 corners' values and slopes `points` adds
 // (add_value(c, w, blend), add_slope(c, a, w, blend)), at cell position t, times `scale`: its
 // value, or with axis >= 0 its derivative along that axis. The cross derivatives of each face
@@ -152,8 +136,14 @@ void hermite_bases(double t, double h, bool derivative, double* B) {
 template <class Points>
 void add_hermite(const Points& points, const std::array<double, 3>& t, const double* h, int axis,
                  double scale, Blend* blend) {
-  double B[3][4];
-  for (int a = 0; a < 3; ++a) hermite_bases(std::clamp(t[a], 0.0, 1.0), h[a], a == axis, B[a]);
+  double value[3][4], derivative[3][4];
+  playback::hermite_bases(
+      {std::clamp(t[0], 0.0, 1.0), std::clamp(t[1], 0.0, 1.0), std::clamp(t[2], 0.0, 1.0)}, h,
+      value, derivative);
+  const double(&B0)[4] = axis == 0 ? derivative[0] : value[0];
+  const double(&B1)[4] = axis == 1 ? derivative[1] : value[1];
+  const double(&B2)[4] = axis == 2 ? derivative[2] : value[2];
+  const double* B[3] = {B0, B1, B2};
   static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_side(c);
