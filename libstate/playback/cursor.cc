@@ -266,32 +266,52 @@ void HapticCursor::resolve_corner(int c, const std::array<Corner, 8>& old,
 namespace {
 
 // The Hermite coefficients [x][y][z] of a scalar with `value` and `gradient` (physical units)
-// at the 8 corners: value (k = 000), gradient components (one k = 1) and the cross derivatives
-// estimated from the gradients of the corners on the same cell face (average of both difference
-// quotients); zero for k = 111. `at(kx, ky, kz)` is the coefficient of the basis with those
-// indices (2 o + k per axis).
-template <class Value, class Gradient, class At>
-void scalar_coefficients(const double* h, Value value, Gradient gradient, At at) {
+// at the 8 corners: value (k = 000), gradient components (one k = 1), the cross derivatives
+// `cross(c, a, b)` (k = 1 on axes a < b) and zero for k = 111. `at(kx, ky, kz)` is the
+// coefficient of the basis with those indices (2 o + k per axis).
+template <class Value, class Gradient, class Cross, class At>
+void hermite_coefficients(Value value, Gradient gradient, Cross cross, At at) {
   static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     auto coef = [&](int kx, int ky, int kz) -> double& {
       return at(2 * o[0] + kx, 2 * o[1] + ky, 2 * o[2] + kz);
     };
-    auto sgn = [&](int axis) { return o[axis] ? 1.0 : -1.0; };
     coef(0, 0, 0) = value(c);
     coef(1, 0, 0) = gradient(c, 0);
     coef(0, 1, 0) = gradient(c, 1);
     coef(0, 0, 1) = gradient(c, 2);
     for (const auto& pair : kPair) {
-      const int a = pair[0], b = pair[1];
-      const double dab = sgn(b) * (gradient(c, a) - gradient(c ^ (4 >> b), a)) / h[b];
-      const double dba = sgn(a) * (gradient(c, b) - gradient(c ^ (4 >> a), b)) / h[a];
       int k[3] = {0, 0, 0};
-      k[a] = k[b] = 1;
-      coef(k[0], k[1], k[2]) = 0.5 * (dab + dba);
+      k[pair[0]] = k[pair[1]] = 1;
+      coef(k[0], k[1], k[2]) = cross(c, pair[0], pair[1]);
     }
+    coef(1, 1, 1) = 0.0;
   }
+}
+
+// The same with the cross derivatives estimated from the gradients of the corners on the same
+// cell face (average of both difference quotients) and zero for k = 111.
+template <class Value, class Gradient, class At>
+void scalar_coefficients(const double* h, Value value, Gradient gradient, At at) {
+  hermite_coefficients(
+      value, gradient,
+      [&](int c, int a, int b) {
+        const auto o = corner_offset(c);
+        auto sgn = [&](int axis) { return o[axis] ? 1.0 : -1.0; };
+        const double dab = sgn(b) * (gradient(c, a) - gradient(c ^ (4 >> b), a)) / h[b];
+        const double dba = sgn(a) * (gradient(c, b) - gradient(c ^ (4 >> a), b)) / h[a];
+        return 0.5 * (dab + dba);
+      },
+      at);
+}
+
+// The derivative at lattice index i (0, 1, 2: cell positions 0, 1/2, 1) of the parabola through
+// g0, g1, g2 at those indices, h the cell's spacing along the axis (second order everywhere).
+double lattice_derivative(double g0, double g1, double g2, int i, double h) {
+  if (i == 0) return (-3.0 * g0 + 4.0 * g1 - g2) / h;
+  if (i == 1) return (g2 - g0) / h;
+  return (g0 - 4.0 * g1 + 3.0 * g2) / h;
 }
 
 }  // namespace
@@ -530,11 +550,11 @@ void HapticCursor::find_midpoint_displacements() {
 }
 
 // Hermite with the midpoint stiffness: the cell's 27 lattice points (corners, edge midpoints,
-// face and cell centres) get a value and a gradient each, and each of the 8 half-spacing cells
-// is a cubic Hermite cell of its own (scalar_coefficients). A corner's are its force and
-// stiffness; a midpoint's the recorded ones (in a cell near the contact onset, those the blend
-// turns into them: onset_target), else the cell's Hermite interpolant's there. A recorded value
-// differs from that interpolant by at most the bubble limit per component and a recorded
+// face and cell centres) get a value, a gradient and cross derivatives each, and each of the 8
+// half-spacing cells is a cubic Hermite cell of its own (hermite_coefficients). A corner's are its
+// force and stiffness; a midpoint's the recorded ones (in a cell near the contact onset, those the
+// blend turns into them: onset_target), else the cell's Hermite interpolant's there. A recorded
+// value differs from that interpolant by at most the bubble limit per component and a recorded
 // stiffness entry by at most the stiffness limit (Meta): the change bound stays valid. A point
 // on a face or an edge depends only on the data of that face or edge, so the force stays
 // continuous across faces.
@@ -569,7 +589,35 @@ void HapticCursor::fit_cell_lattice() {
           g[e] = std::clamp(target_k[e], -m.stiffness_limit, m.stiffness_limit);
     }
   }
-  const double half[3] = {0.5 * m.spacing[0], 0.5 * m.spacing[1], 0.5 * m.spacing[2]};
+  // The cross derivatives at the lattice points: along each lattice line, the slope of the
+  // parabola through the 3 gradients (second order, where differences within a half cell are
+  // first order). Those in a face's plane use only that face's points: the force stays
+  // continuous. Zero for the triple derivative, as in the corners' cubic.
+  static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  double cross[3][3][3][3][3];  // [x][y][z][r][pair]
+  auto along = [](auto& field, const int(&p)[3], int axis, auto get, double h) {
+    int q[3] = {p[0], p[1], p[2]};
+    double g[3];
+    for (int i = 0; i < 3; ++i) {
+      q[axis] = i;
+      g[i] = get(field[q[0]][q[1]][q[2]]);
+    }
+    return lattice_derivative(g[0], g[1], g[2], p[axis], h);
+  };
+  for (int x = 0; x < 3; ++x)
+    for (int y = 0; y < 3; ++y)
+      for (int z = 0; z < 3; ++z) {
+        const int p[3] = {x, y, z};
+        for (int r = 0; r < 3; ++r)
+          for (int q = 0; q < 3; ++q) {
+            const int a = kPair[q][0], b = kPair[q][1];
+            const double dab = along(
+                gradient, p, b, [&](const double* g) { return g[3 * r + a]; }, m.spacing[b]);
+            const double dba = along(
+                gradient, p, a, [&](const double* g) { return g[3 * r + b]; }, m.spacing[a]);
+            cross[x][y][z][r][q] = 0.5 * (dab + dba);
+          }
+      }
   for (int sub = 0; sub < 8; ++sub) {
     const auto so = corner_offset(sub);
     auto point = [&](int c) {
@@ -577,8 +625,7 @@ void HapticCursor::fit_cell_lattice() {
       return std::array<int, 3>{so[0] + o[0], so[1] + o[1], so[2] + o[2]};
     };
     for (int r = 0; r < 3; ++r)
-      scalar_coefficients(
-          half,
+      hermite_coefficients(
           [&](int c) {
             const auto p = point(c);
             return value[p[0]][p[1]][p[2]][r];
@@ -586,6 +633,10 @@ void HapticCursor::fit_cell_lattice() {
           [&](int c, int a) {
             const auto p = point(c);
             return gradient[p[0]][p[1]][p[2]][3 * r + a];
+          },
+          [&](int c, int a, int b) {
+            const auto p = point(c);
+            return cross[p[0]][p[1]][p[2]][r][a + b - 1];
           },
           [&](int x, int y, int z) -> double& { return half_coef_[sub][x][y][r][z]; });
   }

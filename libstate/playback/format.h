@@ -1,5 +1,5 @@
 // The playback file's layout on disk (docs/playback.md): little-endian, a 64-byte header,
-// a table of sections, every section's data 64-byte aligned. Version 7 (kVersion).
+// a table of sections, every section's data 64-byte aligned. Version 8 (kVersion).
 //
 //   header | section table | section data ...
 //
@@ -19,7 +19,7 @@ static_assert(std::endian::native == std::endian::little,
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
 // 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness, 7: midpoint
 // displacements
-inline constexpr std::uint32_t kVersion = 7;
+inline constexpr std::uint32_t kVersion = 8;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {

@@ -192,16 +192,21 @@ double force_change_bound(const Content& c) {
       std::sqrt(3.0) * 5.4 * (12.0 * limit[0] + 6.0 * limit[1] + limit[2]) / hmin;
   const double corners = 4.0 * std::sqrt(3.0) * (slope + stiffness) * (hmax / hmin);
   if (c.midpoint_stiffness.empty()) return corners + bubbles;
-  // Hermite on the half-spacing cells: the same bound with the lattice's data. A lattice
-  // point's value is the corners' interpolant there plus a correction of at most the bubble
-  // limit per component, so two points differ by at most corners x their distance plus
-  // 2 sqrt(3) max(limit) (their distance is at least h_min / 2); its gradient is a clamped
-  // stored stiffness (Frobenius norm <= 3 stiffness_limit) or that interpolant's.
+  // Hermite on the half-spacing cells, with the lattice's data: a lattice point's value is the
+  // corners' interpolant there plus a correction of at most the bubble limit per component, so
+  // two points differ by at most corners x their distance plus 2 sqrt(3) max(limit) (their
+  // distance is at least h_min / 2): slope L'; its gradient is a clamped stored stiffness
+  // (Frobenius norm <= 3 stiffness_limit) or that interpolant's: K'. A half cell's cross
+  // derivatives come from parabolas through 3 gradients (at most 4 K' / h'_min, h' = h / 2), so
+  // with rho = h_max / h_min its derivative along an axis is at most 1.5 L' (values) + K' (slopes
+  // along it) + 1.5 rho K' (across) + 2 rho K' (cross terms with it) + 0.75 rho^2 K' (the third)
+  // <= 5.25 rho^2 (L' + K'); along any direction sqrt(3) times that.
   const double lambda = std::max({limit[0], limit[1], limit[2]});
   const double lattice_slope = corners + 4.0 * std::sqrt(3.0) * lambda / hmin;
   const double lattice_stiffness = std::max(3.0 * c.meta.stiffness_limit, corners);
+  const double rho = hmax / hmin;
   return std::max(corners + bubbles,
-                  4.0 * std::sqrt(3.0) * (lattice_slope + lattice_stiffness) * (hmax / hmin));
+                  5.25 * std::sqrt(3.0) * (lattice_slope + lattice_stiffness) * rho * rho);
 }
 
 void write_file(Content c, const std::filesystem::path& file) {

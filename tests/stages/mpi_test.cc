@@ -124,20 +124,19 @@ TEST_F(Mpi, RanksAndThreadsDoNotChangeTheBeamCatalogue) {
   }
 }
 
-// The whole liver expansion (8 944 configurations).
+// The whole liver expansion (344 configurations, 8 944 transitions) under 3 ranks of 2 threads
+// against one thread (the beam above covers more combinations; a liver expansion takes about a
+// minute here).
 TEST_F(Mpi, RanksAndThreadsDoNotChangeTheLiverCatalogue) {
   const fs::path reference = dir_ / "reference";
   import_and_grid(reference, kLiverScene);
   ASSERT_EQ(expand_stage(reference, 1, dir_).exit_code, 0);
-  for (const auto& [ranks, threads] : {std::pair{3, 1}, std::pair{4, 2}}) {
-    const fs::path state = dir_ / run_name(ranks, threads);
-    import_and_grid(state, kLiverScene);
-    const StageResult r = mpi_expand(ranks, state, threads);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.out.find("complete"), std::string::npos) << r.out;
-    expect_same_catalogue(reference, state);
-    fs::remove_all(state);
-  }
+  const fs::path state = dir_ / run_name(3, 2);
+  import_and_grid(state, kLiverScene);
+  const StageResult r = mpi_expand(3, state, 2);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("complete"), std::string::npos) << r.out;
+  expect_same_catalogue(reference, state);
 }
 
 // A sphere touching the liver (frictionless): the contact multipliers travel with the source
