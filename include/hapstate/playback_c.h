@@ -43,6 +43,11 @@ typedef struct hs_snapshot {
   int32_t midpoint[27]; /* 0, or 1 + the stored midpoint whose displacements hold at that point */
 } hs_snapshot;
 
+/* sizeof(hs_snapshot) in the library as built. hs_snapshot grows when the playback format does
+ * (it gained `midpoint` with format 7): a program that loads the library at run time should
+ * check hs_snapshot_size() == sizeof(hs_snapshot) before its first snapshot. */
+size_t hs_snapshot_size(void);
+
 int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size);
 int hs_playback_verify(const hs_playback* file, char* error, size_t error_size);
 void hs_playback_close(hs_playback* file);

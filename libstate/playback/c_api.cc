@@ -50,6 +50,8 @@ hapstate::Snapshot to_cpp(const hs_snapshot& s) {
 
 extern "C" {
 
+size_t hs_snapshot_size(void) { return sizeof(hapstate::Snapshot); }
+
 int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size) {
   *out = nullptr;
   try {

@@ -20,6 +20,7 @@ static int failures = 0;
 int main(int argc, char** argv) {
   char error[512] = "";
   hs_playback* file = NULL;
+  CHECK(hs_snapshot_size() == sizeof(hs_snapshot));
   CHECK(hs_playback_open("/nonexistent/playback.bin", &file, error, sizeof error) == -1);
   CHECK(strstr(error, "/nonexistent/playback.bin") != NULL);
   if (argc < 2) return 2;
