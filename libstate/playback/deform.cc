@@ -185,7 +185,9 @@ bool stored_midpoint(const PlaybackFile::Impl& f, std::int32_t code) {
 // add_hermite: the cell corner among them takes its data (Corners), a midpoint the stored
 // displacements and slopes (Snapshot::midpoint), any other midpoint the whole cell's Hermite
 // interpolant's value and derivative there. With every midpoint stored this is the Hermite
-// interpolant of a grid of half the spacing, as the cursor's force (cursor.cc).
+// interpolant of a grid of half the spacing (the cursor's force takes its cross derivatives from
+// the whole lattice instead, cursor.cc; here they come from the half cell's own corners, whose
+// arrays are the only ones the frame streams).
 class HalfCellPoints {
  public:
   HalfCellPoints(const PlaybackFile::Impl& f, const Corners& corners, const Snapshot& s,

@@ -18,7 +18,7 @@ static_assert(std::endian::native == std::endian::little,
 
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
 // 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness, 7: midpoint
-// displacements
+// displacements, 8: the change bound of the half cells' second-order cross derivatives
 inline constexpr std::uint32_t kVersion = 8;
 inline constexpr std::uint64_t kAlignment = 64;
 

@@ -190,7 +190,12 @@ double force_change_bound(const Content& c) {
   const double* limit = c.meta.bubble_limit;
   const double bubbles =
       std::sqrt(3.0) * 5.4 * (12.0 * limit[0] + 6.0 * limit[1] + limit[2]) / hmin;
-  const double corners = 4.0 * std::sqrt(3.0) * (slope + stiffness) * (hmax / hmin);
+  // The corners' cubic (cross derivatives at most 2 K / h_min): along an axis at most 1.5 L
+  // (values) + K (slopes along it) + 1.5 rho K (across) + rho K (cross terms with it) +
+  // 0.375 rho^2 K (the third) <= 4 rho^2 (L + K), rho = h_max / h_min; sqrt(3) times that along
+  // any direction.
+  const double rho = hmax / hmin;
+  const double corners = 4.0 * std::sqrt(3.0) * (slope + stiffness) * rho * rho;
   if (c.midpoint_stiffness.empty()) return corners + bubbles;
   // Hermite on the half-spacing cells, with the lattice's data: a lattice point's value is the
   // corners' interpolant there plus a correction of at most the bubble limit per component, so
@@ -204,7 +209,6 @@ double force_change_bound(const Content& c) {
   const double lambda = std::max({limit[0], limit[1], limit[2]});
   const double lattice_slope = corners + 4.0 * std::sqrt(3.0) * lambda / hmin;
   const double lattice_stiffness = std::max(3.0 * c.meta.stiffness_limit, corners);
-  const double rho = hmax / hmin;
   return std::max(corners + bubbles,
                   5.25 * std::sqrt(3.0) * (lattice_slope + lattice_stiffness) * rho * rho);
 }
