@@ -140,6 +140,11 @@ struct Snapshot {
   // the stored midpoint whose displacements and slopes hold there; with any set, deform()
   // interpolates each half-spacing cell as the cursor does the force (docs/playback.md).
   std::array<std::int32_t, 27> midpoint{};
+  // Near the contact onset, per lattice point with a midpoint code: the onset blend there,
+  // {R, dR/d(depth), depth, d(depth)/dx, d/dy, d/dz} (depth in mesh units, its gradient per
+  // mesh unit), through which deform() fits the stored displacements as the cursor fits the
+  // force; R = 0 where no blend applies (the stored displacements as they are).
+  std::array<std::array<double, 6>, 27> midpoint_blend{};
 };
 
 // Result of one haptic query.
@@ -248,6 +253,8 @@ class HapticCursor {
   bool lattice_ = false;  // Hermite with the midpoint stiffness: 8 half-spacing Hermite cells
   std::array<CellCoefficients, 8> half_coef_{};   // their coefficients (bits x y z as corners)
   std::array<std::int32_t, 27> midpoint_code_{};  // Snapshot::midpoint of this cell
+  std::array<std::array<double, 6>, 27> midpoint_blend_{};  // Snapshot::midpoint_blend
+  std::uint32_t blend_generation_ = 0;  // changes with midpoint_blend_ (copied to a slot then)
   int recorded_midpoint(int k, double* force, double* stiffness) const;
   void fit_cell();
   void fit_cell_lattice();
@@ -271,6 +278,7 @@ class HapticCursor {
   std::uint64_t cells_walked_ = 0;
 
   Snapshot slots_[3];  // triple buffer: back (writer), middle, front (reader)
+  std::uint32_t slot_blend_generation_[3] = {};
   std::uint32_t back_ = 0;
   mutable std::uint32_t front_ = 2;
   mutable std::atomic<std::uint32_t> middle_{1};  // slot index | kFresh

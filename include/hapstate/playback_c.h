@@ -41,11 +41,13 @@ typedef struct hs_snapshot {
   double per_depth[8];
   int32_t depth_source[8];
   int32_t midpoint[27]; /* 0, or 1 + the stored midpoint whose displacements hold at that point */
+  double midpoint_blend[27][6]; /* near the contact onset: the blend at those points */
 } hs_snapshot;
 
 /* sizeof(hs_snapshot) in the library as built. hs_snapshot grows when the playback format does
- * (it gained `midpoint` with format 7): a program that loads the library at run time should
- * check hs_snapshot_size() == sizeof(hs_snapshot) before its first snapshot. */
+ * (it gained `midpoint` with format 7, `midpoint_blend` with format 8): a program that loads the
+ * library at run time should check hs_snapshot_size() == sizeof(hs_snapshot) before its first
+ * snapshot. */
 size_t hs_snapshot_size(void);
 
 int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size);

@@ -31,6 +31,8 @@ static_assert(offsetof(hs_snapshot, onset_depth) == offsetof(hapstate::Snapshot,
 static_assert(offsetof(hs_snapshot, per_depth) == offsetof(hapstate::Snapshot, per_depth));
 static_assert(offsetof(hs_snapshot, depth_source) == offsetof(hapstate::Snapshot, depth_source));
 static_assert(offsetof(hs_snapshot, midpoint) == offsetof(hapstate::Snapshot, midpoint));
+static_assert(offsetof(hs_snapshot, midpoint_blend) ==
+              offsetof(hapstate::Snapshot, midpoint_blend));
 
 namespace {
 

@@ -492,6 +492,8 @@ void HapticCursor::update_coefficients() {
         [&](int x, int y, int z) -> double& { return coef_[x][y][r][z]; });
   fitted_ = false;         // the midpoint data are fitted at the first force() in this cell
   midpoint_code_.fill(0);  // (and found then: a snapshot before shows the corners' cubic)
+  midpoint_blend_ = {};
+  ++blend_generation_;
 }
 
 static_assert(playback::kCellBubbles == 19, "HapticCursor::bubble_ holds one per bubble");
@@ -533,11 +535,16 @@ void HapticCursor::fit_cell() {
 
 // The midpoints of this cell whose displacements deform() uses (Snapshot::midpoint): those
 // whose force the cursor uses (recorded_midpoint) and whose displacements the file holds; none
-// in a cell near the contact onset (its displacements follow the onset blend, corners only).
+// in a cell near the contact onset, those the force uses there too (onset_target's conditions),
+// with the blend at the point (Snapshot::midpoint_blend) through which deform() fits them.
 void HapticCursor::find_midpoint_displacements() {
   const PlaybackFile::Impl& f = file_.impl();
   midpoint_code_.fill(0);
-  if (!f.midpoint_mask || onset_) return;
+  midpoint_blend_ = {};
+  ++blend_generation_;
+  if (!f.midpoint_mask || (onset_ && clear_cell_)) return;
+  const double* h = f.meta->spacing;
+  const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
   for (int k = 0; k < playback::kCellBubbles; ++k) {
     double felt[3], felt_k[9];
     if (recorded_midpoint(k, felt, felt_k) == 0) continue;
@@ -545,6 +552,17 @@ void HapticCursor::find_midpoint_displacements() {
     const std::int32_t source = corners_[b.source_corner].configuration;
     if (!((f.midpoint_mask[source] >> b.direction) & 1)) continue;
     const int x = int(2 * b.point[0]), y = int(2 * b.point[1]), z = int(2 * b.point[2]);
+    if (onset_) {
+      double B[3][4], dB[3][4], grad[3];
+      hermite_bases(b.point, h, B, dB);
+      const double depth = -clearance(B, dB, grad);
+      if (depth <= 0.0) continue;
+      const double s = std::min(depth / band, 1.0);
+      const double R = s * s * (3.0 - 2.0 * s);
+      if (R < 0.25) continue;
+      midpoint_blend_[9 * x + 3 * y + z] = {
+          R, 6.0 * s * (1.0 - s) / band, depth, -grad[0], -grad[1], -grad[2]};
+    }
     midpoint_code_[9 * x + 3 * y + z] = playback::kMidpointDirections * source + b.direction + 1;
   }
 }
@@ -871,6 +889,10 @@ void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
   slot.onset_weight = onset.weight;
   slot.onset_depth = onset.depth;
   slot.midpoint = midpoint_code_;
+  if (slot_blend_generation_[back_] != blend_generation_) {  // 1.3 KB: only when it changed
+    slot.midpoint_blend = midpoint_blend_;
+    slot_blend_generation_[back_] = blend_generation_;
+  }
   for (int c = 0; c < 8; ++c) {
     const Corner& k = corners_[c];
     const bool secant = onset_ && k.secant;

@@ -6,7 +6,8 @@
 // slopes, a secant corner's (a free check-point beside the contact onset, cursor.cc) its
 // source's scaled. Where the snapshot marks stored midpoint displacements (Snapshot::midpoint)
 // the cubic is that of the half-spacing cell the probe is in, as the force's. Just past the
-// onset the depth model is blended in (Snapshot::onset_weight). The weights are computed once
+// onset the depth model is blended in (Snapshot::onset_weight), and a midpoint inside the blend
+// is fitted through it (Snapshot::midpoint_blend). The weights are computed once
 // per frame; the arrays are streamed once.
 #include "playback/file_impl.h"
 #include "playback/hermite_bases.h"
@@ -207,10 +208,52 @@ class HalfCellPoints {
       if (axis < 0) return corners_.add_value(corner, w, blend);
       return corners_.add_slope(corner, axis, w, blend);
     }
-    const std::int32_t code = s_.midpoint[9 * L[0] + 3 * L[1] + L[2]];
-    if (stored_midpoint(f_, code)) return blend->add(code - 1, axis < 0 ? 4 : 5 + axis, w);
+    const int point = 9 * L[0] + 3 * L[1] + L[2];
+    const std::int32_t code = s_.midpoint[point];
+    if (stored_midpoint(f_, code)) {
+      const std::array<double, 6>& onset = s_.midpoint_blend[point];
+      if (onset[0] > 0.0) return add_through_blend(code, L, axis, w, onset, blend);
+      return blend->add(code - 1, axis < 0 ? 4 : 5 + axis, w);
+    }
     const std::array<double, 3> at = {0.5 * L[0], 0.5 * L[1], 0.5 * L[2]};
     add_hermite(corners_, at, h_, axis, w, blend);
+  }
+
+  // Near the contact onset deform() returns R U + (1 - R) D, U this interpolant and D the depth
+  // model d sum_c w_c q_c u(source_c) (Snapshot::onset_weight = 1 - R at the probe). A stored
+  // midpoint u_m, du_m is fitted through that blend as the cursor fits its force: with R, d and
+  // their gradients at the point, U_m = (u_m - (1 - R) D_m) / R and
+  // dU_m = (du_m - (1 - R) dD_m - (u_m - D_m) dR / R) / R, so the blend returns u_m and du_m there.
+  void add_through_blend(std::int32_t code, const int (&L)[3], int axis, double w,
+                         const std::array<double, 6>& onset, Blend* blend) const {
+    const double R = onset[0], dR_dd = onset[1], d = onset[2];
+    std::int32_t source[8];  // the depth model's arrays (-1: none; a damaged index: none)
+    for (int c = 0; c < 8; ++c)
+      source[c] = s_.depth_source[c] < f_.meta->num_configurations ? s_.depth_source[c] : -1;
+    double tw[8], dtw[8];  // trilinear weights of the corners at the point, and along `axis`
+    for (int c = 0; c < 8; ++c) {
+      const auto o = corner_side(c);
+      tw[c] = 1.0;
+      dtw[c] = axis < 0 ? 0.0 : (o[axis] ? 1.0 : -1.0) / h_[axis];
+      for (int b = 0; b < 3; ++b) {
+        const double t = 0.5 * L[b], lin = o[b] ? t : 1.0 - t;
+        tw[c] *= lin;
+        if (b != axis) dtw[c] *= lin;
+      }
+    }
+    if (axis < 0) {
+      blend->add(code - 1, 4, w / R);
+      for (int c = 0; c < 8; ++c)
+        blend->add(source[c], 0, -w * (1.0 - R) / R * d * tw[c] * s_.per_depth[c]);
+      return;
+    }
+    const double dd = onset[3 + axis], dR = dR_dd * dd;
+    blend->add(code - 1, 5 + axis, w / R);
+    blend->add(code - 1, 4, -w * dR / (R * R));
+    for (int c = 0; c < 8; ++c)
+      blend->add(source[c], 0,
+                 w * s_.per_depth[c] *
+                     (-(1.0 - R) / R * (dd * tw[c] + d * dtw[c]) + dR / (R * R) * d * tw[c]));
   }
 
   const PlaybackFile::Impl& f_;

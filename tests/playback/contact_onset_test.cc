@@ -40,8 +40,20 @@ struct Plane {
   Eigen::Matrix3d jacobian(const Eigen::Vector3d& p) const {
     return gap(p) < 0 ? Eigen::Matrix3d(-k * d * n.transpose()) : Eigen::Matrix3d::Zero();
   }
+  double curvature = 0;  // of the displacements along the depth (0: proportional to it)
   Eigen::Vector3d u(int v, const Eigen::Vector3d& p) const {
-    return depth(p) * Eigen::Vector3d(0.1 * (v + 1), 0.05, -0.02 * v);
+    const double e = depth(p);
+    return e * Eigen::Vector3d(0.1 * (v + 1), 0.05, -0.02 * v) +
+           curvature * e * e * Eigen::Vector3d(0.3, -0.1 * v, 0.2);
+  }
+  // d u / d depth (0 where the plane is clear).
+  Eigen::Vector3d u_per_depth(int v, const Eigen::Vector3d& p) const {
+    if (gap(p) >= 0) return Eigen::Vector3d::Zero();
+    return Eigen::Vector3d(0.1 * (v + 1), 0.05, -0.02 * v) +
+           2.0 * curvature * depth(p) * Eigen::Vector3d(0.3, -0.1 * v, 0.2);
+  }
+  Eigen::Matrix3d u_slope(int v, const Eigen::Vector3d& p) const {
+    return -u_per_depth(v, p) * n.transpose();
   }
 };
 
@@ -77,11 +89,10 @@ playback::Content plane_content(const Plane& plane, bool hide_clearance) {
     const Eigen::Vector3d p = position(config);
     if (plane.gap(p) >= 0) return;
     for (int v = 0; v < test_util::kSyntheticViewNodes; ++v) {
-      const Eigen::Vector3d du = plane.u(v, p) / plane.depth(p);  // d u / d depth
+      const Eigen::Matrix3d du = plane.u_slope(v, p);
       for (int a = 0; a < 3; ++a)
         for (int r = 0; r < 3; ++r)
-          out[3 * (a * test_util::kSyntheticViewNodes + v) + r] =
-              static_cast<float>(-du[r] * plane.n[a]);
+          out[3 * (a * test_util::kSyntheticViewNodes + v) + r] = static_cast<float>(du(r, a));
     }
   };
   return c;
@@ -202,6 +213,55 @@ TEST_F(ContactOnset, MidpointForcesKeepTheOnsetExact) {
         EXPECT_LE(e.stiffness, 1e-10 * plane.k);
       }
     }
+}
+
+// The displacements half-way through the moves are fitted through the onset blend as the force
+// is: with displacements that are not proportional to the depth (the depth model is then not
+// exact), the snapshot returns the stored displacements at every midpoint, also inside the band
+// where the blend mixes in the depth model; used as they are there, they would be off by
+// (1 - R) (D - u).
+TEST_F(ContactOnset, MidpointDisplacementsAreFittedThroughTheBlend) {
+  Plane plane;
+  plane.curvature = 0.8;
+  playback::Content content = plane_content(plane, false);
+  test_util::add_midpoint_forces(&content, plane, true);
+  test_util::add_midpoint_displacements(
+      &content, [plane](int v, const Eigen::Vector3d& p) { return plane.u(v, p); },
+      [plane](int v, const Eigen::Vector3d& p) { return plane.u_slope(v, p); });
+  PlaybackFile file(write(std::move(content), "midpoint_displacements.bin"));
+  file.verify();
+  HapticCursor cursor(file, Scheme::kHermite);
+  std::vector<float> d(3 * test_util::kSyntheticViewNodes);
+  Eigen::Vector3d p = plane.grid.origin;
+  double worst = 0;
+  int fitted = 0;
+  for (int i = -4; i < 4; ++i)
+    for (int j = -4; j < 4; ++j)
+      for (int k = -4; k < 4; ++k) {
+        if ((i & 1) == 0 && (j & 1) == 0 && (k & 1) == 0) continue;  // a check-point
+        const Eigen::Vector3d target =
+            plane.grid.origin + 0.5 * Eigen::Vector3d(i, j, k).cwiseProduct(plane.h);
+        for (int s = 1; s <= 8; ++s) cursor.force(arr(p + (target - p) * s / 8.0));
+        p = target;
+        Snapshot snap;
+        cursor.snapshot(&snap);
+        int point = 0;  // the probe's lattice point in the cell the cursor holds
+        for (int a = 0; a < 3; ++a)
+          point = 3 * point + int(std::lround(2.0 * snap.cell_position[a]));
+        if (snap.midpoint[point] == 0) continue;
+        const double R = snap.midpoint_blend[point][0];
+        fitted += R > 0.0 && R < 1.0;
+        displacements(file, snap, d);
+        double e = 0;
+        for (int v = 0; v < test_util::kSyntheticViewNodes; ++v)
+          e = std::max(
+              e, (Eigen::Vector3d(d[3 * v], d[3 * v + 1], d[3 * v + 2]) - plane.u(v, p)).norm());
+        worst = std::max(worst, e);
+      }
+  std::printf("midpoint displacements at the midpoints: largest error %.3g, %d inside the band\n",
+              worst, fitted);
+  EXPECT_GT(fitted, 5);
+  EXPECT_LE(worst, 1e-5);  // float32 storage
 }
 
 TEST_F(ContactOnset, WithoutTheClearanceTheKinkIsSmoothedOverTheCell) {

@@ -165,11 +165,12 @@ void add_midpoint_forces(playback::Content* c, const ForceField& field, bool sti
   }
 }
 
-// Adds the displacements and their slopes half-way through every move in the kMidpointOffsets
-// directions that stays in the grid (synthetic_displacement there), as the expansion records
-// them (call after add_midpoint_forces: the cursor uses a midpoint's displacements only where it
-// uses its force).
-inline void add_midpoint_displacements(playback::Content* c, const Field& field) {
+// Adds the displacements u(node, p) and their slopes slope(node, p) (3 x 3, column a: d u / d p_a)
+// half-way through every move in the kMidpointOffsets directions that stays in the grid, as the
+// expansion records them (call after add_midpoint_forces: the cursor uses a midpoint's
+// displacements only where it uses its force).
+template <class Displacement, class Slope>
+void add_midpoint_displacements(playback::Content* c, Displacement u_at, Slope slope_at) {
   const playback::Meta m = c->meta;
   const std::vector<std::int32_t> checkpoint = c->config_checkpoint;
   const std::size_t n = checkpoint.size();
@@ -192,15 +193,16 @@ inline void add_midpoint_displacements(playback::Content* c, const Field& field)
       Eigen::Vector3d p;
       if (midpoint(checkpoint[k], d, &p)) c->midpoint_displacement_mask[k] |= 1 << d;
     }
-  c->midpoint_displacements = [field, checkpoint, midpoint](std::int32_t k, std::span<float> out) {
+  c->midpoint_displacements = [u_at, slope_at, checkpoint, midpoint](std::int32_t k,
+                                                                     std::span<float> out) {
     constexpr int v = kSyntheticViewNodes;
     for (int d = 0; d < playback::kMidpointDirections; ++d) {
       Eigen::Vector3d p;
       if (!midpoint(checkpoint[k], d, &p)) continue;
       float* row = out.data() + 12 * v * d;
       for (int node = 0; node < v; ++node) {
-        const Eigen::Vector3d u = synthetic_displacement(field, node, p);
-        const Eigen::Matrix3d s = synthetic_displacement_slope(field, node, p);
+        const Eigen::Vector3d u = u_at(node, p);
+        const Eigen::Matrix3d s = slope_at(node, p);
         for (int r = 0; r < 3; ++r) {
           row[3 * node + r] = static_cast<float>(u[r]);
           for (int a = 0; a < 3; ++a)
@@ -209,6 +211,18 @@ inline void add_midpoint_displacements(playback::Content* c, const Field& field)
       }
     }
   };
+}
+
+// The same with the synthetic displacements of `field` (synthetic_displacement).
+inline void add_midpoint_displacements(playback::Content* c, const Field& field) {
+  add_midpoint_displacements(
+      c,
+      [field](int node, const Eigen::Vector3d& p) {
+        return synthetic_displacement(field, node, p);
+      },
+      [field](int node, const Eigen::Vector3d& p) {
+        return synthetic_displacement_slope(field, node, p);
+      });
 }
 
 // Grid direction index of offset (di, dj, dk) (catalogue/direction.h numbering).
