@@ -254,7 +254,7 @@ class HapticCursor {
   std::array<CellCoefficients, 8> half_coef_{};   // their coefficients (bits x y z as corners)
   std::array<std::int32_t, 27> midpoint_code_{};  // Snapshot::midpoint of this cell
   std::array<std::array<double, 6>, 27> midpoint_blend_{};  // Snapshot::midpoint_blend
-  std::uint32_t blend_generation_ = 0;  // changes with midpoint_blend_ (copied to a slot then)
+  std::uint64_t blend_generation_ = 0;  // changes with midpoint_blend_ (copied to a slot then)
   int recorded_midpoint(int k, double* force, double* stiffness) const;
   void fit_cell();
   void fit_cell_lattice();
@@ -278,7 +278,7 @@ class HapticCursor {
   std::uint64_t cells_walked_ = 0;
 
   Snapshot slots_[3];  // triple buffer: back (writer), middle, front (reader)
-  std::uint32_t slot_blend_generation_[3] = {};
+  std::uint64_t slot_blend_generation_[3] = {};
   std::uint32_t back_ = 0;
   mutable std::uint32_t front_ = 2;
   mutable std::atomic<std::uint32_t> middle_{1};  // slot index | kFresh

@@ -45,9 +45,9 @@ typedef struct hs_snapshot {
 } hs_snapshot;
 
 /* sizeof(hs_snapshot) in the library as built. hs_snapshot grows when the playback format does
- * (it gained `midpoint` with format 7, `midpoint_blend` with format 8): a program that loads the
- * library at run time should check hs_snapshot_size() == sizeof(hs_snapshot) before its first
- * snapshot. */
+ * (it gained `midpoint` with format 7, `midpoint_blend` within format 8 on 2026-11-26): a program
+ * that loads the library at run time should check hs_snapshot_size() == sizeof(hs_snapshot) before
+ * its first snapshot. */
 size_t hs_snapshot_size(void);
 
 int hs_playback_open(const char* path, hs_playback** out, char* error, size_t error_size);

@@ -556,7 +556,7 @@ void HapticCursor::find_midpoint_displacements() {
       double B[3][4], dB[3][4], grad[3];
       hermite_bases(b.point, h, B, dB);
       const double depth = -clearance(B, dB, grad);
-      if (depth <= 0.0) continue;
+      if (!(depth > 0.0)) continue;
       const double s = std::min(depth / band, 1.0);
       const double R = s * s * (3.0 - 2.0 * s);
       if (R < 0.25) continue;
@@ -888,7 +888,11 @@ void HapticCursor::publish(const std::array<double, 3>& probe, const Force& f,
   slot.secant_corners = 0;
   slot.onset_weight = onset.weight;
   slot.onset_depth = onset.depth;
-  slot.midpoint = midpoint_code_;
+  // The probe clear of the body: the body at rest, no midpoint either.
+  if (onset.at_rest)
+    slot.midpoint.fill(0);
+  else
+    slot.midpoint = midpoint_code_;
   if (slot_blend_generation_[back_] != blend_generation_) {  // 1.3 KB: only when it changed
     slot.midpoint_blend = midpoint_blend_;
     slot_blend_generation_[back_] = blend_generation_;

@@ -13,6 +13,7 @@
 #include "playback/hermite_bases.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hapstate {
 namespace {
@@ -212,11 +213,19 @@ class HalfCellPoints {
     const std::int32_t code = s_.midpoint[point];
     if (stored_midpoint(f_, code)) {
       const std::array<double, 6>& onset = s_.midpoint_blend[point];
-      if (onset[0] > 0.0) return add_through_blend(code, L, axis, w, onset, blend);
-      return blend->add(code - 1, axis < 0 ? 4 : 5 + axis, w);
+      if (onset[0] == 0.0) return blend->add(code - 1, axis < 0 ? 4 : 5 + axis, w);
+      if (valid_blend(onset)) return add_through_blend(code, L, axis, w, onset, blend);
+      // A damaged or foreign blend: the point as if not stored (below).
     }
     const std::array<double, 3> at = {0.5 * L[0], 0.5 * L[1], 0.5 * L[2]};
     add_hermite(corners_, at, h_, axis, w, blend);
+  }
+
+  // What the cursor publishes: all finite, R in [1/4, 1], dR/dd >= 0, depth > 0.
+  static bool valid_blend(const std::array<double, 6>& onset) {
+    for (double v : onset)
+      if (!std::isfinite(v)) return false;
+    return onset[0] >= 0.25 && onset[0] <= 1.0 && onset[1] >= 0.0 && onset[2] > 0.0;
   }
 
   // Near the contact onset deform() returns R U + (1 - R) D, U this interpolant and D the depth

@@ -262,6 +262,20 @@ TEST_F(ContactOnset, MidpointDisplacementsAreFittedThroughTheBlend) {
               worst, fitted);
   EXPECT_GT(fitted, 5);
   EXPECT_LE(worst, 1e-5);  // float32 storage
+  // Displacements proportional to the depth are reproduced everywhere, between the lattice
+  // points too (where the fitted slopes enter), and the body stays at rest wherever the probe is
+  // clear of it (also in a half cell with a midpoint inside the body).
+  plane.curvature = 0.0;
+  playback::Content linear = plane_content(plane, false);
+  test_util::add_midpoint_forces(&linear, plane, true);
+  test_util::add_midpoint_displacements(
+      &linear, [plane](int v, const Eigen::Vector3d& q) { return plane.u(v, q); },
+      [plane](int v, const Eigen::Vector3d& q) { return plane.u_slope(v, q); });
+  PlaybackFile linear_file(write(std::move(linear), "linear_midpoints.bin"));
+  const Errors e = walk(linear_file, plane, Scheme::kHermite);
+  EXPECT_GT(e.clear_points, 50);
+  EXPECT_GT(e.cut_cells, 50);
+  EXPECT_LE(e.displacement, 1e-6);  // float32 storage
 }
 
 TEST_F(ContactOnset, WithoutTheClearanceTheKinkIsSmoothedOverTheCell) {
