@@ -231,6 +231,11 @@ class HapticCursor {
                          std::array<double, 9>* slope) const;
   void per_depth_at(const std::array<double, 3>& t, double (&q)[3], double (&dq)[3][3]) const;
   double clearance(const double (&B)[3][4], const double (&dB)[3][4], double (&grad)[3]) const;
+  struct OnsetPoint {
+    double R = 0, dR = 0, depth = 0;  // the blend's weight, its derivative by the depth
+    double grad[3] = {};              // the clearance's gradient
+  };
+  bool onset_blend_at(const std::array<double, 3>& t, OnsetPoint* out) const;
   bool onset_target(const std::array<double, 3>& t, const double* felt, const double* felt_k,
                     double* out, double* out_k) const;
   void publish(const std::array<double, 3>& probe, const Force& f, const std::array<double, 3>& s,

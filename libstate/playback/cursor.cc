@@ -13,6 +13,9 @@ namespace {
 
 using playback::hermite_bases;
 
+// The axis pairs of the cross derivatives, in the order of their index.
+constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+
 // The band above the contact onset, in units of the smallest spacing, over which the force
 // blends from the depth model into the interpolated force (apply_onset).
 constexpr double kOnsetBand = 0.5;
@@ -271,7 +274,6 @@ namespace {
 // coefficient of the basis with those indices (2 o + k per axis).
 template <class Value, class Gradient, class Cross, class At>
 void hermite_coefficients(Value value, Gradient gradient, Cross cross, At at) {
-  static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     auto coef = [&](int kx, int ky, int kz) -> double& {
@@ -448,18 +450,30 @@ void HapticCursor::per_depth_at(const std::array<double, 3>& t, double (&q)[3],
 // (felt_k - (1 - R) d(d q)/dp + (F - d q) R' grad d^T) / R. False where the blend barely
 // follows F (R < 1/4, within the first third of the band) or the sphere is clear of the rest
 // body: the value is not fitted.
-bool HapticCursor::onset_target(const std::array<double, 3>& t, const double* felt,
-                                const double* felt_k, double* out, double* out_k) const {
+// The onset blend at cell position t where a midpoint may be fitted through it: R, dR/d(depth),
+// the depth and the clearance's gradient (the depth's, negated). False where the cell is clear of
+// the body, the depth is not positive or R < 1/4 (the blend barely follows F there, and a free
+// midpoint's 0 would bend the secant field): the midpoint is left out there.
+bool HapticCursor::onset_blend_at(const std::array<double, 3>& t, OnsetPoint* out) const {
   if (clear_cell_) return false;
   const double* h = file_.impl().meta->spacing;
-  double B[3][4], dB[3][4], grad[3];
+  double B[3][4], dB[3][4];
   hermite_bases(t, h, B, dB);
-  const double depth = -clearance(B, dB, grad);
+  out->depth = -clearance(B, dB, out->grad);
+  if (!(out->depth > 0.0)) return false;
   const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
-  if (depth <= 0.0) return false;
-  const double x = std::min(depth / band, 1.0);
-  const double R = x * x * (3.0 - 2.0 * x), dR = 6.0 * x * (1.0 - x) / band;
-  if (R < 0.25) return false;
+  const double x = std::min(out->depth / band, 1.0);
+  out->R = x * x * (3.0 - 2.0 * x);
+  out->dR = 6.0 * x * (1.0 - x) / band;
+  return out->R >= 0.25;
+}
+
+bool HapticCursor::onset_target(const std::array<double, 3>& t, const double* felt,
+                                const double* felt_k, double* out, double* out_k) const {
+  OnsetPoint o;
+  if (!onset_blend_at(t, &o)) return false;
+  const double R = o.R, dR = o.dR, depth = o.depth;
+  const double* grad = o.grad;
   double q[3], dq[3][3];
   per_depth_at(t, q, dq);
   for (int r = 0; r < 3; ++r) out[r] = (felt[r] - (1.0 - R) * depth * q[r]) / R;
@@ -542,9 +556,7 @@ void HapticCursor::find_midpoint_displacements() {
   midpoint_code_.fill(0);
   midpoint_blend_ = {};
   ++blend_generation_;
-  if (!f.midpoint_mask || (onset_ && clear_cell_)) return;
-  const double* h = f.meta->spacing;
-  const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
+  if (!f.midpoint_mask) return;
   for (int k = 0; k < playback::kCellBubbles; ++k) {
     double felt[3], felt_k[9];
     if (recorded_midpoint(k, felt, felt_k) == 0) continue;
@@ -553,15 +565,9 @@ void HapticCursor::find_midpoint_displacements() {
     if (!((f.midpoint_mask[source] >> b.direction) & 1)) continue;
     const int x = int(2 * b.point[0]), y = int(2 * b.point[1]), z = int(2 * b.point[2]);
     if (onset_) {
-      double B[3][4], dB[3][4], grad[3];
-      hermite_bases(b.point, h, B, dB);
-      const double depth = -clearance(B, dB, grad);
-      if (!(depth > 0.0)) continue;
-      const double s = std::min(depth / band, 1.0);
-      const double R = s * s * (3.0 - 2.0 * s);
-      if (R < 0.25) continue;
-      midpoint_blend_[9 * x + 3 * y + z] = {
-          R, 6.0 * s * (1.0 - s) / band, depth, -grad[0], -grad[1], -grad[2]};
+      OnsetPoint o;
+      if (!onset_blend_at(b.point, &o)) continue;
+      midpoint_blend_[9 * x + 3 * y + z] = {o.R, o.dR, o.depth, -o.grad[0], -o.grad[1], -o.grad[2]};
     }
     midpoint_code_[9 * x + 3 * y + z] = playback::kMidpointDirections * source + b.direction + 1;
   }
@@ -611,7 +617,6 @@ void HapticCursor::fit_cell_lattice() {
   // parabola through the 3 gradients (second order, where differences within a half cell are
   // first order). Those in a face's plane use only that face's points: the force stays
   // continuous. Zero for the triple derivative, as in the corners' cubic.
-  static constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   double cross[3][3][3][3][3];  // [x][y][z][r][pair]
   auto along = [](auto& field, const int(&p)[3], int axis, auto get, double h) {
     int q[3] = {p[0], p[1], p[2]};

@@ -215,6 +215,16 @@ TEST_F(ContactOnset, MidpointForcesKeepTheOnsetExact) {
     }
 }
 
+// The plane's file with its force, stiffness and displacements half-way through the moves.
+playback::Content plane_midpoint_content(const Plane& plane) {
+  playback::Content content = plane_content(plane, false);
+  test_util::add_midpoint_forces(&content, plane, true);
+  test_util::add_midpoint_displacements(
+      &content, [plane](int v, const Eigen::Vector3d& p) { return plane.u(v, p); },
+      [plane](int v, const Eigen::Vector3d& p) { return plane.u_slope(v, p); });
+  return content;
+}
+
 // The displacements half-way through the moves are fitted through the onset blend as the force
 // is: with displacements that are not proportional to the depth (the depth model is then not
 // exact), the snapshot returns the stored displacements at every midpoint, also inside the band
@@ -223,12 +233,7 @@ TEST_F(ContactOnset, MidpointForcesKeepTheOnsetExact) {
 TEST_F(ContactOnset, MidpointDisplacementsAreFittedThroughTheBlend) {
   Plane plane;
   plane.curvature = 0.8;
-  playback::Content content = plane_content(plane, false);
-  test_util::add_midpoint_forces(&content, plane, true);
-  test_util::add_midpoint_displacements(
-      &content, [plane](int v, const Eigen::Vector3d& p) { return plane.u(v, p); },
-      [plane](int v, const Eigen::Vector3d& p) { return plane.u_slope(v, p); });
-  PlaybackFile file(write(std::move(content), "midpoint_displacements.bin"));
+  PlaybackFile file(write(plane_midpoint_content(plane), "midpoint_displacements.bin"));
   file.verify();
   HapticCursor cursor(file, Scheme::kHermite);
   std::vector<float> d(3 * test_util::kSyntheticViewNodes);
@@ -266,12 +271,7 @@ TEST_F(ContactOnset, MidpointDisplacementsAreFittedThroughTheBlend) {
   // points too (where the fitted slopes enter), and the body stays at rest wherever the probe is
   // clear of it (also in a half cell with a midpoint inside the body).
   plane.curvature = 0.0;
-  playback::Content linear = plane_content(plane, false);
-  test_util::add_midpoint_forces(&linear, plane, true);
-  test_util::add_midpoint_displacements(
-      &linear, [plane](int v, const Eigen::Vector3d& q) { return plane.u(v, q); },
-      [plane](int v, const Eigen::Vector3d& q) { return plane.u_slope(v, q); });
-  PlaybackFile linear_file(write(std::move(linear), "linear_midpoints.bin"));
+  PlaybackFile linear_file(write(plane_midpoint_content(plane), "linear_midpoints.bin"));
   const Errors e = walk(linear_file, plane, Scheme::kHermite);
   EXPECT_GT(e.clear_points, 50);
   EXPECT_GT(e.cut_cells, 50);
