@@ -824,12 +824,19 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
   std::array<double, 3> value{};
   std::array<double, 9> slope{};    // d(value)/d(probe)
   std::array<double, 9> k_blend{};  // trilinear blend of the corners' stiffness
-  for (int c = 0; c < 8; ++c) {
-    const auto o = corner_offset(c);
-    const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
-    for (int r = 0; r < 9; ++r) k_blend[r] += w * stiffness_of(c)[r];
-    if (scheme_ == Scheme::kTrilinear)
-      for (int r = 0; r < 3; ++r) value[r] += w * force_of(c)[r];
+  // Trilinear (and outside the grid, either scheme): the corners' stiffness blended, and with
+  // kTrilinear their forces.
+  const bool blended = scheme_ == Scheme::kTrilinear || !out.inside_grid;
+  if (blended) {
+    for (int c = 0; c < 8; ++c) {
+      const auto o = corner_offset(c);
+      const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
+      const double* k = stiffness_of(c);
+      for (int r = 0; r < 9; ++r) k_blend[r] += w * k[r];
+      if (scheme_ != Scheme::kTrilinear) continue;
+      const double* f = force_of(c);
+      for (int r = 0; r < 3; ++r) value[r] += w * f[r];
+    }
   }
   if (!fitted_) fit_cell();
   if (lattice_) {
@@ -869,7 +876,7 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
     add_bubbles(mb, dmb, v, dv, &value,
                 scheme_ == Scheme::kHermite && out.inside_grid ? &slope : nullptr);
   }
-  if (scheme_ == Scheme::kTrilinear || !out.inside_grid) slope = k_blend;
+  if (blended) slope = k_blend;
   const OnsetBlend onset = onset_ ? apply_onset(B, dB, s, &value, &slope) : OnsetBlend{};
   if (!out.inside_grid) {
     for (int r = 0; r < 3; ++r)
