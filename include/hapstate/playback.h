@@ -236,8 +236,8 @@ class HapticCursor {
     double grad[3] = {};              // the clearance's gradient
   };
   bool onset_blend_at(const std::array<double, 3>& t, OnsetPoint* out) const;
-  bool onset_target(const std::array<double, 3>& t, const double* felt, const double* felt_k,
-                    double* out, double* out_k) const;
+  bool onset_target(const std::array<double, 3>& t, const OnsetPoint& o, const double* felt,
+                    const double* felt_k, double* out, double* out_k) const;
   void publish(const std::array<double, 3>& probe, const Force& f, const std::array<double, 3>& s,
                const OnsetBlend& onset);
 
@@ -261,10 +261,12 @@ class HapticCursor {
   std::array<std::array<double, 6>, 27> midpoint_blend_{};  // Snapshot::midpoint_blend
   std::uint64_t blend_generation_ = 0;  // changes with midpoint_blend_ (copied to a slot then)
   int recorded_midpoint(int k, double* force, double* stiffness) const;
+  struct MidpointTarget;  // what the cell's fit aims at a midpoint (cursor.cc)
   void fit_cell();
-  void fit_cell_lattice();
-  void find_midpoint_displacements();
-  void fit_cell_bubbles();
+  void midpoint_target(int k, MidpointTarget* out) const;
+  void fit_cell_lattice(const MidpointTarget* targets);
+  void find_midpoint_displacements(const MidpointTarget* targets);
+  void fit_cell_bubbles(const MidpointTarget* targets);
   void add_bubbles(const double (&m)[3], const double (&dm)[3], const double (&v)[3][2],
                    const double (&dv)[3][2], std::array<double, 3>* value,
                    std::array<double, 9>* slope) const;

@@ -444,12 +444,6 @@ void HapticCursor::per_depth_at(const std::array<double, 3>& t, double (&q)[3],
   }
 }
 
-// The interpolated force F at cell position t for which the onset blend (apply_onset) returns
-// `felt`: (felt - (1 - R) d q) / R, and, if `felt_k` is given, the derivative of F for which
-// the blend's derivative is felt_k (row-major, per mesh unit):
-// (felt_k - (1 - R) d(d q)/dp + (F - d q) R' grad d^T) / R. False where the blend barely
-// follows F (R < 1/4, within the first third of the band) or the sphere is clear of the rest
-// body: the value is not fitted.
 // The onset blend at cell position t where a midpoint may be fitted through it: R, dR/d(depth),
 // the depth and the clearance's gradient (the depth's, negated). False where the cell is clear of
 // the body, the depth is not positive or R < 1/4 (the blend barely follows F there, and a free
@@ -468,10 +462,14 @@ bool HapticCursor::onset_blend_at(const std::array<double, 3>& t, OnsetPoint* ou
   return out->R >= 0.25;
 }
 
-bool HapticCursor::onset_target(const std::array<double, 3>& t, const double* felt,
-                                const double* felt_k, double* out, double* out_k) const {
-  OnsetPoint o;
-  if (!onset_blend_at(t, &o)) return false;
+// The interpolated force F at cell position t, where the onset blend is o (onset_blend_at
+// true), for which the blend (apply_onset) returns `felt`: (felt - (1 - R) d q) / R, and, if
+// `felt_k` is given, the derivative of F for which the blend's derivative is felt_k (row-major,
+// per mesh unit): (felt_k - (1 - R) d(d q)/dp + (F - d q) R' grad d^T) / R. False where they
+// are not finite.
+bool HapticCursor::onset_target(const std::array<double, 3>& t, const OnsetPoint& o,
+                                const double* felt, const double* felt_k, double* out,
+                                double* out_k) const {
   const double R = o.R, dR = o.dR, depth = o.depth;
   const double* grad = o.grad;
   double q[3], dq[3][3];
@@ -535,38 +533,72 @@ int HapticCursor::recorded_midpoint(int k, double* force, double* stiffness) con
   return 2;
 }
 
+// What the cell's fit aims at midpoint k: the recorded force and stiffness, or in a cell near the
+// contact onset those the blend turns into them (onset_target), where that blend allows a fit
+// (onset_blend_at, kept for the displacements). Computed once per cell entry.
+struct HapticCursor::MidpointTarget {
+  int recorded = 0;       // recorded_midpoint: 0 none, 1 the force, 2 force and stiffness
+  bool fitted = false;    // force (and with recorded == 2 stiffness) below are valid
+  bool force_ok = false;  // force below is valid (what the bubbles need)
+  double force[3] = {};   // N
+  double stiffness[9] = {};
+  bool in_blend = false;  // near the onset: onset_blend_at allows a fit at the point
+  OnsetPoint onset;       // and the blend there
+};
+
+void HapticCursor::midpoint_target(int k, MidpointTarget* out) const {
+  double felt[3], felt_k[9];
+  out->recorded = recorded_midpoint(k, felt, felt_k);
+  if (out->recorded == 0) return;
+  const bool with_k = out->recorded == 2;
+  if (!onset_) {
+    std::copy_n(felt, 3, out->force);
+    if (with_k) std::copy_n(felt_k, 9, out->stiffness);
+    out->fitted = out->force_ok = true;
+    return;
+  }
+  const std::array<double, 3>& point = playback::bubble_spec(k).point;
+  out->in_blend = onset_blend_at(point, &out->onset);
+  if (!out->in_blend) return;
+  out->fitted =
+      onset_target(point, out->onset, felt, with_k ? felt_k : nullptr, out->force, out->stiffness);
+  out->force_ok = finite(out->force, 3);
+}
+
 void HapticCursor::fit_cell() {
   fitted_ = true;
   num_bubbles_ = 0;
-  find_midpoint_displacements();
+  MidpointTarget targets[playback::kCellBubbles];
+  for (int k = 0; k < playback::kCellBubbles; ++k) midpoint_target(k, &targets[k]);
+  find_midpoint_displacements(targets);
   lattice_ = scheme_ == Scheme::kHermite && file_.impl().midpoint_stiffness;
   if (lattice_) {
-    fit_cell_lattice();
+    fit_cell_lattice(targets);
   } else {
-    fit_cell_bubbles();
+    fit_cell_bubbles(targets);
   }
 }
 
 // The midpoints of this cell whose displacements deform() uses (Snapshot::midpoint): those
-// whose force the cursor uses (recorded_midpoint) and whose displacements the file holds; none
-// in a cell near the contact onset, those the force uses there too (onset_target's conditions),
+// whose force the cursor uses (recorded_midpoint) and whose displacements the file holds; in a
+// cell near the contact onset, those where the force's fit may use the blend (onset_blend_at),
 // with the blend at the point (Snapshot::midpoint_blend) through which deform() fits them.
-void HapticCursor::find_midpoint_displacements() {
+void HapticCursor::find_midpoint_displacements(const MidpointTarget* targets) {
   const PlaybackFile::Impl& f = file_.impl();
   midpoint_code_.fill(0);
   midpoint_blend_ = {};
   ++blend_generation_;
   if (!f.midpoint_mask) return;
   for (int k = 0; k < playback::kCellBubbles; ++k) {
-    double felt[3], felt_k[9];
-    if (recorded_midpoint(k, felt, felt_k) == 0) continue;
+    const MidpointTarget& t = targets[k];
+    if (t.recorded == 0) continue;
     const playback::BubbleSpec b = playback::bubble_spec(k);
     const std::int32_t source = corners_[b.source_corner].configuration;
     if (!((f.midpoint_mask[source] >> b.direction) & 1)) continue;
     const int x = int(2 * b.point[0]), y = int(2 * b.point[1]), z = int(2 * b.point[2]);
     if (onset_) {
-      OnsetPoint o;
-      if (!onset_blend_at(b.point, &o)) continue;
+      if (!t.in_blend) continue;
+      const OnsetPoint& o = t.onset;
       midpoint_blend_[9 * x + 3 * y + z] = {o.R, o.dR, o.depth, -o.grad[0], -o.grad[1], -o.grad[2]};
     }
     midpoint_code_[9 * x + 3 * y + z] = playback::kMidpointDirections * source + b.direction + 1;
@@ -582,7 +614,7 @@ void HapticCursor::find_midpoint_displacements() {
 // stiffness entry by at most the stiffness limit (Meta): the change bound stays valid. A point
 // on a face or an edge depends only on the data of that face or edge, so the force stays
 // continuous across faces.
-void HapticCursor::fit_cell_lattice() {
+void HapticCursor::fit_cell_lattice(const MidpointTarget* targets) {
   const playback::Meta& m = *file_.impl().meta;
   double value[3][3][3][3], gradient[3][3][3][9];
   hermite_lattice(coef_, m.spacing, value, gradient);  // the fallback at the midpoints
@@ -596,22 +628,13 @@ void HapticCursor::fit_cell_lattice() {
     const int x = int(2 * b.point[0]), y = int(2 * b.point[1]), z = int(2 * b.point[2]);
     double* v = value[x][y][z];
     double* g = gradient[x][y][z];
-    double felt[3], felt_k[9], target[3], target_k[9];
-    const int recorded = recorded_midpoint(k, felt, felt_k);
-    bool fitted = recorded > 0;
-    if (fitted && onset_) {
-      fitted = onset_target(b.point, felt, recorded == 2 ? felt_k : nullptr, target, target_k);
-    } else if (fitted) {
-      std::copy_n(felt, 3, target);
-      if (recorded == 2) std::copy_n(felt_k, 9, target_k);
-    }
-    if (fitted) {
-      const double bound = m.bubble_limit[static_cast<int>(b.kind)];
-      for (int r = 0; r < 3; ++r) v[r] += std::clamp(target[r] - v[r], -bound, bound);
-      if (recorded == 2)
-        for (int e = 0; e < 9; ++e)
-          g[e] = std::clamp(target_k[e], -m.stiffness_limit, m.stiffness_limit);
-    }
+    const MidpointTarget& t = targets[k];
+    if (!t.fitted) continue;
+    const double bound = m.bubble_limit[static_cast<int>(b.kind)];
+    for (int r = 0; r < 3; ++r) v[r] += std::clamp(t.force[r] - v[r], -bound, bound);
+    if (t.recorded == 2)
+      for (int e = 0; e < 9; ++e)
+        g[e] = std::clamp(t.stiffness[e], -m.stiffness_limit, m.stiffness_limit);
   }
   // The cross derivatives at the lattice points: along each lattice line, the slope of the
   // parabola through the 3 gradients (second order, where differences within a half cell are
@@ -667,7 +690,7 @@ void HapticCursor::fit_cell_lattice() {
 
 // The bubbles toward the recorded forces (trilinear, or Hermite in a file without the midpoint
 // stiffness): fitted edges first, then faces, then the cell.
-void HapticCursor::fit_cell_bubbles() {
+void HapticCursor::fit_cell_bubbles(const MidpointTarget* targets) {
   const PlaybackFile::Impl& f = file_.impl();
   if (!f.midpoint_force) return;
   // Hermite: the cell's interpolant at the lattice points, once (the bubbles' points are on it).
@@ -686,10 +709,8 @@ void HapticCursor::fit_cell_bubbles() {
     std::copy_n(lattice[int(2 * t[0])][int(2 * t[1])][int(2 * t[2])], 3, out);
   };
   auto recorded = [&](int k, double* out) {
-    double felt[3], felt_k[9];
-    if (recorded_midpoint(k, felt, felt_k) == 0) return false;
-    if (onset_) return onset_target(playback::bubble_spec(k).point, felt, nullptr, out, nullptr);
-    std::copy_n(felt, 3, out);
+    if (!targets[k].force_ok) return false;
+    std::copy_n(targets[k].force, 3, out);
     return true;
   };
   playback::fit_bubbles(interpolant, recorded, f.meta->bubble_limit, &bubble_);
