@@ -1,12 +1,13 @@
 // hapstate: the one-command driver. `hapstate run SCENE` runs the precomputation stages in order
-// (import -> grid -> expand -> compact -> index) on the scene's state directory; every stage skips
-// the work whose inputs have not changed, so re-running does only what is out of date.
+// (import -> grid -> expand -> refine -> compact -> index) on the scene's state directory; every
+// stage skips the work whose inputs have not changed, so re-running does only what is out of date.
 #include "index/index_stage.h"
 #include "maintenance/compact.h"
 #include "statespace/expand_stage.h"
 #include "statespace/grid_stage.h"
 #include "statespace/import_stage.h"
 #include "statespace/math_threads.h"
+#include "statespace/refine_stage.h"
 #include "util/main_guard.h"
 #include "util/stop_request.h"
 
@@ -67,6 +68,14 @@ int run_pipeline(const RunOptions& o) {
     return kExitOk;
   }
   if (stop_requested()) return stopped();
+  RefineOptions refine;
+  refine.state = state;
+  refine.threads = o.threads;
+  refine.progress = o.quiet ? nullptr : stderr;
+  const RefineReport refined = run_refine(refine);
+  std::printf("  refine:  %s\n", refined.message.c_str());
+  if (refined.stopped_by_signal) return stopped();
+  if (stop_requested()) return stopped();
   if (!o.no_compact) {
     std::string text = compact_state(state, CompactOptions{}).text();
     for (std::size_t at = text.find('\n'); at != std::string::npos && at + 1 < text.size();
@@ -98,8 +107,9 @@ int main(int argc, char** argv) {
       "mesh or state directory (the stage that found it changed nothing)."};
   use_hapstate_help(app, true);
   app.require_subcommand(1);
-  CLI::App* run = app.add_subcommand(
-      "run", "import -> grid -> expand -> compact -> index; each stage skips what is up to date");
+  CLI::App* run = app.add_subcommand("run",
+                                     "import -> grid -> expand -> refine -> compact -> index; each "
+                                     "stage skips what is up to date");
   run->add_option("scene", o.scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   run->add_option("--state", o.state, "state directory (default: 'state' beside the scene)");
   run->add_option("--threads", o.threads, "expansion worker threads")->check(CLI::Range(1, 1024));

@@ -256,8 +256,10 @@ class HapticCursor {
   int num_bubbles_ = 0;   // non-zero corrections
   bool fitted_ = false;   // the midpoint data of this cell (bubbles or lattice) are fitted
   bool lattice_ = false;  // Hermite with the midpoint stiffness: 8 half-spacing Hermite cells
-  std::array<CellCoefficients, 8> half_coef_{};   // their coefficients (bits x y z as corners)
-  std::array<std::int32_t, 27> midpoint_code_{};  // Snapshot::midpoint of this cell
+  std::array<CellCoefficients, 8> half_coef_{};  // their coefficients (bits x y z as corners)
+  bool refined_ = false;                         // a refined cell: 64 quarter-spacing Hermite cells
+  std::array<CellCoefficients, 64> quarter_coef_{};         // their coefficients, (4 x + y) 4 + z
+  std::array<std::int32_t, 27> midpoint_code_{};            // Snapshot::midpoint of this cell
   std::array<std::array<double, 6>, 27> midpoint_blend_{};  // Snapshot::midpoint_blend
   std::uint64_t blend_generation_ = 0;  // changes with midpoint_blend_ (copied to a slot then)
   int recorded_midpoint(int k, double* force, double* stiffness) const;
@@ -265,6 +267,9 @@ class HapticCursor {
   void fit_cell();
   void midpoint_target(int k, MidpointTarget* out) const;
   void fit_cell_lattice(const MidpointTarget* targets);
+  std::int32_t refined_cell() const;
+  void fit_refined_cell(std::int32_t slot, const double (&value)[3][3][3][3],
+                        const double (&gradient)[3][3][3][9]);
   void find_midpoint_displacements(const MidpointTarget* targets);
   void fit_cell_bubbles(const MidpointTarget* targets);
   void add_bubbles(const double (&m)[3], const double (&dm)[3], const double (&v)[3][2],

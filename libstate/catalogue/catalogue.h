@@ -122,6 +122,13 @@ class Catalogue {
   // became part of an enlarged workspace. Returns whether a row was deleted.
   bool delete_transition(ConfigId source, Direction direction);
 
+  // --- refinement (refinement_table.cc) ---
+  // Inserts the points of one cell (all in one savepoint). Throws if a (cell, point) exists.
+  void insert_refinement_points(const std::vector<RefinementPoint>& points);
+  std::vector<RefinementPoint> read_all_refinement_points();  // by (cell, point)
+  std::set<ConfigId> refined_cells();
+  std::int64_t num_refinement_points();
+
   // --- maintenance (hapstate-compact; maintenance_verbs.cc) ---
   // Points configuration `id` at `blob` (nullopt: no vectors stored). Throws InputError if
   // there is no such configuration.

@@ -139,4 +139,18 @@ struct Transition {
   bool operator==(const Transition&) const = default;
 };
 
+// Table refinement (schema 6): one solved point of a refined cell's quarter-spacing lattice.
+struct RefinementPoint {
+  ConfigId cell;  // the configuration at the cell's lowest corner
+  int point = 0;  // 25 i + 5 j + k, quarter steps from that corner (0..124)
+  bool reached = false;
+  std::array<double, 3> force{};      // felt by the user, N (when reached)
+  std::array<double, 9> stiffness{};  // row-major, N per mesh unit (when reached)
+  int newton_iterations = 0;
+  double wall_ms = 0.0;
+  std::string failure_reason;  // "" when reached
+
+  bool operator==(const RefinementPoint&) const = default;
+};
+
 }  // namespace hapstate

@@ -2,6 +2,7 @@
 
 #include "blobs/blob_store.h"
 #include "hapstate/playback.h"
+#include "index/refined_cells.h"
 #include "playback/onset_model.h"
 #include "playback/writer.h"
 #include "statespace/expand_batch.h"
@@ -33,8 +34,9 @@ struct Gathered {
 };
 
 ContentHash fingerprint_of(const std::vector<Configuration>& configs,
-                           const std::vector<Transition>& transitions, const NamedHashes& inputs,
-                           ViewNodes view) {
+                           const std::vector<Transition>& transitions,
+                           const std::vector<RefinementPoint>& refinement,
+                           const NamedHashes& inputs, ViewNodes view) {
   ContentHasher h;
   for (const auto& [name, hash] : inputs)
     h.update(name).update(static_cast<std::int64_t>(hash.value));
@@ -50,6 +52,10 @@ ContentHash fingerprint_of(const std::vector<Configuration>& configs,
     h.update(t.source.value()).update(std::int64_t{t.direction.index()});
     h.update(std::int64_t{static_cast<int>(t.outcome)})
         .update(t.target.valid() ? t.target.value() : -1);
+  }
+  for (const RefinementPoint& r : refinement) {
+    h.update(r.cell.value()).update(std::int64_t{r.point}).update(std::int64_t{r.reached});
+    h.update(std::span<const double>(r.force)).update(std::span<const double>(r.stiffness));
   }
   return h.value();
 }
@@ -215,7 +221,9 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
     c.clearance = clearance_table(ctx.problem, m);
     c.onset = playback::onset_corners(c);
   }
-  g.fingerprint = fingerprint_of(g.configs, transitions, inputs, view);
+  const std::vector<RefinementPoint> refinement = cat.read_all_refinement_points();
+  add_refined_cells(refinement, index_of, &c);
+  g.fingerprint = fingerprint_of(g.configs, transitions, refinement, inputs, view);
   m.source_hash = g.fingerprint.value;
   return g;
 }

@@ -567,6 +567,7 @@ void HapticCursor::midpoint_target(int k, MidpointTarget* out) const {
 
 void HapticCursor::fit_cell() {
   fitted_ = true;
+  refined_ = false;
   num_bubbles_ = 0;
   MidpointTarget targets[playback::kCellBubbles];
   for (int k = 0; k < playback::kCellBubbles; ++k) midpoint_target(k, &targets[k]);
@@ -605,67 +606,52 @@ void HapticCursor::find_midpoint_displacements(const MidpointTarget* targets) {
   }
 }
 
-// Hermite with the midpoint stiffness: the cell's 27 lattice points (corners, edge midpoints,
-// face and cell centres) get a value, a gradient and cross derivatives each, and each of the 8
-// half-spacing cells is a cubic Hermite cell of its own (hermite_coefficients). A corner's are its
-// force and stiffness; a midpoint's the recorded ones (in a cell near the contact onset, those the
-// blend turns into them: onset_target), else the cell's Hermite interpolant's there. A recorded
-// value differs from that interpolant by at most the bubble limit per component and a recorded
-// stiffness entry by at most the stiffness limit (Meta): the change bound stays valid. A point
-// on a face or an edge depends only on the data of that face or edge, so the force stays
-// continuous across faces.
-void HapticCursor::fit_cell_lattice(const MidpointTarget* targets) {
-  const playback::Meta& m = *file_.impl().meta;
-  double value[3][3][3][3], gradient[3][3][3][9];
-  hermite_lattice(coef_, m.spacing, value, gradient);  // the fallback at the midpoints
-  for (int c = 0; c < 8; ++c) {
-    const auto o = corner_offset(c);
-    std::copy_n(force_of(c), 3, value[2 * o[0]][2 * o[1]][2 * o[2]]);
-    std::copy_n(stiffness_of(c), 9, gradient[2 * o[0]][2 * o[1]][2 * o[2]]);
-  }
-  for (int k = 0; k < playback::kCellBubbles; ++k) {
-    const playback::BubbleSpec b = playback::bubble_spec(k);
-    const int x = int(2 * b.point[0]), y = int(2 * b.point[1]), z = int(2 * b.point[2]);
-    double* v = value[x][y][z];
-    double* g = gradient[x][y][z];
-    const MidpointTarget& t = targets[k];
-    if (!t.fitted) continue;
-    const double bound = m.bubble_limit[static_cast<int>(b.kind)];
-    for (int r = 0; r < 3; ++r) v[r] += std::clamp(t.force[r] - v[r], -bound, bound);
-    if (t.recorded == 2)
-      for (int e = 0; e < 9; ++e)
-        g[e] = std::clamp(t.stiffness[e], -m.stiffness_limit, m.stiffness_limit);
-  }
-  // The cross derivatives at the lattice points: along each lattice line, the slope of the
-  // parabola through the 3 gradients (second order, where differences within a half cell are
-  // first order). Those in a face's plane use only that face's points: the force stays
-  // continuous. Zero for the triple derivative, as in the corners' cubic.
-  double cross[3][3][3][3][3];  // [x][y][z][r][pair]
-  auto along = [](auto& field, const int(&p)[3], int axis, auto get, double h) {
+namespace {
+
+// The data at the points of a cell's lattice with N points per axis (N = 3: the half-spacing
+// lattice, 5: a refined cell's quarter-spacing one): value, gradient (row-major, 3 r + a) and
+// the cross derivatives [r][pair] (kPair).
+template <int N>
+struct Lattice {
+  double value[N][N][N][3];
+  double gradient[N][N][N][9];
+  double cross[N][N][N][3][3];
+};
+
+// The cross derivatives at every point of L: along each lattice line, the slope of the parabola
+// through 3 neighbouring gradients (second order, where differences between 2 points are first
+// order). Those in a face's plane use only that face's points: the force stays continuous. Zero
+// for the triple derivative, as in the corners' cubic. h: the cell's spacing.
+template <int N>
+void lattice_cross(const double* h, Lattice<N>* L) {
+  auto along = [&](const int(&p)[3], int axis, int component) {
+    const int first = std::clamp(p[axis] - 1, 0, N - 3);
     int q[3] = {p[0], p[1], p[2]};
     double g[3];
     for (int i = 0; i < 3; ++i) {
-      q[axis] = i;
-      g[i] = get(field[q[0]][q[1]][q[2]]);
+      q[axis] = first + i;
+      g[i] = L->gradient[q[0]][q[1]][q[2]][component];
     }
-    return lattice_derivative(g[0], g[1], g[2], p[axis], h);
+    return lattice_derivative(g[0], g[1], g[2], p[axis] - first, 2.0 * h[axis] / (N - 1));
   };
-  for (int x = 0; x < 3; ++x)
-    for (int y = 0; y < 3; ++y)
-      for (int z = 0; z < 3; ++z) {
+  for (int x = 0; x < N; ++x)
+    for (int y = 0; y < N; ++y)
+      for (int z = 0; z < N; ++z) {
         const int p[3] = {x, y, z};
         for (int r = 0; r < 3; ++r)
           for (int q = 0; q < 3; ++q) {
             const int a = kPair[q][0], b = kPair[q][1];
-            const double dab = along(
-                gradient, p, b, [&](const double* g) { return g[3 * r + a]; }, m.spacing[b]);
-            const double dba = along(
-                gradient, p, a, [&](const double* g) { return g[3 * r + b]; }, m.spacing[a]);
-            cross[x][y][z][r][q] = 0.5 * (dab + dba);
+            L->cross[x][y][z][r][q] = 0.5 * (along(p, b, 3 * r + a) + along(p, a, 3 * r + b));
           }
       }
-  for (int sub = 0; sub < 8; ++sub) {
-    const auto so = corner_offset(sub);
+}
+
+// The Hermite coefficients of the (N - 1)^3 sub-cells of L, sub-cell (x, y, z) at
+// (x (N - 1) + y) (N - 1) + z, each from the data at its 8 lattice points.
+template <int N, class Coefficients>
+void sub_cell_coefficients(const Lattice<N>& L, Coefficients* out) {
+  for (int sub = 0; sub < (N - 1) * (N - 1) * (N - 1); ++sub) {
+    const int so[3] = {sub / ((N - 1) * (N - 1)), sub / (N - 1) % (N - 1), sub % (N - 1)};
     auto point = [&](int c) {
       const auto o = corner_offset(c);
       return std::array<int, 3>{so[0] + o[0], so[1] + o[1], so[2] + o[2]};
@@ -674,18 +660,191 @@ void HapticCursor::fit_cell_lattice(const MidpointTarget* targets) {
       hermite_coefficients(
           [&](int c) {
             const auto p = point(c);
-            return value[p[0]][p[1]][p[2]][r];
+            return L.value[p[0]][p[1]][p[2]][r];
           },
           [&](int c, int a) {
             const auto p = point(c);
-            return gradient[p[0]][p[1]][p[2]][3 * r + a];
+            return L.gradient[p[0]][p[1]][p[2]][3 * r + a];
           },
           [&](int c, int a, int b) {
             const auto p = point(c);
-            return cross[p[0]][p[1]][p[2]][r][a + b - 1];
+            return L.cross[p[0]][p[1]][p[2]][r][a + b - 1];
           },
-          [&](int x, int y, int z) -> double& { return half_coef_[sub][x][y][r][z]; });
+          [&](int x, int y, int z) -> double& { return out[sub][x][y][r][z]; });
   }
+}
+
+// A Hermite cell's value, gradient (row-major) and cross derivatives [r][pair] at cell position
+// t, spacing h.
+template <class Coefficients>
+void hermite_point(const Coefficients& coef, const std::array<double, 3>& t, const double* h,
+                   double* value, double* gradient, double (*cross)[3]) {
+  double B[3][4], dB[3][4];
+  hermite_bases(t, h, B, dB);
+  // d: bit a set where axis a takes the derivative bases.
+  auto eval = [&](int r, int d) {
+    const double(&bx)[4] = d & 1 ? dB[0] : B[0];
+    const double(&by)[4] = d & 2 ? dB[1] : B[1];
+    const double(&bz)[4] = d & 4 ? dB[2] : B[2];
+    double v = 0;
+    for (int x = 0; x < 4; ++x)
+      for (int y = 0; y < 4; ++y) {
+        const std::array<double, 4>& c = coef[x][y][r];
+        v += bx[x] * by[y] * (bz[0] * c[0] + bz[1] * c[1] + bz[2] * c[2] + bz[3] * c[3]);
+      }
+    return v;
+  };
+  for (int r = 0; r < 3; ++r) {
+    value[r] = eval(r, 0);
+    for (int a = 0; a < 3; ++a) gradient[3 * r + a] = eval(r, 1 << a);
+    for (int q = 0; q < 3; ++q) cross[r][q] = eval(r, (1 << kPair[q][0]) | (1 << kPair[q][1]));
+  }
+}
+
+// Whether quarter-lattice point (i, j, k) of a refined cell lies on a face or an edge set in
+// `constraints` (playback/format.h bits).
+bool constrained(const int (&p)[3], std::int32_t constraints) {
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      if (p[a] != 4 * side) continue;
+      if (constraints >> playback::refined_face_bit(a, side) & 1) return true;
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      // the edges along b and along c on this face
+      for (int s2 = 0; s2 < 2; ++s2) {
+        // along b: sides of c (next of b) and a (next of c)
+        if (p[c] == 4 * s2 && (constraints >> playback::refined_edge_bit(b, s2, side) & 1))
+          return true;
+        // along c: sides of a (next of c) and b
+        if (p[b] == 4 * s2 && (constraints >> playback::refined_edge_bit(c, side, s2) & 1))
+          return true;
+      }
+    }
+  return false;
+}
+
+}  // namespace
+
+// Hermite with the midpoint stiffness: the cell's 27 lattice points (corners, edge midpoints,
+// face and cell centres) get a value, a gradient and cross derivatives each, and each of the 8
+// half-spacing cells is a cubic Hermite cell of its own (hermite_coefficients). A corner's are its
+// force and stiffness; a midpoint's the recorded ones (in a cell near the contact onset, those the
+// blend turns into them: onset_target), else the cell's Hermite interpolant's there. A recorded
+// value differs from that interpolant by at most the bubble limit per component and a recorded
+// stiffness entry by at most the stiffness limit (Meta): the change bound stays valid. A point
+// on a face or an edge depends only on the data of that face or edge, so the force stays
+// continuous across faces. A refined cell goes one level further (fit_refined_cell).
+void HapticCursor::fit_cell_lattice(const MidpointTarget* targets) {
+  const playback::Meta& m = *file_.impl().meta;
+  Lattice<3> L;
+  hermite_lattice(coef_, m.spacing, L.value, L.gradient);  // the fallback at the midpoints
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    std::copy_n(force_of(c), 3, L.value[2 * o[0]][2 * o[1]][2 * o[2]]);
+    std::copy_n(stiffness_of(c), 9, L.gradient[2 * o[0]][2 * o[1]][2 * o[2]]);
+  }
+  for (int k = 0; k < playback::kCellBubbles; ++k) {
+    const playback::BubbleSpec b = playback::bubble_spec(k);
+    const int x = int(2 * b.point[0]), y = int(2 * b.point[1]), z = int(2 * b.point[2]);
+    double* v = L.value[x][y][z];
+    double* g = L.gradient[x][y][z];
+    const MidpointTarget& t = targets[k];
+    if (!t.fitted) continue;
+    const double bound = m.bubble_limit[static_cast<int>(b.kind)];
+    for (int r = 0; r < 3; ++r) v[r] += std::clamp(t.force[r] - v[r], -bound, bound);
+    if (t.recorded == 2)
+      for (int e = 0; e < 9; ++e)
+        g[e] = std::clamp(t.stiffness[e], -m.stiffness_limit, m.stiffness_limit);
+  }
+  lattice_cross(m.spacing, &L);
+  sub_cell_coefficients(L, half_coef_.data());
+  const std::int32_t slot = refined_cell();
+  if (slot >= 0) fit_refined_cell(slot, L.value, L.gradient);
+}
+
+// The refined cell (docs/playback.md, "Refined cells") the current cell is, or -1: its lowest
+// corner is a stored configuration the file has refined points for, whose moves lead to the
+// cell's other 7 corners (the points belong to the corners the cell shows), and the cell is not
+// near the contact onset.
+std::int32_t HapticCursor::refined_cell() const {
+  const PlaybackFile::Impl& f = file_.impl();
+  const std::int32_t c0 = corners_[0].configuration;
+  if (!f.refined_cells || onset_ || c0 < 0) return -1;
+  const std::int32_t slot = f.refined_cells[2 * std::int64_t(c0)];
+  if (slot < 0 || slot >= f.num_refined_cells) return -1;
+  for (int c = 1; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    if (corners_[c].configuration < 0 ||
+        f.transition(c0, direction_index(o[0], o[1], o[2])) != corners_[c].configuration)
+      return -1;
+  }
+  return slot;
+}
+
+// A refined cell: its 125 quarter-spacing lattice points get a value, a gradient and cross
+// derivatives each, and each of the 64 quarter-spacing cells is a cubic Hermite cell of its own
+// — the half cells' construction one level down. The points of the half-spacing lattice keep
+// their data (`value`, `gradient`); the others take the refined points' force and stiffness
+// (a value differs from the half cells' interpolant by at most the largest bubble limit per
+// component, a stiffness entry by at most the stiffness limit), or where none was solved the half
+// cells' interpolant's. On a face or an edge shared with a cell that is not refined (the
+// constraint bits) every point takes the half cells' interpolant's value, gradient and cross
+// derivatives: the quarter cells there reproduce it exactly (it is a cubic on each of them), so
+// the force stays continuous across the face.
+void HapticCursor::fit_refined_cell(std::int32_t slot, const double (&value)[3][3][3][3],
+                                    const double (&gradient)[3][3][3][9]) {
+  const PlaybackFile::Impl& f = file_.impl();
+  const playback::Meta& m = *f.meta;
+  const std::int32_t constraints = f.refined_cells[2 * std::int64_t(corners_[0].configuration) + 1];
+  const double* stored = f.refined_points + 12 * playback::kRefinedPoints * std::int64_t(slot);
+  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
+  const double half[3] = {0.5 * m.spacing[0], 0.5 * m.spacing[1], 0.5 * m.spacing[2]};
+  Lattice<5> Q;
+  bool exact[5][5][5];  // the cross derivatives are the half cells' interpolant's
+  double exact_cross[5][5][5][3][3];
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = 0; k < 5; ++k) {
+        const int p[3] = {i, j, k};
+        double* v = Q.value[i][j][k];
+        double* g = Q.gradient[i][j][k];
+        const double* data = stored + 12 * (25 * i + 5 * j + k);
+        exact[i][j][k] = constrained(p, constraints);
+        const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
+        if (lattice) {
+          std::copy_n(value[i / 2][j / 2][k / 2], 3, v);
+          std::copy_n(gradient[i / 2][j / 2][k / 2], 9, g);
+        }
+        const bool solved = !lattice && finite(data, 12);
+        if (lattice && !exact[i][j][k]) continue;
+        // The half cell holding the point and the point's position in it.
+        int sub = 0;
+        std::array<double, 3> t{};
+        for (int a = 0; a < 3; ++a) {
+          const int side = p[a] >= 2 ? 1 : 0;
+          sub |= side << (2 - a);
+          t[a] = 0.5 * (p[a] - 2 * side);
+        }
+        double hv[3], hg[9];
+        hermite_point(half_coef_[sub], t, half, hv, hg, exact_cross[i][j][k]);
+        if (lattice) continue;  // constrained: only the cross derivatives change
+        std::copy_n(hv, 3, v);
+        std::copy_n(hg, 9, g);
+        if (exact[i][j][k] || !solved) {
+          exact[i][j][k] = true;  // the interpolant's, cross derivatives included
+          continue;
+        }
+        for (int r = 0; r < 3; ++r) v[r] += std::clamp(data[r] - v[r], -limit, limit);
+        for (int e = 0; e < 9; ++e)
+          g[e] = std::clamp(data[3 + e], -m.stiffness_limit, m.stiffness_limit);
+      }
+  lattice_cross(m.spacing, &Q);
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = 0; k < 5; ++k)
+        if (exact[i][j][k])
+          for (int r = 0; r < 3; ++r) std::copy_n(exact_cross[i][j][k][r], 3, Q.cross[i][j][k][r]);
+  sub_cell_coefficients(Q, quarter_coef_.data());
+  refined_ = true;
 }
 
 // The bubbles toward the recorded forces (trilinear, or Hermite in a file without the midpoint
@@ -860,7 +1019,20 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
     }
   }
   if (!fitted_) fit_cell();
-  if (lattice_) {
+  if (refined_) {
+    // The quarter-spacing cell holding the probe (docs/playback.md, "Refined cells").
+    int sub = 0;
+    std::array<double, 3> t{};
+    double quarter[3], Bq[3][4], dBq[3][4];
+    for (int a = 0; a < 3; ++a) {
+      const int q = std::min(static_cast<int>(4.0 * s[a]), 3);
+      sub = 4 * sub + q;
+      t[a] = std::min(4.0 * s[a] - q, 1.0);
+      quarter[a] = 0.25 * m.spacing[a];
+    }
+    hermite_bases(t, quarter, Bq, dBq);
+    hermite_contract(quarter_coef_[sub], Bq, dBq, &value, &slope);
+  } else if (lattice_) {
     // The half-spacing cell holding the probe (docs/playback.md, "Between the check-points").
     int sub = 0;
     std::array<double, 3> t{};

@@ -60,6 +60,10 @@ std::string section_name(SectionId id) {
       return "midpoint displacement mask";
     case SectionId::kMidpointDisplacements:
       return "midpoint displacements";
+    case SectionId::kRefinedCells:
+      return "refined cells";
+    case SectionId::kRefinedPoints:
+      return "refined points";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -204,6 +208,16 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     fail("section 'midpoint displacements' has " + std::to_string(midpoint_u_bytes) +
          " bytes, the header implies " +
          std::to_string(mask_bytes == 0 ? 0 : 48 * playback::kMidpointDirections * v * n));
+  const std::uint64_t refined_cell_bytes = bytes[static_cast<int>(SectionId::kRefinedCells)];
+  const std::uint64_t refined_bytes = bytes[static_cast<int>(SectionId::kRefinedPoints)];
+  const std::uint64_t cell_bytes = 96 * playback::kRefinedPoints;
+  if (refined_cell_bytes != 0 && (refined_cell_bytes != 8 * n || midpoint_k_bytes == 0))
+    fail("section 'refined cells' has " + std::to_string(refined_cell_bytes) +
+         " bytes, the header implies 0 or " + std::to_string(midpoint_k_bytes == 0 ? 0 : 8 * n));
+  if (refined_bytes % cell_bytes != 0 || (refined_bytes != 0 && refined_cell_bytes == 0))
+    fail("section 'refined points' has " + std::to_string(refined_bytes) +
+         " bytes, not a multiple of " + std::to_string(cell_bytes) +
+         (refined_cell_bytes == 0 ? " with section 'refined cells'" : ""));
   if (!(m2.stiffness_limit >= 0) || !std::isfinite(m2.stiffness_limit))
     fail("meta: stiffness limit is not a finite number >= 0");
   for (int k = 0; k < 3; ++k)
@@ -236,6 +250,11 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
         reinterpret_cast<const std::int32_t*>(section(SectionId::kMidpointDisplacementMask));
     f.midpoint_displacements =
         reinterpret_cast<const float*>(section(SectionId::kMidpointDisplacements));
+  }
+  if (refined_cell_bytes != 0) {
+    f.refined_cells = reinterpret_cast<const std::int32_t*>(section(SectionId::kRefinedCells));
+    f.refined_points = reinterpret_cast<const double*>(section(SectionId::kRefinedPoints));
+    f.num_refined_cells = static_cast<std::int32_t>(refined_bytes / cell_bytes);
   }
   if (contact) {
     f.clearance = reinterpret_cast<const double*>(section(SectionId::kClearance));
@@ -305,6 +324,17 @@ void PlaybackFile::verify() const {
     if (f.midpoint_mask[c] < 0 || f.midpoint_mask[c] >= (1 << playback::kMidpointDirections))
       fail("configuration " + std::to_string(c) + ": midpoint displacement mask " +
            std::to_string(f.midpoint_mask[c]) + " out of range");
+  for (std::int64_t c = 0; f.refined_cells && c < n; ++c)
+    if (f.refined_cells[2 * c] < -1 || f.refined_cells[2 * c] >= f.num_refined_cells ||
+        f.refined_cells[2 * c + 1] < 0 || f.refined_cells[2 * c + 1] >= (1 << 18))
+      fail("configuration " + std::to_string(c) + ": refined cell " +
+           std::to_string(f.refined_cells[2 * c]) + " or its constraints " +
+           std::to_string(f.refined_cells[2 * c + 1]) + " out of range");
+  for (std::int64_t k = 0; k < 12 * playback::kRefinedPoints * std::int64_t(f.num_refined_cells);
+       ++k)
+    if (std::isinf(f.refined_points[k]))
+      fail("refined cell " + std::to_string(k / (12 * playback::kRefinedPoints)) +
+           ": a force or stiffness is infinite");
   for (std::int64_t g = 0; f.clearance && g < points; ++g)
     if (!finite(f.clearance + 4 * g, 4))
       fail("check-point " + std::to_string(g) + ": clearance not finite");

@@ -18,8 +18,9 @@ static_assert(std::endian::native == std::endian::little,
 
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
 // 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness, 7: midpoint
-// displacements, 8: the change bound of the half cells' second-order cross derivatives
-inline constexpr std::uint32_t kVersion = 8;
+// displacements, 8: the change bound of the half cells' second-order cross derivatives,
+// 9: refined cells
+inline constexpr std::uint32_t kVersion = 9;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -74,8 +75,27 @@ enum class SectionId : std::uint32_t {
   // dimensionless): 12 x kMidpointDirections per view node; zero where the mask bit is clear;
   // empty with the mask.
   kMidpointDisplacements = 19,
+  // int32 x 2 per configuration: the refined cell whose lowest corner it is (an index into
+  // section 21, -1: none) and that cell's constrained faces and edges (kRefinedFace, kRefinedEdge
+  // bits); empty when no cell is refined.
+  kRefinedCells = 20,
+  // float64 x 12 x kRefinedPoints per refined cell: at each point of the cell's quarter-spacing
+  // lattice (25 i + 5 j + k), the force (N) and the haptic stiffness (row-major, N per mesh unit);
+  // NaN where none was solved (the corners and the moves' midpoints, a failed solve).
+  kRefinedPoints = 21,
 };
-inline constexpr int kSectionCount = 19;
+inline constexpr int kSectionCount = 21;
+
+// A refined cell's lattice: 5 points per axis at quarter spacings.
+inline constexpr int kRefinedPoints = 125;
+// Constraint bits of a refined cell (section 20): face (axis a, side s) at bit 2 a + s; the edge
+// along axis a at side s1 of the next axis (a + 1) % 3 and s2 of the one after at bit
+// 6 + 4 a + 2 s1 + s2. A constrained face or edge borders a cell that is not refined: the cursor
+// interpolates there as that cell does (docs/playback.md, "Refined cells").
+constexpr int refined_face_bit(int axis, int side) { return 2 * axis + side; }
+constexpr int refined_edge_bit(int axis, int side1, int side2) {
+  return 6 + 4 * axis + 2 * side1 + side2;
+}
 
 // The directions whose moves record the force half-way (offsets all >= 0): per configuration,
 // one edge, face and cell of the grid seen from their lowest corner.

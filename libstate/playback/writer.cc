@@ -99,6 +99,16 @@ void check_content(const Content& c, const std::filesystem::path& file) {
     bad("midpoint stiffness table size");
   for (double v : c.midpoint_stiffness)
     if (std::isinf(v)) bad("a midpoint stiffness is infinite");
+  const std::size_t refined = c.refined_points.size() / (12 * kRefinedPoints);
+  if (c.refined_points.size() != 12 * kRefinedPoints * refined ||
+      (!c.refined_cells.empty() && c.refined_cells.size() != 2 * n) ||
+      (refined > 0 && (c.refined_cells.empty() || c.midpoint_stiffness.empty())))
+    bad("refined cell table sizes (refined cells need the midpoint stiffness)");
+  for (std::size_t k = 0; k < c.refined_cells.size(); k += 2)
+    if (c.refined_cells[k] < -1 || c.refined_cells[k] >= static_cast<std::int32_t>(refined))
+      bad("a refined cell index is out of range");
+  for (double v : c.refined_points)
+    if (std::isinf(v)) bad("a refined point's force or stiffness is infinite");
 }
 
 // Catalogue direction index of grid offset o (catalogue/direction.h numbering).
@@ -146,6 +156,9 @@ double stiffness_limit(const Content& c) {
   for (double k : c.stiffness) limit = std::max(limit, std::abs(k));
   for (double k : c.midpoint_stiffness)
     if (std::isfinite(k)) limit = std::max(limit, std::abs(k));
+  for (std::size_t k = 0; k < c.refined_points.size(); ++k)
+    if (k % 12 >= 3 && std::isfinite(c.refined_points[k]))
+      limit = std::max(limit, std::abs(c.refined_points[k]));
   return limit;
 }
 
@@ -209,8 +222,17 @@ double force_change_bound(const Content& c) {
   const double lambda = std::max({limit[0], limit[1], limit[2]});
   const double lattice_slope = corners + 4.0 * std::sqrt(3.0) * lambda / hmin;
   const double lattice_stiffness = std::max(3.0 * c.meta.stiffness_limit, corners);
-  return std::max(corners + bubbles,
-                  5.25 * std::sqrt(3.0) * (lattice_slope + lattice_stiffness) * rho * rho);
+  const double half_cells = 5.25 * std::sqrt(3.0) * (lattice_slope + lattice_stiffness) * rho * rho;
+  if (c.refined_points.empty()) return std::max(corners + bubbles, half_cells);
+  // Refined cells: Hermite on the quarter-spacing cells, whose points are the half cells'
+  // interpolant there (slope at most half_cells) plus a correction of at most the largest limit
+  // per component, at least h_min / 4 apart, with a gradient that is a clamped stored stiffness
+  // or that interpolant's: the same argument one level down.
+  const double quarter_slope = half_cells + 8.0 * std::sqrt(3.0) * lambda / hmin;
+  const double quarter_stiffness = std::max(3.0 * c.meta.stiffness_limit, half_cells);
+  const double quarter_cells =
+      5.25 * std::sqrt(3.0) * (quarter_slope + quarter_stiffness) * rho * rho;
+  return std::max({corners + bubbles, half_cells, quarter_cells});
 }
 
 void write_file(Content c, const std::filesystem::path& file) {
@@ -273,6 +295,9 @@ void write_file(Content c, const std::filesystem::path& file) {
        4 * midpoint_floats * n,
        &c.midpoint_displacements,
        midpoint_floats},
+      {SectionId::kRefinedCells, 8, bytes_of(c.refined_cells), 4 * c.refined_cells.size()},
+      {SectionId::kRefinedPoints, 96 * kRefinedPoints, bytes_of(c.refined_points),
+       8 * c.refined_points.size()},
   };
 
   std::filesystem::path tmp = file;

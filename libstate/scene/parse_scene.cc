@@ -311,8 +311,9 @@ std::optional<std::array<int, 3>> read_dims(const TableReader& r) {
 }
 
 SceneGrid parse_grid(const TableReader& r) {
-  r.allow_only({"spacing", "dims", "box"});
+  r.allow_only({"spacing", "dims", "box", "refine_tolerance"});
   SceneGrid grid;
+  grid.refine_tolerance = r.number("refine_tolerance", positive());
   if (const toml::node* node = r.get("spacing")) {
     if (node->is_array()) {
       auto h = r.point("spacing");

@@ -83,6 +83,9 @@ struct SceneGrid {
   std::optional<Eigen::Vector3d> spacing;  // per axis, > 0 (a number gives three equal)
   std::optional<std::array<int, 3>> dims;  // check-points per axis, >= 2
   std::optional<Box> box;
+  // > 0: the refine stage refines a cell whose estimated interpolation error exceeds it times
+  // the largest force in the cell (default 1e-3; docs/scene.md).
+  std::optional<double> refine_tolerance;
 };
 
 // [levels]: when two configurations at a check-point are the same level. See level_tolerances.

@@ -101,9 +101,9 @@ TEST_F(PlaybackFormat, DamagedHeaderIsRefusedAtOpen) {
   b[0] = 'X';
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "bad magic");
   b = bytes_;
-  b[8] = 7;  // version 7: the change bound of the half cells' first-order cross derivatives
+  b[8] = 8;  // version 8: no refined cells
   expect_input_error([&] { PlaybackFile p(damaged(b)); },
-                     "format version 7, this build reads version 8 (run hapstate-index again)");
+                     "format version 8, this build reads version 9 (run hapstate-index again)");
   b = bytes_;
   b[30] ^= 1;  // section table offset, covered by the header checksum
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "header checksum mismatch");

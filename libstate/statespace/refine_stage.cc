@@ -1,0 +1,299 @@
+#include "statespace/refine_stage.h"
+
+#include "blobs/blob_store.h"
+#include "catalogue/transaction.h"
+#include "solver/path_solver.h"
+#include "statespace/config_vectors.h"
+#include "statespace/probe_model.h"
+#include "statespace/refine_indicator.h"
+#include "statespace/stage_context.h"
+#include "statespace/stage_record.h"
+#include "util/error.h"
+#include "util/progress.h"
+#include "util/stop_request.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <unordered_map>
+
+namespace hapstate {
+namespace {
+
+using SteadyClock = std::chrono::steady_clock;
+
+std::array<int, 3> corner_offset(int c) { return {(c >> 2) & 1, (c >> 1) & 1, c & 1}; }
+
+// A cell: its 8 corners' configurations (corner c at offset corner_offset(c)) and position.
+struct Cell {
+  std::array<const Configuration*, 8> corner{};
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // corner 0's check-point, mesh units
+  double error = 0;  // the largest estimate over its moves, N
+  double scale = 0;  // the largest |force| at its corners and midpoints, N
+};
+
+// The stored points of a refined cell: the lattice points with an odd quarter index (the
+// others are the corners and the moves' midpoints).
+std::vector<int> new_points() {
+  std::vector<int> out;
+  for (int p = 0; p < 125; ++p)
+    if ((p / 25) % 2 || (p / 5 % 5) % 2 || (p % 5) % 2) out.push_back(p);
+  return out;
+}
+
+class Refiner {
+ public:
+  Refiner(StageContext& ctx, int threads)
+      : ctx_(ctx),
+        blobs_(ctx.dir.blobs()),
+        probe_(make_probe_model(ctx.problem)),
+        threads_(threads),
+        num_dofs_(3 * ctx.problem.mesh.num_nodes()) {
+    for (const Checkpoint& c : ctx.catalogue.read_all_checkpoints()) checkpoints_.emplace(c.id, c);
+    for (const Configuration& c : ctx.catalogue.read_all_configurations())
+      if (c.status != ConfigStatus::kMerged) configurations_.emplace(c.id, c);
+    for (const Transition& t : ctx.catalogue.read_all_transitions())
+      transitions_.emplace(std::make_pair(t.source, t.direction.index()), t);
+  }
+
+  // Every cell whose lowest corner is a live configuration whose 7 moves with offsets >= 0
+  // reached live configurations, with its estimated error.
+  std::vector<Cell> cells() const {
+    std::vector<Cell> out;
+    const Eigen::Vector3d h = ctx_.grid.spacing;
+    for (const auto& [id, c0] : configurations_) {
+      Cell cell;
+      cell.corner[0] = &c0;
+      bool complete = true;
+      for (int c = 1; c < 8 && complete; ++c) cell.corner[c] = target(c0.id, corner_offset(c));
+      for (int c = 1; c < 8; ++c) complete = complete && cell.corner[c];
+      if (!complete) continue;
+      cell.origin = position(c0);
+      // The 19 moves inside the cell: from each corner along each direction with offsets >= 0
+      // that stays in the cell, when it reached the cell's corner and recorded its midpoint.
+      for (int c = 0; c < 8; ++c)
+        for (int d = 1; d < 8; ++d) {
+          const auto o = corner_offset(c), e = corner_offset(d);
+          if ((o[0] && e[0]) || (o[1] && e[1]) || (o[2] && e[2])) continue;
+          const Configuration* from = cell.corner[c];
+          const Configuration* to = cell.corner[c | d];
+          const Transition* t = transition(from->id, e);
+          if (!t || t->target != to->id || !t->midpoint_force || !t->midpoint_stiffness) continue;
+          const Eigen::Vector3d v(e[0] * h.x(), e[1] * h.y(), e[2] * h.z());
+          RecordedMove move;
+          const std::array<double, 9>* k[3] = {&from->stiffness, &*t->midpoint_stiffness,
+                                               &to->stiffness};
+          move.force[0] = from->force, move.force[1] = *t->midpoint_force, move.force[2] = to->force;
+          for (int n = 0; n < 3; ++n)
+            for (int r = 0; r < 3; ++r)
+              move.slope[n][r] =
+                  (*k[n])[3 * r] * v.x() + (*k[n])[3 * r + 1] * v.y() + (*k[n])[3 * r + 2] * v.z();
+          cell.error = std::max(cell.error, half_spacing_error(move));
+          for (const auto& f : move.force)
+            cell.scale = std::max(cell.scale, std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
+        }
+      out.push_back(cell);
+    }
+    return out;
+  }
+
+  // Solves the new points of `cell` in parallel, each from its nearest corner.
+  std::vector<RefinementPoint> solve(const Cell& cell) {
+    static const std::vector<int> points = new_points();
+    std::vector<RefinementPoint> out(points.size());
+    const Eigen::Vector3d h = ctx_.grid.spacing;
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    if (solvers_.empty()) solvers_.resize(threads_), loaded_.resize(threads_);
+    auto work = [&](int worker) {
+      try {
+        if (!solvers_[worker]) solvers_[worker] = std::make_unique<PathSolver>(ctx_.problem);
+        PathSolver& solver = *solvers_[worker];
+        for (std::size_t n = next++; n < points.size(); n = next++) {
+          const int p = points[n];
+          const int q[3] = {p / 25, p / 5 % 5, p % 5};
+          int c = 0;  // the nearest corner (the lower one at a tie)
+          for (int a = 0; a < 3; ++a) c |= (q[a] > 2 ? 1 : 0) << (2 - a);
+          const auto o = corner_offset(c);
+          Eigen::Vector3d from = cell.origin, to = cell.origin;
+          for (int a = 0; a < 3; ++a) from[a] += o[a] * h[a], to[a] += 0.25 * q[a] * h[a];
+          probe_->set_state(solver, vectors(worker, *cell.corner[c]), from);
+          const MoveResult move = probe_->move_to(solver, to);
+          RefinementPoint& r = out[n];
+          r.cell = cell.corner[0]->id;
+          r.point = p;
+          r.newton_iterations = move.iterations;
+          r.wall_ms = move.wall_ms;
+          if (!move.ok) {
+            r.failure_reason = move.reason;
+            continue;
+          }
+          const Eigen::Vector3d f = solver.force_felt();
+          const Eigen::Matrix3d k = solver.haptic_stiffness();
+          if (!f.allFinite() || !k.allFinite()) {
+            r.failure_reason = "the force or the stiffness at the point is not finite";
+            continue;
+          }
+          r.reached = true;
+          r.force = {f.x(), f.y(), f.z()};
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) r.stiffness[3 * i + j] = k(i, j);
+        }
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = points.size();
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int w = 1; w < threads_; ++w) pool.emplace_back(work, w);
+    work(0);
+    for (auto& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+    return out;
+  }
+
+  bool grab() const { return ctx_.scene.probe.mode == ProbeMode::kGrab; }
+
+ private:
+  const Transition* transition(ConfigId source, const std::array<int, 3>& o) const {
+    const auto it =
+        transitions_.find({source, Direction::from_offset(o[0], o[1], o[2]).index()});
+    return it == transitions_.end() ? nullptr : &it->second;
+  }
+  const Configuration* target(ConfigId source, const std::array<int, 3>& o) const {
+    const Transition* t = transition(source, o);
+    if (!t || t->outcome != TransitionOutcome::kReached) return nullptr;
+    const auto it = configurations_.find(t->target);
+    return it == configurations_.end() ? nullptr : &it->second;
+  }
+  Eigen::Vector3d position(const Configuration& c) const {
+    const auto& p = checkpoints_.at(c.checkpoint).position;
+    return {p[0], p[1], p[2]};
+  }
+  const ConfigVectors& vectors(int worker, const Configuration& c) {
+    std::optional<std::pair<ConfigId, ConfigVectors>>& slot = loaded_[worker];
+    if (!slot || slot->first != c.id)
+      slot.emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, probe_->layout()));
+    return slot->second;
+  }
+
+  StageContext& ctx_;
+  BlobStore blobs_;
+  std::unique_ptr<ProbeModel> probe_;
+  int threads_;
+  int num_dofs_;
+  std::unordered_map<CheckpointId, Checkpoint> checkpoints_;
+  std::map<ConfigId, Configuration> configurations_;
+  std::map<std::pair<ConfigId, int>, Transition> transitions_;
+  std::vector<std::unique_ptr<PathSolver>> solvers_;
+  std::vector<std::optional<std::pair<ConfigId, ConfigVectors>>> loaded_;
+};
+
+}  // namespace
+
+void RefineOptions::check() const {
+  if (state.empty()) throw InputError("--state: no state directory given");
+  if (threads < 1) throw InputError("--threads must be >= 1 (got " + std::to_string(threads) + ")");
+  if (tolerance && !(*tolerance > 0))
+    throw InputError("refinement tolerance must be > 0 (got " + std::to_string(*tolerance) + ")");
+}
+
+RefineReport run_refine(const RefineOptions& options) {
+  options.check();
+  const auto start = SteadyClock::now();
+  StageContext ctx = open_stage_context(options.state);
+  Catalogue& cat = ctx.catalogue;
+  require_stage_run(cat, ctx.dir, "expand");
+  RefineReport report;
+  report.tolerance = options.tolerance.value_or(
+      ctx.scene.grid.refine_tolerance.value_or(kDefaultRefineTolerance));
+  const NamedHashes inputs = {{"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
+  char parameters[120];
+  std::snprintf(parameters, sizeof parameters, "tolerance=%.6g threads=%d", report.tolerance,
+                options.threads);
+  StageRun run = make_stage_run("refine", inputs, parameters);
+  Refiner refiner(ctx, options.threads);
+  if (!refiner.grab()) {
+    report.outcome = StageOutcome::kUnchanged;
+    report.message = "nothing to do: cells are refined with the grab probe only";
+    record_unchanged(cat, run, report.message);
+    return report;
+  }
+  const std::set<ConfigId> done = cat.refined_cells();
+  std::vector<Cell> todo;
+  for (const Cell& cell : refiner.cells()) {
+    ++report.cells;
+    const double relative = cell.scale > 0 ? cell.error / cell.scale : 0.0;
+    report.largest_error = std::max(report.largest_error, relative);
+    const bool refined = done.count(cell.corner[0]->id) > 0;
+    report.refined_before += refined;
+    if (!(relative > report.tolerance)) continue;
+    ++report.flagged;
+    if (!refined) todo.push_back(cell);
+  }
+  char summary[300];
+  std::snprintf(summary, sizeof summary,
+                "%lld cells, %lld above the tolerance %.3g (largest estimate %.3g)",
+                report.cells, report.flagged, report.tolerance, report.largest_error);
+  if (todo.empty()) {
+    report.outcome = StageOutcome::kUnchanged;
+    report.message = std::string("nothing to do: ") + summary + ", " +
+                     std::to_string(report.refined_before) + " refined";
+    record_unchanged(cat, run, report.message);
+    return report;
+  }
+  StageRunId run_id;
+  {
+    Transaction tx(cat);
+    for (const StageRun& old : cat.read_stage_runs("refine")) {
+      if (old.outcome != StageOutcome::kRunning) continue;
+      cat.update_stage_run_end(old.id, StageOutcome::kFailed, now_ms(),
+                               "interrupted: the process ended before finishing (killed?); "
+                               "resumed by a later run");
+    }
+    run_id = cat.insert_stage_run(run);
+    tx.commit();
+  }
+  with_run_record(cat, run_id, [&] {
+    const long long per_cell = static_cast<long long>(new_points().size());
+    Progress progress("hapstate-refine: points", per_cell * report.flagged, options.progress);
+    progress.set_resumed(per_cell * (report.flagged - static_cast<long long>(todo.size())));
+    long long done_points = per_cell * (report.flagged - static_cast<long long>(todo.size()));
+    for (const Cell& cell : todo) {
+      if (stop_requested()) {
+        report.stopped_by_signal = true;
+        break;
+      }
+      const std::vector<RefinementPoint> points = refiner.solve(cell);
+      Transaction tx(cat);
+      cat.insert_refinement_points(points);
+      tx.commit();
+      ++report.refined;
+      report.points += per_cell;
+      for (const RefinementPoint& p : points) report.failed += !p.reached;
+      done_points += per_cell;
+      progress.update(done_points, report.failed);
+    }
+    progress.set_note(report.stopped_by_signal ? "stopped" : "complete");
+    progress.finish();
+    report.outcome = report.stopped_by_signal ? StageOutcome::kPartial : StageOutcome::kOk;
+    report.message = std::string(report.stopped_by_signal
+                                     ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
+                                     : "complete") +
+                     ": " + summary + "; refined " + std::to_string(report.refined) +
+                     " cells now (" + std::to_string(report.points) + " points, " +
+                     std::to_string(report.failed) + " failed)";
+    cat.update_stage_run_end(run_id, report.outcome, now_ms(), report.message);
+  });
+  report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();
+  return report;
+}
+
+}  // namespace hapstate

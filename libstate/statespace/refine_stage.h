@@ -1,0 +1,53 @@
+// The refine stage (hapstate run, after expand): the force and haptic stiffness at the
+// quarter-spacing lattice points of every cell where the half-spacing data do not resolve the
+// force (docs/state-space.md, "Refined cells").
+#pragma once
+
+#include "catalogue/records.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace hapstate {
+
+// The default tolerance of a cell's estimated interpolation error, as a fraction of the largest
+// force in the cell (grid.refine_tolerance in the scene overrides it).
+constexpr double kDefaultRefineTolerance = 1e-3;
+
+struct RefineOptions {
+  std::filesystem::path state;
+  int threads = 1;                  // worker threads, one PathSolver each
+  std::optional<double> tolerance;  // relative, > 0; default: the scene's
+  std::FILE* progress = stderr;     // progress line; nullptr: none
+
+  // Throws InputError naming the first option out of range (run_refine calls it first).
+  void check() const;
+};
+
+struct RefineReport {
+  StageOutcome outcome = StageOutcome::kOk;  // kOk, kPartial (stopped), kUnchanged
+  bool stopped_by_signal = false;
+  double tolerance = 0;              // relative, as used
+  long long cells = 0;               // cells with all 8 corners stored
+  long long flagged = 0;             // of which above the tolerance
+  long long refined_before = 0;      // flagged or not, refined by earlier runs
+  long long refined = 0;             // refined in this run
+  long long points = 0, failed = 0;  // points solved in this run, of which failed
+  double largest_error = 0;          // the largest relative estimate over the cells
+  double wall_s = 0;
+  std::string message;
+};
+
+// Finds the cells (8 stored corners joined by the moves of the lowest one, the grab probe) whose
+// estimated error (refine_indicator.h, the largest over the cell's 19 recorded moves) exceeds the
+// tolerance times the largest force at the cell's corners and midpoints, and solves the 98 new points of
+// each that has none yet, one cell per catalogue transaction, so a run killed or stopped
+// (stop_requested) resumes with the next cell. Each point is solved from the nearest corner's
+// stored state. Records a "refine" stage run; "unchanged" when no flagged cell is left.
+// A contact probe's cells are not refined (the stage records "unchanged" and says so).
+// Throws InputError if the directory is not expanded.
+RefineReport run_refine(const RefineOptions& options);
+
+}  // namespace hapstate
