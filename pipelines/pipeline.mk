@@ -1,5 +1,5 @@
 # Make-style staged runs, shared by every bundled scene (include it from pipelines/<scene>/Makefile).
-#   make -C pipelines/<scene>                 import, grid, expand, compact, index what is out of date
+#   make -C pipelines/<scene>                 import, grid, expand, refine, compact, index what is out of date
 #   make -C pipelines/<scene> eval            the accuracy experiment on the playback file
 #   make -C pipelines/<scene> expand THREADS=2 MAX_SECONDS=600
 #   make -C pipelines/<scene> inspect         summary of the state directory
@@ -12,7 +12,7 @@ THREADS ?= 1
 MAX_SECONDS ?=
 STAGES := $(BUILD)/stages
 
-.PHONY: all import grid expand compact index eval inspect clean
+.PHONY: all import grid expand refine compact index eval inspect clean
 NODES ?= all
 all: index
 
@@ -22,7 +22,9 @@ grid: import
 	$(STAGES)/hapstate-grid --state $(STATE)
 expand: grid
 	$(STAGES)/hapstate-expand --state $(STATE) --threads $(THREADS) $(if $(MAX_SECONDS),--max-seconds $(MAX_SECONDS))
-compact: expand
+refine: expand
+	$(STAGES)/hapstate-refine --state $(STATE) --threads $(THREADS)
+compact: refine
 	$(STAGES)/hapstate-compact --state $(STATE)
 index: compact
 	$(STAGES)/hapstate-index --state $(STATE) --nodes $(NODES)

@@ -5,13 +5,12 @@
 namespace hapstate {
 namespace {
 
-#define HAPSTATE_REFINEMENT_COLUMNS                                                          \
+#define HAPSTATE_REFINEMENT_COLUMNS                                                           \
   "cell, point, outcome, fx, fy, fz, k0, k1, k2, k3, k4, k5, k6, k7, k8, newton_iterations, " \
   "wall_ms, failure_reason"
 
-constexpr const char* kInsert =
-    "INSERT INTO refinement (" HAPSTATE_REFINEMENT_COLUMNS
-    ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
+constexpr const char* kInsert = "INSERT INTO refinement (" HAPSTATE_REFINEMENT_COLUMNS
+                                ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
 constexpr const char* kReadAll =
     "SELECT " HAPSTATE_REFINEMENT_COLUMNS " FROM refinement ORDER BY cell, point";
 constexpr const char* kCells = "SELECT DISTINCT cell FROM refinement ORDER BY cell";

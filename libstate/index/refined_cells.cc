@@ -11,8 +11,7 @@ using Base = std::array<std::int32_t, 3>;
 
 // The constraint bits of the refined cell at `base`: its faces and edges shared with a cell of
 // the grid that is not refined.
-std::int32_t constraints(const Base& base, const std::set<Base>& refined,
-                         const playback::Meta& m) {
+std::int32_t constraints(const Base& base, const std::set<Base>& refined, const playback::Meta& m) {
   auto unrefined = [&](Base b) {
     for (int a = 0; a < 3; ++a) {
       const std::int32_t last = m.lo[a] + (m.dims[a] > 1 ? m.dims[a] - 2 : 0);
@@ -85,7 +84,8 @@ void add_refined_cells(const std::vector<RefinementPoint>& rows,
     c.refined_cells[2 * k + 1] = constraints(base_of(k), refined, m);
     for (const RefinementPoint* p : points) {
       if (!p->reached) continue;
-      double* out = &c.refined_points[12 * (playback::kRefinedPoints * std::size_t(slot) + p->point)];
+      double* out =
+          &c.refined_points[12 * (playback::kRefinedPoints * std::size_t(slot) + p->point)];
       std::copy(p->force.begin(), p->force.end(), out);
       std::copy(p->stiffness.begin(), p->stiffness.end(), out + 3);
     }

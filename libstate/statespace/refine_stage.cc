@@ -33,7 +33,7 @@ std::array<int, 3> corner_offset(int c) { return {(c >> 2) & 1, (c >> 1) & 1, c 
 struct Cell {
   std::array<const Configuration*, 8> corner{};
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // corner 0's check-point, mesh units
-  double error = 0;  // the largest estimate over its moves, N
+  double error = 0;                                  // the largest estimate over its moves, N
   double scale = 0;  // the largest |force| at its corners and midpoints, N
 };
 
@@ -88,7 +88,8 @@ class Refiner {
           RecordedMove move;
           const std::array<double, 9>* k[3] = {&from->stiffness, &*t->midpoint_stiffness,
                                                &to->stiffness};
-          move.force[0] = from->force, move.force[1] = *t->midpoint_force, move.force[2] = to->force;
+          move.force[0] = from->force, move.force[1] = *t->midpoint_force,
+          move.force[2] = to->force;
           for (int n = 0; n < 3; ++n)
             for (int r = 0; r < 3; ++r)
               move.slope[n][r] =
@@ -163,8 +164,7 @@ class Refiner {
 
  private:
   const Transition* transition(ConfigId source, const std::array<int, 3>& o) const {
-    const auto it =
-        transitions_.find({source, Direction::from_offset(o[0], o[1], o[2]).index()});
+    const auto it = transitions_.find({source, Direction::from_offset(o[0], o[1], o[2]).index()});
     return it == transitions_.end() ? nullptr : &it->second;
   }
   const Configuration* target(ConfigId source, const std::array<int, 3>& o) const {
@@ -212,8 +212,8 @@ RefineReport run_refine(const RefineOptions& options) {
   Catalogue& cat = ctx.catalogue;
   require_stage_run(cat, ctx.dir, "expand");
   RefineReport report;
-  report.tolerance = options.tolerance.value_or(
-      ctx.scene.grid.refine_tolerance.value_or(kDefaultRefineTolerance));
+  report.tolerance =
+      options.tolerance.value_or(ctx.scene.grid.refine_tolerance.value_or(kDefaultRefineTolerance));
   const NamedHashes inputs = {{"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
   char parameters[120];
   std::snprintf(parameters, sizeof parameters, "tolerance=%.6g threads=%d", report.tolerance,
@@ -240,8 +240,8 @@ RefineReport run_refine(const RefineOptions& options) {
   }
   char summary[300];
   std::snprintf(summary, sizeof summary,
-                "%lld cells, %lld above the tolerance %.3g (largest estimate %.3g)",
-                report.cells, report.flagged, report.tolerance, report.largest_error);
+                "%lld cells, %lld above the tolerance %.3g (largest estimate %.3g)", report.cells,
+                report.flagged, report.tolerance, report.largest_error);
   if (todo.empty()) {
     report.outcome = StageOutcome::kUnchanged;
     report.message = std::string("nothing to do: ") + summary + ", " +
@@ -284,12 +284,11 @@ RefineReport run_refine(const RefineOptions& options) {
     progress.set_note(report.stopped_by_signal ? "stopped" : "complete");
     progress.finish();
     report.outcome = report.stopped_by_signal ? StageOutcome::kPartial : StageOutcome::kOk;
-    report.message = std::string(report.stopped_by_signal
-                                     ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
-                                     : "complete") +
-                     ": " + summary + "; refined " + std::to_string(report.refined) +
-                     " cells now (" + std::to_string(report.points) + " points, " +
-                     std::to_string(report.failed) + " failed)";
+    report.message =
+        std::string(report.stopped_by_signal ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
+                                             : "complete") +
+        ": " + summary + "; refined " + std::to_string(report.refined) + " cells now (" +
+        std::to_string(report.points) + " points, " + std::to_string(report.failed) + " failed)";
     cat.update_stage_run_end(run_id, report.outcome, now_ms(), report.message);
   });
   report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();

@@ -500,6 +500,94 @@ TEST_F(Cursor, MidpointStiffnessIsMoreAccurateThanTheHalfSpacingGrid) {
   EXPECT_LT(jump, 1e-7);  // a slope of order 1 N per unit times 2e-9
 }
 
+// Refined cells (docs/playback.md, "Refined cells"): two neighbouring cells with their
+// quarter-spacing points. The force passes through every point a refined cell uses, is about an
+// order of magnitude closer to the field in those cells than without them (the quarter cells'
+// h^4), stays continuous across every face (between the two refined cells, and where a refined
+// cell borders one that is not: there the half cells' interpolant is reproduced), and its
+// stiffness is the derivative of the force inside.
+TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
+  const Field field;
+  const Eigen::Vector3d h(0.5, 0.4, 0.6);
+  playback::Content plain = test_util::synthetic_content(field, h);
+  test_util::add_midpoint_forces(&plain, field, true);
+  playback::Content refined = plain;
+  test_util::add_refined_cells(&refined, field, {{0, 0, 0}, {-1, 0, 0}});
+  ASSERT_EQ(refined.refined_points.size(), 2u * 12 * playback::kRefinedPoints);
+  // Cell (0, 0, 0) borders the refined cell (-1, 0, 0) on its face x = 0 only.
+  const std::int32_t bits = refined.refined_cells[2 * refined.checkpoints[2 * 62] + 1];
+  EXPECT_EQ(bits & (1 << playback::refined_face_bit(0, 0)), 0);
+  EXPECT_NE(bits & (1 << playback::refined_face_bit(0, 1)), 0);
+  PlaybackFile with(write(std::move(refined), "refined.bin"));
+  with.verify();
+  PlaybackFile without(write(std::move(plain), "plain.bin"));
+  HapticCursor cursor(with, Scheme::kHermite);
+  auto at = [&](double x, double y, double z) {
+    return Eigen::Vector3d(field.origin[0] + x * h[0], field.origin[1] + y * h[1],
+                           field.origin[2] + z * h[2]);
+  };
+  // Exact at the points inside the refined pair (its outer faces take the half cells').
+  double worst_point = 0;
+  for (int i = 1; i < 8; ++i)
+    for (int j = 1; j < 4; ++j)
+      for (int k = 1; k < 4; ++k) {
+        const Eigen::Vector3d p = at(-1.0 + 0.25 * i, 0.25 * j, 0.25 * k);
+        worst_point =
+            std::max(worst_point, (vec(cursor.force(arr(p)).value) - field.force(p)).norm());
+      }
+  EXPECT_LT(worst_point, 1e-12);
+  // Accuracy inside the pair, with and without the refinement (away from the faces shared with
+  // cells that are not refined, where the half cells' interpolant is kept).
+  auto error = [&](const PlaybackFile& file) {
+    HapticCursor c(file, Scheme::kHermite);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0.25, 0.75);
+    double worst = 0;
+    for (int n = 0; n < 400; ++n) {
+      const Eigen::Vector3d p = at(3.0 * u(rng) - 1.5, u(rng), u(rng));
+      worst = std::max(worst, (vec(c.force(arr(p)).value) - field.force(p)).norm());
+    }
+    return worst;
+  };
+  const double refined_error = error(with), plain_error = error(without);
+  std::printf("[ info ] Hermite force error in the refined cells %.3g N, without them %.3g N\n",
+              refined_error, plain_error);
+  EXPECT_LT(refined_error, 0.2 * plain_error);
+  // Continuity across faces of cells, half cells and quarter cells around the pair.
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(-1.999, 1.999);
+  std::uniform_int_distribution<int> face(-8, 8);
+  const double eps = 1e-9;
+  double jump = 0;
+  for (int n = 0; n < 900; ++n) {
+    const int axis = n % 3;
+    Eigen::Vector3d q(u(rng), u(rng), u(rng));
+    q[axis] = 0.25 * face(rng);
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[axis] = eps;
+    const Eigen::Vector3d p = at(q[0], q[1], q[2]);
+    const Eigen::Vector3d below = vec(cursor.force(arr(p - e)).value);
+    const Eigen::Vector3d above = vec(cursor.force(arr(p + e)).value);
+    jump = std::max(jump, (above - below).norm());
+  }
+  EXPECT_LT(jump, 1e-7);
+  // The stiffness inside a refined cell: central differences of the force.
+  double worst_k = 0, scale = 0;
+  for (int n = 0; n < 20; ++n) {
+    const Eigen::Vector3d p = at(0.05 + 0.045 * n, 0.3 + 0.02 * n, 0.9 - 0.04 * n);
+    const Eigen::Matrix3d k = mat(cursor.force(arr(p)).stiffness);
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3d d = Eigen::Vector3d::Zero();
+      d[a] = 1e-6;
+      const Eigen::Vector3d fd =
+          (vec(cursor.force(arr(p + d)).value) - vec(cursor.force(arr(p - d)).value)) / 2e-6;
+      worst_k = std::max(worst_k, (fd - k.col(a)).norm());
+      scale = std::max(scale, k.col(a).norm());
+    }
+  }
+  EXPECT_LT(worst_k, 1e-6 * scale);
+}
+
 // With the midpoint displacements and slopes too, deform() interpolates each half-spacing cell
 // as the force: the same displacements as the grid of half the spacing, exact at the stored
 // midpoints, and a file without them keeps the corner cubic (a larger error). A snapshot whose

@@ -5,6 +5,7 @@
 // tests.
 #pragma once
 
+#include "index/refined_cells.h"
 #include "playback/writer.h"
 
 #include <Eigen/Dense>
@@ -13,6 +14,8 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
+#include <vector>
 
 namespace hapstate::test_util {
 
@@ -223,6 +226,41 @@ inline void add_midpoint_displacements(playback::Content* c, const Field& field)
       [field](int node, const Eigen::Vector3d& p) {
         return synthetic_displacement_slope(field, node, p);
       });
+}
+
+// Refines the cells whose lowest corner is at each of `bases` (grid indices): the force and
+// stiffness of `field` at every point of their quarter-spacing lattice the refine stage solves,
+// through the index stage's add_refined_cells (which sets the constraint bits). Call after
+// add_midpoint_forces with stiffness.
+template <class ForceField>
+void add_refined_cells(playback::Content* c, const ForceField& field,
+                       const std::vector<std::array<int, 3>>& bases) {
+  const playback::Meta& m = c->meta;
+  std::vector<RefinementPoint> rows;
+  std::map<std::int64_t, std::int32_t> index_of;
+  for (std::size_t k = 0; k < c->config_checkpoint.size(); ++k)
+    index_of.emplace(static_cast<std::int64_t>(k), static_cast<std::int32_t>(k));
+  for (const auto& b : bases) {
+    const int g = ((b[0] - m.lo[0]) * m.dims[1] + (b[1] - m.lo[1])) * m.dims[2] + (b[2] - m.lo[2]);
+    const int config = c->checkpoints[2 * g];
+    for (int p = 0; p < playback::kRefinedPoints; ++p) {
+      const int q[3] = {p / 25, p / 5 % 5, p % 5};
+      if (q[0] % 2 == 0 && q[1] % 2 == 0 && q[2] % 2 == 0) continue;
+      Eigen::Vector3d x;
+      for (int a = 0; a < 3; ++a) x[a] = m.origin[a] + (b[a] + 0.25 * q[a]) * m.spacing[a];
+      RefinementPoint row;
+      row.cell = ConfigId(config);
+      row.point = p;
+      row.reached = true;
+      const Eigen::Vector3d f = field.force(x);
+      const Eigen::Matrix3d jac = field.jacobian(x);
+      for (int r = 0; r < 3; ++r) row.force[r] = f[r];
+      for (int r = 0; r < 3; ++r)
+        for (int a = 0; a < 3; ++a) row.stiffness[3 * r + a] = jac(r, a);
+      rows.push_back(row);
+    }
+  }
+  hapstate::add_refined_cells(rows, index_of, c);
 }
 
 // Grid direction index of offset (di, dj, dk) (catalogue/direction.h numbering).
