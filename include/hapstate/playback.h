@@ -268,8 +268,7 @@ class HapticCursor {
   void midpoint_target(int k, MidpointTarget* out) const;
   void fit_cell_lattice(const MidpointTarget* targets);
   std::int32_t refined_cell() const;
-  void fit_refined_cell(std::int32_t slot, const double (&value)[3][3][3][3],
-                        const double (&gradient)[3][3][3][9]);
+  void fit_refined_cell(std::int32_t slot);
   void find_midpoint_displacements(const MidpointTarget* targets);
   void fit_cell_bubbles(const MidpointTarget* targets);
   void add_bubbles(const double (&m)[3], const double (&dm)[3], const double (&v)[3][2],

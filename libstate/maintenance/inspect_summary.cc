@@ -129,6 +129,11 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
     failures.push_back({{"reason", text_at(row, 0)}, {"count", int_at(row, 1)}});
   }
   j["failures_by_reason"] = failures;
+  const QueryResult refined = cat.query_read_only(
+      "SELECT count(DISTINCT cell), count(*), count(*) FILTER (WHERE outcome = 2) FROM refinement");
+  j["refinement"] = {{"cells", int_at(refined.rows.front(), 0)},
+                     {"points", int_at(refined.rows.front(), 1)},
+                     {"failed", int_at(refined.rows.front(), 2)}};
 
   const DiskUse disk = measure_disk_use(dir);
   j["disk"] = {{"catalogue_bytes", disk.catalogue_bytes},
@@ -188,6 +193,9 @@ std::string summary_text(const Json& j) {
   for (const auto& f : j["failures_by_reason"]) {
     s << "  failed " << f["count"] << "x: " << f["reason"].get<std::string>() << "\n";
   }
+  const Json& r = j["refinement"];
+  s << "refined cells: " << r["cells"] << " (" << r["points"] << " points at quarter spacings, "
+    << r["failed"] << " failed)\n";
   const Json& d = j["disk"];
   s << "disk: catalogue " << d["catalogue_bytes"] << " B, blobs " << d["blob_bytes"] << " B in "
     << d["segments"] << " segments, problem " << d["problem_bytes"] << " B, total "

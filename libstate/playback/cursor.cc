@@ -68,10 +68,11 @@ void hermite_contract(const Coefficients& coef, const double (&B)[3][4], const d
 }
 
 // The same at the 27 lattice points of the cell (cell positions 0, 1/2 and 1 per axis), axis by
-// axis: value[x][y][z][r] and gradient[x][y][z][3 r + a].
+// axis: value[x][y][z][r], gradient[x][y][z][3 r + a] and, if given, the cross derivatives
+// cross[x][y][z][r][pair] (kPair).
 template <class Coefficients>
 void hermite_lattice(const Coefficients& coef, const double* h, double (&value)[3][3][3][3],
-                     double (&gradient)[3][3][3][9]) {
+                     double (&gradient)[3][3][3][9], double (*cross)[3][3][3][3][3] = nullptr) {
   double B[3][3][4], dB[3][3][4];  // [axis][lattice index][basis]
   for (int i = 0; i < 3; ++i) {
     double b[3][4], db[3][4];
@@ -95,21 +96,28 @@ void hermite_lattice(const Coefficients& coef, const double* h, double (&value)[
     for (int x = 0; x < 4; ++x)
       for (int r = 0; r < 3; ++r)
         for (int k = 0; k < 3; ++k) {
-          double v = 0, vy = 0, vz = 0;  // y contracted: value, d/dy, d/dz
+          double v = 0, vy = 0, vz = 0, vyz = 0;  // y contracted: value, d/dy, d/dz, d2/dydz
           for (int y = 0; y < 4; ++y) {
             v += B[1][j][y] * Z[x][y][r][k];
             vy += dB[1][j][y] * Z[x][y][r][k];
             vz += B[1][j][y] * dZ[x][y][r][k];
+            vyz += dB[1][j][y] * dZ[x][y][r][k];
           }
           for (int i = 0; i < 3; ++i) {
             if (x == 0) {
               value[i][j][k][r] = 0;
               for (int a = 0; a < 3; ++a) gradient[i][j][k][3 * r + a] = 0;
+              if (cross)
+                for (int q = 0; q < 3; ++q) (*cross)[i][j][k][r][q] = 0;
             }
             value[i][j][k][r] += B[0][i][x] * v;
             gradient[i][j][k][3 * r] += dB[0][i][x] * v;
             gradient[i][j][k][3 * r + 1] += B[0][i][x] * vy;
             gradient[i][j][k][3 * r + 2] += B[0][i][x] * vz;
+            if (!cross) continue;
+            (*cross)[i][j][k][r][0] += dB[0][i][x] * vy;
+            (*cross)[i][j][k][r][1] += dB[0][i][x] * vz;
+            (*cross)[i][j][k][r][2] += B[0][i][x] * vyz;
           }
         }
 }
@@ -674,33 +682,6 @@ void sub_cell_coefficients(const Lattice<N>& L, Coefficients* out) {
   }
 }
 
-// A Hermite cell's value, gradient (row-major) and cross derivatives [r][pair] at cell position
-// t, spacing h.
-template <class Coefficients>
-void hermite_point(const Coefficients& coef, const std::array<double, 3>& t, const double* h,
-                   double* value, double* gradient, double (*cross)[3]) {
-  double B[3][4], dB[3][4];
-  hermite_bases(t, h, B, dB);
-  // d: bit a set where axis a takes the derivative bases.
-  auto eval = [&](int r, int d) {
-    const double(&bx)[4] = d & 1 ? dB[0] : B[0];
-    const double(&by)[4] = d & 2 ? dB[1] : B[1];
-    const double(&bz)[4] = d & 4 ? dB[2] : B[2];
-    double v = 0;
-    for (int x = 0; x < 4; ++x)
-      for (int y = 0; y < 4; ++y) {
-        const std::array<double, 4>& c = coef[x][y][r];
-        v += bx[x] * by[y] * (bz[0] * c[0] + bz[1] * c[1] + bz[2] * c[2] + bz[3] * c[3]);
-      }
-    return v;
-  };
-  for (int r = 0; r < 3; ++r) {
-    value[r] = eval(r, 0);
-    for (int a = 0; a < 3; ++a) gradient[3 * r + a] = eval(r, 1 << a);
-    for (int q = 0; q < 3; ++q) cross[r][q] = eval(r, (1 << kPair[q][0]) | (1 << kPair[q][1]));
-  }
-}
-
 // Whether quarter-lattice point (i, j, k) of a refined cell lies on a face or an edge set in
 // `constraints` (playback/format.h bits).
 bool constrained(const int (&p)[3], std::int32_t constraints) {
@@ -758,7 +739,7 @@ void HapticCursor::fit_cell_lattice(const MidpointTarget* targets) {
   lattice_cross(m.spacing, &L);
   sub_cell_coefficients(L, half_coef_.data());
   const std::int32_t slot = refined_cell();
-  if (slot >= 0) fit_refined_cell(slot, L.value, L.gradient);
+  if (slot >= 0) fit_refined_cell(slot);
 }
 
 // The refined cell (docs/playback.md, "Refined cells") the current cell is, or -1: its lowest
@@ -783,56 +764,42 @@ std::int32_t HapticCursor::refined_cell() const {
 // A refined cell: its 125 quarter-spacing lattice points get a value, a gradient and cross
 // derivatives each, and each of the 64 quarter-spacing cells is a cubic Hermite cell of its own
 // — the half cells' construction one level down. The points of the half-spacing lattice keep
-// their data (`value`, `gradient`); the others take the refined points' force and stiffness
+// their data; the others take the refined points' force and stiffness
 // (a value differs from the half cells' interpolant by at most the largest bubble limit per
 // component, a stiffness entry by at most the stiffness limit), or where none was solved the half
 // cells' interpolant's. On a face or an edge shared with a cell that is not refined (the
 // constraint bits) every point takes the half cells' interpolant's value, gradient and cross
 // derivatives: the quarter cells there reproduce it exactly (it is a cubic on each of them), so
 // the force stays continuous across the face.
-void HapticCursor::fit_refined_cell(std::int32_t slot, const double (&value)[3][3][3][3],
-                                    const double (&gradient)[3][3][3][9]) {
+void HapticCursor::fit_refined_cell(std::int32_t slot) {
   const PlaybackFile::Impl& f = file_.impl();
   const playback::Meta& m = *f.meta;
   const std::int32_t constraints = f.refined_cells[2 * std::int64_t(corners_[0].configuration) + 1];
   const double* stored = f.refined_points + 12 * playback::kRefinedPoints * std::int64_t(slot);
   const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
   const double half[3] = {0.5 * m.spacing[0], 0.5 * m.spacing[1], 0.5 * m.spacing[2]};
+  // The half cells' interpolant at their own lattices, which together are the quarter lattice:
+  // point (i, j, k) is in half cell (i, j, k) >= 2 at index (i, j, k) - 2 (that >= 2).
+  double hv[8][3][3][3][3], hg[8][3][3][3][9], hc[8][3][3][3][3][3];
+  for (int sub = 0; sub < 8; ++sub)
+    hermite_lattice(half_coef_[sub], half, hv[sub], hg[sub], &hc[sub]);
+  auto in_half = [](int p) { return p >= 2 ? p - 2 : p; };
   Lattice<5> Q;
-  bool exact[5][5][5];  // the cross derivatives are the half cells' interpolant's
-  double exact_cross[5][5][5][3][3];
+  bool exact[5][5][5];  // the half cells' interpolant's data, cross derivatives included
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 5; ++j)
       for (int k = 0; k < 5; ++k) {
         const int p[3] = {i, j, k};
+        const int sub = (i >= 2 ? 4 : 0) | (j >= 2 ? 2 : 0) | (k >= 2 ? 1 : 0);
+        const int x = in_half(i), y = in_half(j), z = in_half(k);
         double* v = Q.value[i][j][k];
         double* g = Q.gradient[i][j][k];
+        std::copy_n(hv[sub][x][y][z], 3, v);  // at a half-lattice point: that point's data
+        std::copy_n(hg[sub][x][y][z], 9, g);
         const double* data = stored + 12 * (25 * i + 5 * j + k);
-        exact[i][j][k] = constrained(p, constraints);
         const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
-        if (lattice) {
-          std::copy_n(value[i / 2][j / 2][k / 2], 3, v);
-          std::copy_n(gradient[i / 2][j / 2][k / 2], 9, g);
-        }
-        const bool solved = !lattice && finite(data, 12);
-        if (lattice && !exact[i][j][k]) continue;
-        // The half cell holding the point and the point's position in it.
-        int sub = 0;
-        std::array<double, 3> t{};
-        for (int a = 0; a < 3; ++a) {
-          const int side = p[a] >= 2 ? 1 : 0;
-          sub |= side << (2 - a);
-          t[a] = 0.5 * (p[a] - 2 * side);
-        }
-        double hv[3], hg[9];
-        hermite_point(half_coef_[sub], t, half, hv, hg, exact_cross[i][j][k]);
-        if (lattice) continue;  // constrained: only the cross derivatives change
-        std::copy_n(hv, 3, v);
-        std::copy_n(hg, 9, g);
-        if (exact[i][j][k] || !solved) {
-          exact[i][j][k] = true;  // the interpolant's, cross derivatives included
-          continue;
-        }
+        exact[i][j][k] = constrained(p, constraints) || (!lattice && !finite(data, 12));
+        if (lattice || exact[i][j][k]) continue;
         for (int r = 0; r < 3; ++r) v[r] += std::clamp(data[r] - v[r], -limit, limit);
         for (int e = 0; e < 9; ++e)
           g[e] = std::clamp(data[3 + e], -m.stiffness_limit, m.stiffness_limit);
@@ -840,9 +807,12 @@ void HapticCursor::fit_refined_cell(std::int32_t slot, const double (&value)[3][
   lattice_cross(m.spacing, &Q);
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 5; ++j)
-      for (int k = 0; k < 5; ++k)
-        if (exact[i][j][k])
-          for (int r = 0; r < 3; ++r) std::copy_n(exact_cross[i][j][k][r], 3, Q.cross[i][j][k][r]);
+      for (int k = 0; k < 5; ++k) {
+        if (!exact[i][j][k]) continue;
+        const int sub = (i >= 2 ? 4 : 0) | (j >= 2 ? 2 : 0) | (k >= 2 ? 1 : 0);
+        const auto& c = hc[sub][in_half(i)][in_half(j)][in_half(k)];
+        for (int r = 0; r < 3; ++r) std::copy_n(c[r], 3, Q.cross[i][j][k][r]);
+      }
   sub_cell_coefficients(Q, quarter_coef_.data());
   refined_ = true;
 }

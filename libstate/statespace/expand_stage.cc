@@ -384,19 +384,7 @@ ExpandReport run_expand(const ExpandOptions& options) {
   // and close the records of runs that died (we hold the directory's lock: they are not running).
   report.garbage_segments =
       expander.blobs().remove_unreferenced_segments(cat.referenced_segments()).size();
-  StageRunId run_id;
-  {
-    Transaction tx(cat);
-    for (const StageRun& old : cat.read_stage_runs("expand")) {
-      if (old.outcome != StageOutcome::kRunning) continue;
-      cat.update_stage_run_end(old.id, StageOutcome::kFailed, now_ms(),
-                               "interrupted: the process ended before finishing (killed?); "
-                               "resumed by a later run");
-      ++report.interrupted_runs;
-    }
-    run_id = cat.insert_stage_run(run);
-    tx.commit();
-  }
+  const StageRunId run_id = start_stage_run(cat, run, &report.interrupted_runs);
 
   with_run_record(cat, run_id, [&] {
     bool stopped = false;

@@ -37,12 +37,23 @@ struct Cell {
   double scale = 0;  // the largest |force| at its corners and midpoints, N
 };
 
+// The corner a lattice point is solved from: the nearest (the lower one at a tie).
+int nearest_corner(int point) {
+  const int q[3] = {point / 25, point / 5 % 5, point % 5};
+  int c = 0;
+  for (int a = 0; a < 3; ++a) c |= (q[a] > 2 ? 1 : 0) << (2 - a);
+  return c;
+}
+
 // The stored points of a refined cell: the lattice points with an odd quarter index (the
-// others are the corners and the moves' midpoints).
+// others are the corners and the moves' midpoints), grouped by the corner they are solved from
+// (a worker then reloads a source state and its factorisation less often).
 std::vector<int> new_points() {
   std::vector<int> out;
-  for (int p = 0; p < 125; ++p)
-    if ((p / 25) % 2 || (p / 5 % 5) % 2 || (p % 5) % 2) out.push_back(p);
+  for (int c = 0; c < 8; ++c)
+    for (int p = 0; p < 125; ++p)
+      if (((p / 25) % 2 || (p / 5 % 5) % 2 || (p % 5) % 2) && nearest_corner(p) == c)
+        out.push_back(p);
   return out;
 }
 
@@ -119,8 +130,7 @@ class Refiner {
         for (std::size_t n = next++; n < points.size(); n = next++) {
           const int p = points[n];
           const int q[3] = {p / 25, p / 5 % 5, p % 5};
-          int c = 0;  // the nearest corner (the lower one at a tie)
-          for (int a = 0; a < 3; ++a) c |= (q[a] > 2 ? 1 : 0) << (2 - a);
+          const int c = nearest_corner(p);
           const auto o = corner_offset(c);
           Eigen::Vector3d from = cell.origin, to = cell.origin;
           for (int a = 0; a < 3; ++a) from[a] += o[a] * h[a], to[a] += 0.25 * q[a] * h[a];
@@ -249,18 +259,7 @@ RefineReport run_refine(const RefineOptions& options) {
     record_unchanged(cat, run, report.message);
     return report;
   }
-  StageRunId run_id;
-  {
-    Transaction tx(cat);
-    for (const StageRun& old : cat.read_stage_runs("refine")) {
-      if (old.outcome != StageOutcome::kRunning) continue;
-      cat.update_stage_run_end(old.id, StageOutcome::kFailed, now_ms(),
-                               "interrupted: the process ended before finishing (killed?); "
-                               "resumed by a later run");
-    }
-    run_id = cat.insert_stage_run(run);
-    tx.commit();
-  }
+  const StageRunId run_id = start_stage_run(cat, run);
   with_run_record(cat, run_id, [&] {
     const long long per_cell = static_cast<long long>(new_points().size());
     Progress progress("hapstate-refine: points", per_cell * report.flagged, options.progress);

@@ -1,5 +1,6 @@
 #include "statespace/stage_record.h"
 
+#include "catalogue/transaction.h"
 #include "statespace/state_dir.h"
 
 #include <algorithm>
@@ -25,6 +26,20 @@ void record_unchanged(Catalogue& catalogue, StageRun run, const std::string& mes
   run.ended = now_ms();
   run.message = message;
   catalogue.insert_stage_run(run);
+}
+
+StageRunId start_stage_run(Catalogue& catalogue, const StageRun& run, int* interrupted) {
+  Transaction tx(catalogue);
+  for (const StageRun& old : catalogue.read_stage_runs(run.stage)) {
+    if (old.outcome != StageOutcome::kRunning) continue;
+    catalogue.update_stage_run_end(old.id, StageOutcome::kFailed, now_ms(),
+                                   "interrupted: the process ended before finishing (killed?); "
+                                   "resumed by a later run");
+    if (interrupted) ++*interrupted;
+  }
+  const StageRunId id = catalogue.insert_stage_run(run);
+  tx.commit();
+  return id;
 }
 
 bool same_inputs(const StageRun& a, const NamedHashes& b, const std::vector<std::string>& names) {

@@ -22,6 +22,11 @@ StageRun make_stage_run(const std::string& stage, NamedHashes inputs,
 // outcome kUnchanged and `message`.
 void record_unchanged(Catalogue& catalogue, StageRun run, const std::string& message);
 
+// Starts recording `run` (inserted as running) in one transaction with closing the runs of the
+// same stage a crash left "running" (marked failed, "interrupted: ..."; the caller holds the
+// directory's lock, so they are not running). Returns its id; `*interrupted` counts those closed.
+StageRunId start_stage_run(Catalogue& catalogue, const StageRun& run, int* interrupted = nullptr);
+
 // The scope of a stage run recorded while it works (expand, compact): runs body() for the run
 // `id` already inserted as running, and returns what it returns. The body records the normal
 // end; if it throws, the run is

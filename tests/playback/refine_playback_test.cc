@@ -24,10 +24,9 @@ class RefinePlayback : public StateSuite {
     index_all_nodes();
     fs::copy_file(*state_ / "playback.bin", *root_ / "plain.bin");
     // A tolerance far below the beam's estimates: every cell is refined.
-    first_ = new StageResult(
-        run_stage(HAPSTATE_REFINE_EXE,
-                  {"--state", state_->string(), "--threads", "2", "--tolerance", "1e-12", "-q"},
-                  *root_));
+    first_ = new StageResult(run_stage(
+        HAPSTATE_REFINE_EXE,
+        {"--state", state_->string(), "--threads", "2", "--tolerance", "1e-12", "-q"}, *root_));
     index_all_nodes();
   }
   static void TearDownTestSuite() {
@@ -41,8 +40,7 @@ TEST_F(RefinePlayback, EveryCellIsRefinedOnceAndAResumedRunHasNothingToDo) {
   ASSERT_EQ(first_->exit_code, 0) << first_->err;
   // The beam's grid is 5 x 3 x 3 check-points: 4 x 2 x 2 cells, of which 12 have all 8
   // corners (max_force ends the expansion at the axial layers i = +-2), 98 points each.
-  EXPECT_NE(first_->out.find("12 cells, 12 above the tolerance"), std::string::npos)
-      << first_->out;
+  EXPECT_NE(first_->out.find("12 cells, 12 above the tolerance"), std::string::npos) << first_->out;
   Catalogue cat(*state_ / "catalogue.sqlite", OpenMode::kReadOnly);
   EXPECT_EQ(cat.refined_cells().size(), 12u);
   const std::vector<RefinementPoint> rows = cat.read_all_refinement_points();

@@ -24,9 +24,9 @@ RecordedMove move_of(const std::function<double(int, double)>& g,
 
 // The cubic pieces reproduce a cubic force: nothing to refine.
 TEST(RefineIndicator, ZeroForACubicForce) {
-  const RecordedMove m = move_of(
-      [](int r, double s) { return (r + 1) * (2.0 - s + 3.0 * s * s - 1.5 * s * s * s); },
-      [](int r, double s) { return (r + 1) * (-1.0 + 6.0 * s - 4.5 * s * s); });
+  const RecordedMove m =
+      move_of([](int r, double s) { return (r + 1) * (2.0 - s + 3.0 * s * s - 1.5 * s * s * s); },
+              [](int r, double s) { return (r + 1) * (-1.0 + 6.0 * s - 4.5 * s * s); });
   EXPECT_NEAR(half_spacing_error(m), 0.0, 1e-12);
 }
 
@@ -41,8 +41,8 @@ TEST(RefineIndicator, ExactForAQuarticForce) {
 // A force that turns within the move (as where a grabbed node's neighbourhood distorts) is
 // flagged far above a smooth one of the same size.
 TEST(RefineIndicator, LargeWhereTheForceTurns) {
-  const RecordedMove smooth = move_of([](int, double s) { return std::sin(s); },
-                                      [](int, double s) { return std::cos(s); });
+  const RecordedMove smooth =
+      move_of([](int, double s) { return std::sin(s); }, [](int, double s) { return std::cos(s); });
   const RecordedMove turning = move_of([](int, double s) { return std::sin(6.0 * s) / 6.0; },
                                        [](int, double s) { return std::cos(6.0 * s); });
   std::printf("[ info ] estimate: sin(s) %.3g, sin(6 s) / 6 %.3g\n", half_spacing_error(smooth),
