@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # README command 1: installs dependencies, builds the executables (not the tests: command 2
 # builds those), and runs the main job on the bundled default scene (pipelines/liver): the
-# whole pipeline import -> grid -> expand -> compact -> index, then the paper's accuracy
+# whole pipeline import -> grid -> expand -> refine -> compact -> index, then the paper's accuracy
 # experiment (hapstate-eval: a seeded 20-step random path solved precisely and played back
 # with both interpolation schemes), a 5 s device loop, and the contact probe on the plate.
 # Every section says what its numbers mean. EXPAND_SECONDS limits the expansion (default:
@@ -21,7 +21,8 @@ export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 section() { echo; echo "== $1"; }
 
 section "1. Precomputation of pipelines/liver/scene.toml (neo-Hooke liver held at its ligament, one
-   surface node grabbed, a 7 x 7 x 7 workspace): the state space of equilibrium deformations.
+   surface node grabbed, a 7 x 7 x 7 workspace): the state space of equilibrium deformations,
+   then the cells where the force turns fastest solved again at quarter spacings (refine).
    Each stage skips what is up to date; the progress line estimates the whole expansion."
 job=$(date +%s)
 "$build_dir"/tools/hapstate run pipelines/liver/scene.toml --threads "$threads" \
