@@ -131,6 +131,9 @@ Catalogue::Catalogue(const std::filesystem::path& file, OpenMode mode)
       // Validate through a read-only connection first: a refused file is never written to.
       check_sqlite_header(file, label);
       Database probe(file.string(), SQLITE_OPEN_READONLY, label);
+      // As the connection below: a writer's commit or a recovery of the WAL after a crash may
+      // hold a lock for a moment.
+      sqlite3_busy_timeout(probe.get(), kBusyTimeoutMs);
       check_schema_state(read_schema_state(probe), mode, label);
     }
   }
