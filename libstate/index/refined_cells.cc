@@ -1,45 +1,73 @@
 #include "index/refined_cells.h"
 
 #include <array>
+#include <cmath>
 #include <limits>
-#include <set>
 
 namespace hapstate {
 namespace {
 
-using Base = std::array<std::int32_t, 3>;
+using Offset = std::array<int, 3>;
 
-// The constraint bits of the refined cell at `base`: its faces and edges shared with a cell of
-// the grid that is not refined.
-std::int32_t constraints(const Base& base, const std::set<Base>& refined, const playback::Meta& m) {
-  auto unrefined = [&](Base b) {
+int direction_index(const Offset& o) {
+  const int k = 9 * (o[0] + 1) + 3 * (o[1] + 1) + (o[2] + 1);
+  return k < 13 ? k : k - 1;
+}
+
+// The cells of the file as the cursor sees them: a cell by its lowest corner's configuration,
+// the other corners the targets of its moves.
+class Cells {
+ public:
+  explicit Cells(const playback::Content& c) : c_(c) {}
+
+  // Configuration k's move by grid offset o (k itself for o = 0), -1 if none.
+  std::int32_t move(std::int32_t k, const Offset& o) const {
+    if (k < 0) return -1;
+    if (o[0] == 0 && o[1] == 0 && o[2] == 0) return k;
+    const std::int32_t t = c_.transitions[26 * std::size_t(k) + direction_index(o)];
+    return t >= 0 ? t : -1;
+  }
+  // The 8 corners of the cell whose lowest corner is k (-1 where a move is missing).
+  std::array<std::int32_t, 8> corners(std::int32_t k) const {
+    std::array<std::int32_t, 8> out{};
+    for (int c = 0; c < 8; ++c) out[c] = move(k, {(c >> 2) & 1, (c >> 1) & 1, c & 1});
+    return out;
+  }
+  // Whether a cell of the grid lies at offset d from the cell whose lowest corner is at `base`.
+  bool cell_exists(const std::array<std::int32_t, 3>& base, const Offset& d) const {
+    const playback::Meta& m = c_.meta;
     for (int a = 0; a < 3; ++a) {
       const std::int32_t last = m.lo[a] + (m.dims[a] > 1 ? m.dims[a] - 2 : 0);
-      if (b[a] < m.lo[a] || b[a] > last) return false;  // no cell there
+      if (base[a] + d[a] < m.lo[a] || base[a] + d[a] > last) return false;
     }
-    return refined.count(b) == 0;
-  };
-  std::int32_t bits = 0;
-  for (int a = 0; a < 3; ++a)
-    for (int s = 0; s < 2; ++s) {
-      Base n = base;
-      n[a] += s ? 1 : -1;
-      if (unrefined(n)) bits |= 1 << playback::refined_face_bit(a, s);
-    }
-  for (int a = 0; a < 3; ++a) {
-    const int b = (a + 1) % 3, c = (a + 2) % 3;
-    for (int s1 = 0; s1 < 2; ++s1)
-      for (int s2 = 0; s2 < 2; ++s2) {
-        Base nb = base, nc = base, nbc = base;
-        nb[b] += s1 ? 1 : -1;
-        nc[c] += s2 ? 1 : -1;
-        nbc[b] = nb[b], nbc[c] = nc[c];
-        if (unrefined(nb) || unrefined(nc) || unrefined(nbc))
-          bits |= 1 << playback::refined_edge_bit(a, s1, s2);
-      }
+    return true;
   }
-  return bits;
-}
+  std::array<std::int32_t, 3> base_of(std::int32_t k) const {
+    const playback::Meta& m = c_.meta;
+    const std::int32_t g = c_.config_checkpoint[k];
+    const std::int32_t yz = m.dims[1] * m.dims[2];
+    return {m.lo[0] + g / yz, m.lo[1] + (g / m.dims[2]) % m.dims[1], m.lo[2] + g % m.dims[2]};
+  }
+  // The lowest corner of the neighbour at offset d (components -1, 0, 1) of the cell with
+  // corners `own`, reached from the shared corner nearest to it, or -1; the neighbour shares
+  // the corners at own-cell offsets d + o' in {0, 1}^3 and must show the same configurations.
+  std::int32_t neighbour(const std::array<std::int32_t, 8>& own, const Offset& d) const {
+    Offset o{}, step{};
+    for (int a = 0; a < 3; ++a) o[a] = d[a] > 0 ? 1 : 0, step[a] = d[a] - o[a];
+    const std::int32_t n0 = move(own[(o[0] << 2) | (o[1] << 1) | o[2]], step);
+    if (n0 < 0) return -1;
+    const std::array<std::int32_t, 8> theirs = corners(n0);
+    for (int c = 0; c < 8; ++c) {
+      const Offset p{d[0] + ((c >> 2) & 1), d[1] + ((c >> 1) & 1), d[2] + (c & 1)};
+      if (p[0] < 0 || p[0] > 1 || p[1] < 0 || p[1] > 1 || p[2] < 0 || p[2] > 1) continue;
+      if (theirs[c] < 0 || theirs[c] != own[(p[0] << 2) | (p[1] << 1) | p[2]]) return -1;
+    }
+    return n0;
+  }
+
+ private:
+  const playback::Content& c_;
+};
 
 }  // namespace
 
@@ -58,21 +86,8 @@ void add_refined_cells(const std::vector<RefinementPoint>& rows,
     const auto it = index_of.find(r.cell.value());
     if (it != index_of.end()) cells[it->second].push_back(&r);
   }
-  const playback::Meta& m = c.meta;
-  auto base_of = [&](std::int32_t k) {
-    const std::int32_t g = c.config_checkpoint[k];
-    const std::int32_t yz = m.dims[1] * m.dims[2];
-    return Base{m.lo[0] + g / yz, m.lo[1] + (g / m.dims[2]) % m.dims[1], m.lo[2] + g % m.dims[2]};
-  };
-  std::set<Base> refined;
-  for (auto it = cells.begin(); it != cells.end();) {
-    if (static_cast<int>(it->second.size()) != expected) {
-      it = cells.erase(it);
-      continue;
-    }
-    refined.insert(base_of(it->first));
-    ++it;
-  }
+  for (auto it = cells.begin(); it != cells.end();)
+    it = static_cast<int>(it->second.size()) == expected ? std::next(it) : cells.erase(it);
   if (cells.empty()) return;
   c.refined_cells.assign(2 * n, 0);
   for (std::size_t k = 0; k < n; ++k) c.refined_cells[2 * k] = -1;
@@ -81,7 +96,6 @@ void add_refined_cells(const std::vector<RefinementPoint>& rows,
   std::int32_t slot = 0;
   for (const auto& [k, points] : cells) {
     c.refined_cells[2 * k] = slot;
-    c.refined_cells[2 * k + 1] = constraints(base_of(k), refined, m);
     for (const RefinementPoint* p : points) {
       if (!p->reached) continue;
       double* out =
@@ -90,6 +104,62 @@ void add_refined_cells(const std::vector<RefinementPoint>& rows,
       std::copy(p->stiffness.begin(), p->stiffness.end(), out + 3);
     }
     ++slot;
+  }
+  const Cells grid(c);
+  auto refined = [&](std::int32_t k) { return k >= 0 && c.refined_cells[2 * k] >= 0; };
+  auto point = [&](std::int32_t k, int i, int j, int l) {
+    return &c.refined_points[12 * (playback::kRefinedPoints * std::size_t(c.refined_cells[2 * k]) +
+                                   25 * i + 5 * j + l)];
+  };
+  for (const auto& [k, points] : cells) {
+    const std::array<std::int32_t, 8> own = grid.corners(k);
+    const auto base = grid.base_of(k);
+    // A face or an edge is constrained where a cell of the grid beside it is not a refined cell
+    // showing the same corners (as the cursor would show it walking there from this cell).
+    auto unrefined = [&](const Offset& d) {
+      return grid.cell_exists(base, d) && !refined(grid.neighbour(own, d));
+    };
+    std::int32_t bits = 0;
+    for (int a = 0; a < 3; ++a)
+      for (int s = 0; s < 2; ++s) {
+        Offset d{};
+        d[a] = s ? 1 : -1;
+        if (unrefined(d)) bits |= 1 << playback::refined_face_bit(a, s);
+      }
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, e = (a + 2) % 3;
+      for (int s1 = 0; s1 < 2; ++s1)
+        for (int s2 = 0; s2 < 2; ++s2) {
+          Offset db{}, de{}, dbe{};
+          db[b] = dbe[b] = s1 ? 1 : -1;
+          de[e] = dbe[e] = s2 ? 1 : -1;
+          if (unrefined(db) || unrefined(de) || unrefined(dbe))
+            bits |= 1 << playback::refined_edge_bit(a, s1, s2);
+        }
+    }
+    c.refined_cells[2 * k + 1] = bits;
+    // The points of a face shared with a refined neighbour were solved by both: one value for
+    // both (this cell's where it has one, else the neighbour's), so the force stays continuous
+    // even where one of the two solves failed.
+    for (int a = 0; a < 3; ++a) {
+      Offset d{};
+      d[a] = 1;
+      const std::int32_t other = grid.neighbour(own, d);
+      if (!refined(other)) continue;
+      for (int u = 0; u < 5; ++u)
+        for (int v = 0; v < 5; ++v) {
+          int mine[3], theirs[3];
+          mine[a] = 4, theirs[a] = 0;
+          mine[(a + 1) % 3] = theirs[(a + 1) % 3] = u;
+          mine[(a + 2) % 3] = theirs[(a + 2) % 3] = v;
+          double* x = point(k, mine[0], mine[1], mine[2]);
+          double* y = point(other, theirs[0], theirs[1], theirs[2]);
+          if (std::isfinite(x[0]))
+            std::copy_n(x, 12, y);
+          else
+            std::copy_n(y, 12, x);
+        }
+    }
   }
 }
 

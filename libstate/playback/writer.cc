@@ -102,7 +102,8 @@ void check_content(const Content& c, const std::filesystem::path& file) {
   const std::size_t refined = c.refined_points.size() / (12 * kRefinedPoints);
   if (c.refined_points.size() != 12 * kRefinedPoints * refined ||
       (!c.refined_cells.empty() && c.refined_cells.size() != 2 * n) ||
-      (refined > 0 && (c.refined_cells.empty() || c.midpoint_stiffness.empty())))
+      (!c.refined_cells.empty() && c.midpoint_stiffness.empty()) ||
+      (refined > 0 && c.refined_cells.empty()))
     bad("refined cell table sizes (refined cells need the midpoint stiffness)");
   for (std::size_t k = 0; k < c.refined_cells.size(); k += 2)
     if (c.refined_cells[k] < -1 || c.refined_cells[k] >= static_cast<std::int32_t>(refined))
@@ -227,7 +228,8 @@ double force_change_bound(const Content& c) {
   // Refined cells: Hermite on the quarter-spacing cells, whose points are the half cells'
   // interpolant there (slope at most half_cells) plus a correction of at most the largest limit
   // per component, at least h_min / 4 apart, with a gradient that is a clamped stored stiffness
-  // or that interpolant's: the same argument one level down.
+  // or that interpolant's: the same argument one level down (at a constrained point the cross
+  // derivatives are the half cells' own, bounded as theirs).
   const double quarter_slope = half_cells + 8.0 * std::sqrt(3.0) * lambda / hmin;
   const double quarter_stiffness = std::max(3.0 * c.meta.stiffness_limit, half_cells);
   const double quarter_cells =

@@ -555,7 +555,8 @@ TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
   EXPECT_LT(refined_error, 0.2 * plain_error);
   // Continuity across faces of cells, half cells and quarter cells around the pair, and around
   // an L of three refined cells whose fourth cell on their shared edge is not refined (the edge
-  // is constrained, the faces between the three are not).
+  // is constrained, the faces between the three are not), where two points of a shared face
+  // failed in one of the two cells that solved them (the index gives both the other's).
   auto max_jump = [&](HapticCursor& c) {
     std::mt19937_64 rng(13);
     std::uniform_real_distribution<double> u(-1.999, 1.999);
@@ -593,7 +594,8 @@ TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
   };
   playback::Content l_shape = test_util::synthetic_content(field, h);
   test_util::add_midpoint_forces(&l_shape, field, true);
-  test_util::add_refined_cells(&l_shape, Perturbed{field}, {{0, 0, 0}, {-1, 0, 0}, {0, -1, 0}});
+  test_util::add_refined_cells(&l_shape, Perturbed{field}, {{0, 0, 0}, {-1, 0, 0}, {0, -1, 0}},
+                               {{{0, 0, 0}, 0 * 25 + 5 * 1 + 1}, {{-1, 0, 0}, 4 * 25 + 5 * 3 + 2}});
   PlaybackFile l_file(write(std::move(l_shape), "l_shape.bin"));
   HapticCursor l_cursor(l_file, Scheme::kHermite);
   const double l_jump = max_jump(l_cursor);

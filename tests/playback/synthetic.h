@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -234,7 +235,8 @@ inline void add_midpoint_displacements(playback::Content* c, const Field& field)
 // add_midpoint_forces with stiffness.
 template <class ForceField>
 void add_refined_cells(playback::Content* c, const ForceField& field,
-                       const std::vector<std::array<int, 3>>& bases) {
+                       const std::vector<std::array<int, 3>>& bases,
+                       const std::vector<std::pair<std::array<int, 3>, int>>& failed = {}) {
   const playback::Meta& m = c->meta;
   std::vector<RefinementPoint> rows;
   std::map<std::int64_t, std::int32_t> index_of;
@@ -251,7 +253,8 @@ void add_refined_cells(playback::Content* c, const ForceField& field,
       RefinementPoint row;
       row.cell = ConfigId(config);
       row.point = p;
-      row.reached = true;
+      row.reached = std::find(failed.begin(), failed.end(), std::make_pair(b, p)) == failed.end();
+      if (!row.reached) row.failure_reason = "failed on purpose (a test)";
       const Eigen::Vector3d f = field.force(x);
       const Eigen::Matrix3d jac = field.jacobian(x);
       for (int r = 0; r < 3; ++r) row.force[r] = f[r];
