@@ -81,8 +81,10 @@ class Refiner {
       Cell cell;
       cell.corner[0] = &c0;
       bool complete = true;
-      for (int c = 1; c < 8 && complete; ++c) cell.corner[c] = target(c0.id, corner_offset(c));
-      for (int c = 1; c < 8; ++c) complete = complete && cell.corner[c];
+      for (int c = 1; c < 8; ++c) {
+        cell.corner[c] = target(c0.id, corner_offset(c));
+        complete = complete && cell.corner[c];
+      }
       if (!complete) continue;
       cell.origin = position(c0);
       // The 19 moves inside the cell: from each corner along each direction with offsets >= 0
@@ -237,7 +239,7 @@ RefineReport run_refine(const RefineOptions& options) {
     return report;
   }
   const std::set<ConfigId> done = cat.refined_cells();
-  std::vector<Cell> todo;
+  std::vector<Cell> pending;
   for (const Cell& cell : refiner.cells()) {
     ++report.cells;
     const double relative = cell.scale > 0 ? cell.error / cell.scale : 0.0;
@@ -246,13 +248,13 @@ RefineReport run_refine(const RefineOptions& options) {
     report.refined_before += refined;
     if (!(relative > report.tolerance)) continue;
     ++report.flagged;
-    if (!refined) todo.push_back(cell);
+    if (!refined) pending.push_back(cell);
   }
   char summary[300];
   std::snprintf(summary, sizeof summary,
                 "%lld cells, %lld above the tolerance %.3g (largest estimate %.3g)", report.cells,
                 report.flagged, report.tolerance, report.largest_error);
-  if (todo.empty()) {
+  if (pending.empty()) {
     report.outcome = StageOutcome::kUnchanged;
     report.message = std::string("nothing to do: ") + summary + ", " +
                      std::to_string(report.refined_before) + " refined";
@@ -263,9 +265,10 @@ RefineReport run_refine(const RefineOptions& options) {
   with_run_record(cat, run_id, [&] {
     const long long per_cell = static_cast<long long>(new_points().size());
     Progress progress("hapstate-refine: points", per_cell * report.flagged, options.progress);
-    progress.set_resumed(per_cell * (report.flagged - static_cast<long long>(todo.size())));
-    long long done_points = per_cell * (report.flagged - static_cast<long long>(todo.size()));
-    for (const Cell& cell : todo) {
+    // Flagged cells refined by earlier runs count as done, not in the rate.
+    long long done_points = per_cell * (report.flagged - static_cast<long long>(pending.size()));
+    progress.set_resumed(done_points);
+    for (const Cell& cell : pending) {
       if (stop_requested()) {
         report.stopped_by_signal = true;
         break;
