@@ -484,17 +484,26 @@ PathSolver::CgOutcome PathSolver::preconditioned_cg() {
 
 // The predictor at (u_, t_from) for the probe step dt (DOF vector): f_, K dt with the
 // unconstrained tangent, and factor_ its factorisation. A move's first sub-step under inexact
-// Newton keeps the factor (in source_cholesky_, with f and K): the next move from the same state
-// (bitwise) reuses them without assembling or factorising.
+// Newton keeps the factor (with f and K) in one of start_factors_: the next move from the same
+// state (bitwise) reuses them without assembling or factorising. Two are kept, the least
+// recently used replaced: a direction that records a midpoint starts its second half there, and
+// with one slot that start evicted the source's factor, which the source's next direction then
+// factorised again (liverSemiFine's first 218 transitions: 0.27 start factorisations per solved
+// transition with one slot, the source's 1/26 = 0.04 with two; docs/benchmarks.md).
 bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::VectorXd& dt,
                                   bool move_start, Eigen::VectorXd* k_dt, MoveResult* result) {
   const bool keep = inexact_newton() && move_start;
-  if (keep && source_valid_ && t_from == source_t_ && u_.size() == source_u_.size() &&
-      (u_.array() == source_u_.array()).all() && boundary_->save() == source_boundary_) {
-    f_ = source_f_;
-    symmetric_multiply(assembler_->pattern(), source_k_, dt, k_dt);
-    factor_ = source_cholesky_.get();
-    return true;
+  if (keep) {
+    for (StartFactor& slot : start_factors_) {
+      if (!slot.valid || t_from != slot.t || u_.size() != slot.u.size() ||
+          !(u_.array() == slot.u.array()).all() || !(boundary_->save() == slot.boundary))
+        continue;
+      f_ = slot.f;
+      symmetric_multiply(assembler_->pattern(), slot.k, dt, k_dt);
+      factor_ = slot.cholesky.get();
+      slot.last_use = ++start_factor_uses_;
+      return true;
+    }
   }
   double energy = 0;
   assemble(u_, false, &energy);
@@ -503,28 +512,35 @@ bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::Ve
     result->reason = "start state has an inverted element";
     return false;
   }
+  StartFactor* slot = nullptr;
   if (keep) {
-    if (!source_cholesky_) {
-      source_cholesky_ = std::make_unique<SparseCholesky>(assembler_->pattern());
-      timings_.analyze += source_cholesky_->analyze_seconds();
+    slot = &start_factors_[0];
+    for (StartFactor& s : start_factors_)
+      if (!s.valid || (slot->valid && s.last_use < slot->last_use)) slot = &s;
+    if (!slot->cholesky) {
+      slot->cholesky = std::make_unique<SparseCholesky>(assembler_->pattern());
+      timings_.analyze += slot->cholesky->analyze_seconds();
     }
-    source_valid_ = false;
-    source_u_ = u_;
-    source_t_ = t_from;
-    source_f_ = f_;
-    source_k_ = k_values_;
-    source_boundary_ = boundary_->save();
+    slot->valid = false;
+    slot->u = u_;
+    slot->t = t_from;
+    slot->f = f_;
+    slot->k = k_values_;
+    slot->boundary = boundary_->save();
   }
   symmetric_multiply(assembler_->pattern(), k_values_, dt, k_dt);
   const long long before = timings_.factorizations;
-  const bool ok = factorize_with_fallback(u_, keep ? source_cholesky_.get() : cholesky_.get());
+  const bool ok = factorize_with_fallback(u_, keep ? slot->cholesky.get() : cholesky_.get());
   if (keep) result->start_factorisations += static_cast<int>(timings_.factorizations - before);
   if (!ok) {
     result->failure = SolveFailure::kNotFinite;
     result->reason = "tangent factorisation failed in the predictor";
     return false;
   }
-  source_valid_ = keep;
+  if (keep) {
+    slot->valid = true;
+    slot->last_use = ++start_factor_uses_;
+  }
   return true;
 }
 

@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -127,7 +128,7 @@ class PathSolver {
   CgOutcome preconditioned_cg();
   // The predictor of a sub-step from (u_, t_from) for the probe step dt: f_, K dt and the
   // factor of the tangent there. Inexact Newton keeps the factor of a move's start state in
-  // source_cholesky_ and reuses it (and its f and K) when the next move starts from the same
+  // one of start_factors_ and reuses it (and its f and K) when the next move starts from the same
   // state, as every direction of a configuration's expansion does.
   bool predictor_factor(const Eigen::Vector3d& t_from, const Eigen::VectorXd& dt, bool move_start,
                         Eigen::VectorXd* k_dt, MoveResult* result);
@@ -154,14 +155,20 @@ class PathSolver {
   std::unique_ptr<Material> material_;
   std::unique_ptr<Assembler> assembler_;
   std::unique_ptr<SparseCholesky> cholesky_;
-  std::unique_ptr<SparseCholesky> source_cholesky_;  // inexact Newton: a move start's factor
-  SparseCholesky* factor_ = nullptr;                 // the factor Newton solves with
-  // The state source_cholesky_ factorises, and f and the tangent's values there.
-  bool source_valid_ = false;
-  Eigen::VectorXd source_u_, source_f_;
-  BoundaryState source_boundary_;
-  Eigen::Vector3d source_t_ = Eigen::Vector3d::Zero();
-  std::vector<double> source_k_;
+  SparseCholesky* factor_ = nullptr;  // the factor Newton solves with
+  // Inexact Newton: the factors of recent move starts (predictor_factor), with the state each
+  // factorises and f and the tangent's values there; last_use orders them for replacement.
+  struct StartFactor {
+    std::unique_ptr<SparseCholesky> cholesky;
+    bool valid = false;
+    Eigen::VectorXd u, f;
+    BoundaryState boundary;
+    Eigen::Vector3d t = Eigen::Vector3d::Zero();
+    std::vector<double> k;
+    long long last_use = 0;
+  };
+  std::array<StartFactor, 2> start_factors_;
+  long long start_factor_uses_ = 0;
   // Grab probe (ProbeBoundary::keeps_newton_force): the force at u_ after a successful move
   // (the converged Newton's), so that
   // force_felt() and probe_reactions() need no assembly; invalid after any other change of u_.
