@@ -2,6 +2,7 @@
 #include "distributed/mpi_engine.h"
 #include "statespace/expand_stage.h"
 #include "statespace/math_threads.h"
+#include "util/cores.h"
 #include "util/main_guard.h"
 #include "util/stop_request.h"
 
@@ -38,7 +39,11 @@ int main(int argc, char** argv) {
       "change the exit code: they are recorded as transitions with outcome 'failed'."};
   use_hapstate_help(app);
   app.add_option("--state", state, "state directory (after hapstate-grid)")->required();
-  app.add_option("--threads", o.threads, "worker threads, one FEM solver each")
+  o.threads = default_threads();
+  app.add_option("--threads", o.threads,
+                 "worker threads, one FEM solver each (default: the cores this process may use, "
+                 "shared among the MPI ranks on this host; here " +
+                     std::to_string(o.threads) + ")")
       ->check(CLI::Range(1, 1024));
   app.add_option("--batch", o.batch_size,
                  "transitions per batch (one blob segment and one catalogue transaction each); "
@@ -81,6 +86,17 @@ int main(int argc, char** argv) {
     if (mt->count()) o.max_transitions = max_transitions;
     if (ms->count()) o.max_seconds = max_seconds;
     o.progress = quiet ? nullptr : stderr;
+    if (!quiet) {
+      // What it detected and chose (docs/distributed.md, "Layout").
+      const int ranks = ranks_on_this_host();
+      std::fprintf(
+          stderr, "hapstate-expand: %d usable cores here%s; %s%d solver thread%s%s\n",
+          usable_cores(),
+          ranks > 1 ? (", " + std::to_string(ranks) + " ranks of this job on this host").c_str()
+                    : "",
+          mpi.distributed() ? (std::to_string(mpi.size() - 1) + " worker ranks x ").c_str() : "",
+          o.threads, o.threads == 1 ? "" : "s", mpi.distributed() ? " each" : "");
+    }
     install_stop_request_handler(
         "\nhapstate-expand: stopping after the current batch (Ctrl-C again stops at once; "
         "either way, run the same command again to resume)\n");
@@ -115,6 +131,21 @@ int main(int argc, char** argv) {
           r.solved ? double(t.factorizations) / r.solved : 0.0,
           r.solved ? double(r.factorisations) / r.solved : 0.0,
           r.solved ? double(t.inner_iterations) / r.solved : 0.0);
+      if (r.solved && t.factor_bytes > 0) {
+        // Each back-substitution reads the factor twice (forward, then backward); a
+        // factorisation writes it once. What the memory bus carries beyond that (the tangent,
+        // the vectors) is smaller on these meshes.
+        const double per = double(t.back_substitutions) / r.solved;
+        const double bytes = (2 * per + double(t.factorizations) / r.solved) * t.factor_bytes;
+        std::printf(
+            "hapstate-expand: timings: factor %.1f MB per solver; per solved transition %.1f "
+            "back-substitutions (%.1f of them conjugate-gradient iterations) and %.2f "
+            "factorisations: about %.0f MB of factor read or written; %.2f GB/s over the "
+            "solves' wall time\n",
+            t.factor_bytes / 1e6, per, double(t.inner_iterations) / r.solved,
+            double(t.factorizations) / r.solved, bytes / 1e6,
+            r.solve_wall_s > 0 ? bytes * r.solved / r.solve_wall_s / 1e9 : 0.0);
+      }
       if (t.contact_queries > 0) {
         std::printf(
             "hapstate-expand: timings: contact: %lld of the solved transitions were moves "

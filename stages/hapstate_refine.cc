@@ -2,6 +2,7 @@
 // (docs/state-space.md, "Refined cells").
 #include "statespace/math_threads.h"
 #include "statespace/refine_stage.h"
+#include "util/cores.h"
 #include "util/main_guard.h"
 #include "util/stop_request.h"
 
@@ -28,7 +29,10 @@ int main(int argc, char** argv) {
       "130 stopped by Ctrl-C or SIGTERM (run again to resume)."};
   use_hapstate_help(app);
   app.add_option("--state", state, "state directory (after hapstate-expand)")->required();
-  app.add_option("--threads", options.threads, "worker threads (default 1)")
+  options.threads = default_threads();
+  app.add_option("--threads", options.threads,
+                 "worker threads (default: the cores this process may use, here " +
+                     std::to_string(options.threads) + ")")
       ->check(CLI::Range(1, 1024));
   app.add_option("--tolerance", tolerance,
                  "refine a cell whose estimated error exceeds this fraction of its largest force "

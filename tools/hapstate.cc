@@ -8,6 +8,7 @@
 #include "statespace/import_stage.h"
 #include "statespace/math_threads.h"
 #include "statespace/refine_stage.h"
+#include "util/cores.h"
 #include "util/main_guard.h"
 #include "util/stop_request.h"
 
@@ -112,7 +113,12 @@ int main(int argc, char** argv) {
                                      "stage skips what is up to date");
   run->add_option("scene", o.scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   run->add_option("--state", o.state, "state directory (default: 'state' beside the scene)");
-  run->add_option("--threads", o.threads, "expansion worker threads")->check(CLI::Range(1, 1024));
+  o.threads = default_threads();
+  run->add_option("--threads", o.threads,
+                  "expansion and refinement worker threads (default: the cores this process may "
+                  "use, here " +
+                      std::to_string(o.threads) + ")")
+      ->check(CLI::Range(1, 1024));
   run->add_option("--max-seconds", o.max_seconds,
                   "stop the expansion cleanly after about this long (resume by running again; "
                   "default: no limit)")

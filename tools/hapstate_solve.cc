@@ -171,8 +171,11 @@ int run(const Options& o) {
                  t.psd_fallbacks, 1e3 * t.solve, t.inner_iterations);
     const SparseCholesky& c = solver.linear_solver();
     std::fprintf(
-        stderr, "hapstate-solve: %d DOFs, factor %s (%s ordering), nnz(L) %.3g, %.3g flop\n",
-        solver.num_dofs(), c.method(), c.ordering(), c.factor_nonzeros(), c.factor_flops());
+        stderr,
+        "hapstate-solve: %d DOFs, factor %s (%s ordering), nnz(L) %.3g, %.3g flop, %.1f MB; "
+        "%lld back-substitutions\n",
+        solver.num_dofs(), c.method(), c.ordering(), c.factor_nonzeros(), c.factor_flops(),
+        c.factor_bytes() / 1e6, t.back_substitutions);
     if (const ContactTimings* ct = solver.contact_timings()) {
       const double total_ms = [&] {
         double ms = 0;

@@ -238,18 +238,21 @@ StiffnessResult get_stiffness_result(Reader& r) {
 }
 
 void put(Writer& w, const SolverTimings& t) {
-  for (double v : {t.assembly, t.factorize, t.solve, t.analyze, t.contact_detection}) w.pod(v);
-  for (long long v :
-       {t.assemblies, t.factorizations, t.psd_fallbacks, t.inner_iterations, t.contact_queries})
+  for (double v :
+       {t.assembly, t.factorize, t.solve, t.analyze, t.contact_detection, t.factor_bytes})
+    w.pod(v);
+  for (long long v : {t.assemblies, t.factorizations, t.psd_fallbacks, t.inner_iterations,
+                      t.contact_queries, t.back_substitutions})
     w.pod(v);
 }
 
 SolverTimings get_timings(Reader& r) {
   SolverTimings t;
-  for (double* v : {&t.assembly, &t.factorize, &t.solve, &t.analyze, &t.contact_detection})
+  for (double* v :
+       {&t.assembly, &t.factorize, &t.solve, &t.analyze, &t.contact_detection, &t.factor_bytes})
     *v = r.pod<double>();
   for (long long* v : {&t.assemblies, &t.factorizations, &t.psd_fallbacks, &t.inner_iterations,
-                       &t.contact_queries})
+                       &t.contact_queries, &t.back_substitutions})
     *v = r.pod<long long>();
   return t;
 }

@@ -96,6 +96,7 @@ PathSolver::PathSolver(const Problem& problem)
   cholesky_ = std::make_unique<SparseCholesky>(assembler_->pattern());
   factor_ = cholesky_.get();
   timings_.analyze = cholesky_->analyze_seconds();
+  timings_.factor_bytes = cholesky_->factor_bytes();
   scene_.role = problem.constraints.role;
   // Nodes used by no tet have no stiffness: hold them where they are.
   std::vector<bool> used(num_nodes_, false);
@@ -265,6 +266,12 @@ void PathSolver::constrain_values() {
   }
 }
 
+void PathSolver::back_substitute(SparseCholesky& factor, const Eigen::VectorXd& b,
+                                 Eigen::VectorXd* x) {
+  factor.solve(b, x);
+  ++timings_.back_substitutions;
+}
+
 // Factorises the constrained tangent held in k_values_; if it is not positive definite,
 // re-assembles with element stiffnesses projected to PSD (a descent direction) and retries.
 bool PathSolver::factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target) {
@@ -392,7 +399,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
         }
         have_factor = factor_current = true;
         const auto start = Clock::now();
-        factor_->solve(-r_, &du_);
+        back_substitute(*factor_, -r_, &du_);
         timings_.solve += seconds_since(start);
       }
       if (!du_.allFinite()) {
@@ -454,7 +461,7 @@ PathSolver::CgOutcome PathSolver::preconditioned_cg() {
   du_.setZero(num_dofs());
   cg_r_ = -r_;
   const double target = kInexactTolerance * cg_r_.norm();
-  factor_->solve(cg_r_, &cg_z_);
+  back_substitute(*factor_, cg_r_, &cg_z_);
   cg_p_ = cg_z_;
   double rz = cg_r_.dot(cg_z_);
   CgOutcome outcome = CgOutcome::kNotConverged;
@@ -473,7 +480,7 @@ PathSolver::CgOutcome PathSolver::preconditioned_cg() {
       outcome = CgOutcome::kConverged;
       break;
     }
-    factor_->solve(cg_r_, &cg_z_);
+    back_substitute(*factor_, cg_r_, &cg_z_);
     const double rz_next = cg_r_.dot(cg_z_);
     cg_p_ = cg_z_ + (rz_next / rz) * cg_p_;
     rz = rz_next;
@@ -564,7 +571,7 @@ bool PathSolver::substep(const Eigen::Vector3d& t_from, const Eigen::Vector3d& t
     if (now_.role[d] != DofRole::kFree) rhs[d] = 0.0;
   ++result->iterations;
   auto start = Clock::now();
-  factor_->solve(rhs, &du_);
+  back_substitute(*factor_, rhs, &du_);
   timings_.solve += seconds_since(start);
   // Take the predictor, shortened if it inverts an element.
   Eigen::VectorXd base = u_;
@@ -755,7 +762,7 @@ Eigen::Matrix3d PathSolver::haptic_stiffness(Eigen::MatrixX3d* du_dp) {
     return stiffness * std::numeric_limits<double>::quiet_NaN();
   for (int c = 0; c < 3; ++c) {
     Eigen::VectorXd z;
-    cholesky_->solve(k_uc.col(c), &z);
+    back_substitute(*cholesky_, k_uc.col(c), &z);
     if (du_dp)
       for (int d = 0; d < num_dofs(); ++d)
         (*du_dp)(d, c) = now_.role[d] == DofRole::kFree ? -z[d]

@@ -35,6 +35,10 @@ struct SolverTimings {
   long long assemblies = 0, factorizations = 0;
   long long psd_fallbacks = 0;     // PSD-projected tangents factorised or solved with by CG
   long long inner_iterations = 0;  // conjugate-gradient iterations of the inexact Newton
+  // Solves with a factor (forward and backward substitution: each reads the whole factor), and
+  // the largest factor's size in bytes (SparseCholesky::factor_bytes; a maximum, not a sum).
+  long long back_substitutions = 0;
+  double factor_bytes = 0;
   // Contact probe: collision detection (summed by TransitionSolver::timings from
   // PathSolver::contact_timings; PathSolver::timings leaves them 0).
   double contact_detection = 0;
@@ -50,6 +54,8 @@ struct SolverTimings {
     factorizations += other.factorizations;
     psd_fallbacks += other.psd_fallbacks;
     inner_iterations += other.inner_iterations;
+    back_substitutions += other.back_substitutions;
+    factor_bytes = factor_bytes > other.factor_bytes ? factor_bytes : other.factor_bytes;
     contact_detection += other.contact_detection;
     contact_queries += other.contact_queries;
     return *this;
@@ -142,6 +148,8 @@ class PathSolver {
   bool probe_tangent_on_elastic(const Eigen::VectorXd& u, bool psd_only);
   void constrain_values();
   bool factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target);
+  // x = factor^{-1} b, counted in timings_.back_substitutions.
+  void back_substitute(SparseCholesky& factor, const Eigen::VectorXd& b, Eigen::VectorXd* x);
   void set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const;
   void set_probe_translation(const Eigen::Vector3d& dt, Eigen::VectorXd* v) const;
   // The largest displacement of one node in du [m].

@@ -93,6 +93,13 @@ namespace hapstate {
 
 double SparseCholesky::factor_nonzeros() const { return impl_->common.lnz; }
 double SparseCholesky::factor_flops() const { return impl_->common.fl; }
+double SparseCholesky::factor_bytes() const {
+  const cholmod_factor* f = impl_->factor;
+  if (f->is_super)
+    return static_cast<double>(f->xsize) * sizeof(double) +
+           static_cast<double>(f->ssize) * sizeof(int);
+  return impl_->common.lnz * (sizeof(double) + sizeof(int));
+}
 const char* SparseCholesky::method() const {
   return impl_->factor->is_super ? "supernodal" : "simplicial";
 }

@@ -30,6 +30,9 @@ class SparseCholesky {
   // Non-zeros of the factor and flop count of one numeric factorisation (from the analysis).
   double factor_nonzeros() const;
   double factor_flops() const;
+  // Bytes of the factor's values and row indices as stored (a supernodal factor stores its
+  // supernodes' dense blocks): what one forward or one backward substitution reads.
+  double factor_bytes() const;
   // "supernodal" or "simplicial", and the fill-reducing ordering CHOLMOD chose.
   const char* method() const;
   const char* ordering() const;

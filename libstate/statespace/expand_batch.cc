@@ -2,10 +2,13 @@
 
 #include "util/error.h"
 
-#include <atomic>
+#include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <exception>
+#include <map>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 #include <utility>
 
@@ -17,18 +20,208 @@ SourceLoader blob_source_loader(const BlobStore& blobs, int num_dofs, const Vect
   };
 }
 
+// The pool's shared state, under `mutex`. Transition work is a list of tasks (the wave's copy,
+// or solve()'s), handed out from `next` up to `horizon`; results wait in `results` until
+// collected. Stiffness work is a list handed out from `stiffness_next`.
+struct TransitionSolver::Pool {
+  std::mutex mutex;
+  std::condition_variable work;  // the threads wait here for work or stop
+  std::condition_variable done;  // the caller waits here for results
+  std::vector<std::thread> threads;
+  bool stop = false;
+  std::exception_ptr error;
+  int busy = 0;  // threads working on something they claimed
+
+  std::vector<TransitionTask> tasks;
+  std::uint64_t list = 0;  // which list `tasks` holds (a thread's reserved run is of one)
+  std::size_t next = 0, horizon = 0, window = 0;
+  std::map<std::size_t, TransitionSolve> results;
+
+  const std::vector<StiffnessTask>* stiffness_tasks = nullptr;
+  std::size_t stiffness_next = 0, stiffness_left = 0;
+  std::vector<StiffnessResult>* stiffness_results = nullptr;
+};
+
 TransitionSolver::TransitionSolver(const Problem& problem, const ProbeModel& probe,
                                    SourceLoader sources, int threads, SolverAlgorithm algorithm)
     : problem_(problem),
       probe_(probe),
       sources_loader_(std::move(sources)),
       threads_(std::max(1, threads)),
-      algorithm_(algorithm) {
+      algorithm_(algorithm),
+      pool_(std::make_unique<Pool>()) {
   solvers_.resize(threads_);
   sources_.resize(threads_);
+  pool_->window = lookahead(threads_, 3 * static_cast<int>(problem.mesh.num_nodes()));
 }
 
-TransitionSolver::~TransitionSolver() = default;
+TransitionSolver::~TransitionSolver() { finish(); }
+
+std::size_t TransitionSolver::lookahead(int threads, int num_dofs) {
+  // A whole source is 26 directions; four of them per thread keep every thread busy while the
+  // slowest direction of a batch finishes and the batch is stored.
+  const std::size_t wanted = 4 * 26 * static_cast<std::size_t>(std::max(1, threads));
+  // A result holds u (float64) and, for a midpoint, its u and three slopes (float32).
+  const std::size_t bytes_per_result = 24 * static_cast<std::size_t>(std::max(1, num_dofs));
+  const std::size_t affordable = (std::size_t{1} << 30) / bytes_per_result;
+  return std::max<std::size_t>(2 * std::max(1, threads), std::min(wanted, affordable));
+}
+
+void TransitionSolver::start_threads() {
+  if (!pool_->threads.empty()) return;
+  pool_->threads.reserve(static_cast<std::size_t>(threads_));
+  for (int w = 0; w < threads_; ++w) pool_->threads.emplace_back([this, w] { worker_loop(w); });
+}
+
+void TransitionSolver::finish() {
+  {
+    std::lock_guard<std::mutex> lock(pool_->mutex);
+    pool_->stop = true;
+  }
+  pool_->work.notify_all();
+  for (std::thread& t : pool_->threads) t.join();
+  pool_->threads.clear();
+}
+
+void TransitionSolver::worker_loop(int worker) {
+  Pool& p = *pool_;
+  try {
+    if (!solvers_[worker]) {
+      solvers_[worker] = std::make_unique<PathSolver>(problem_);
+      solvers_[worker]->set_algorithm(algorithm_);
+    }
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(p.mutex);
+    if (!p.error) p.error = std::current_exception();
+    p.next = p.horizon;
+    p.done.notify_all();
+    return;
+  }
+  struct Run {
+    std::uint64_t list = 0;
+    std::size_t begin = 0, end = 0;
+  } run;  // tasks reserved by this thread: [begin, end) of list `list`
+  std::unique_lock<std::mutex> lock(p.mutex);
+  for (;;) {
+    p.work.wait(lock, [&] {
+      return p.stop ||
+             (!p.error && ((p.stiffness_tasks && p.stiffness_next < p.stiffness_tasks->size()) ||
+                           (run.begin < run.end && run.list == p.list) || p.next < p.horizon));
+    });
+    if (p.stop) return;
+    ++p.busy;
+    try {
+      if (p.stiffness_tasks && p.stiffness_next < p.stiffness_tasks->size()) {
+        const std::size_t k = p.stiffness_next++;
+        const StiffnessTask& task = (*p.stiffness_tasks)[k];
+        std::vector<StiffnessResult>* results = p.stiffness_results;
+        lock.unlock();
+        StiffnessResult r = stiffness_one(worker, task);
+        lock.lock();
+        (*results)[k] = std::move(r);
+        --p.stiffness_left;
+      } else {
+        // The next task of this thread's run (consecutive tasks of one source, reserved when
+        // the last run ended), so that a waiting stiffness is taken between two of them.
+        if (run.begin >= run.end || p.list != run.list) {
+          run.list = p.list;
+          run.begin = p.next;
+          run.end = run.begin + 1;
+          // Guided: whole sources while much is left, shorter runs near the end of the wave.
+          const std::size_t most = std::clamp<std::size_t>(
+              (p.horizon - p.next) / (2 * static_cast<std::size_t>(threads_)), 1,
+              Direction::kCount);
+          while (run.end < p.horizon && run.end - run.begin < most &&
+                 p.tasks[run.end].source.id == p.tasks[run.begin].source.id)
+            ++run.end;
+          p.next = run.end;
+        }
+        const std::size_t k = run.begin++;
+        const TransitionTask& task = p.tasks[k];  // not replaced while busy > 0
+        lock.unlock();
+        TransitionSolve r = solve_one(worker, task);
+        lock.lock();
+        p.results.emplace(k, std::move(r));
+      }
+    } catch (...) {
+      if (!lock.owns_lock()) lock.lock();
+      if (!p.error) p.error = std::current_exception();
+      p.next = p.horizon;  // nothing more is handed out
+    }
+    --p.busy;
+    p.done.notify_all();
+  }
+}
+
+template <typename Done>
+void TransitionSolver::wait_for(std::unique_lock<std::mutex>& lock, Done&& done) {
+  pool_->done.wait(lock, [&] { return pool_->error || done(); });
+  if (pool_->error) std::rethrow_exception(pool_->error);
+}
+
+void TransitionSolver::start_wave(const std::vector<TransitionTask>& tasks) {
+  std::unique_lock<std::mutex> lock(pool_->mutex);
+  pool_->horizon = pool_->next;  // hand out nothing more of the last list
+  wait_for(lock, [&] { return pool_->busy == 0; });
+  pool_->tasks = tasks;
+  ++pool_->list;
+  pool_->next = pool_->horizon = 0;
+  pool_->results.clear();
+}
+
+std::vector<TransitionSolve> TransitionSolver::solve_range(std::size_t begin, std::size_t end,
+                                                           std::size_t ahead_end) {
+  Pool& p = *pool_;
+  std::unique_lock<std::mutex> lock(p.mutex);
+  if (end > p.tasks.size() || begin > end)
+    throw std::logic_error("TransitionSolver::solve_range past the wave");
+  p.horizon = std::max({p.horizon, end, std::min({p.tasks.size(), end + p.window, ahead_end})});
+  start_threads();
+  p.work.notify_all();
+  wait_for(lock, [&] {
+    for (std::size_t k = begin; k < end; ++k)
+      if (!p.results.count(k)) return false;
+    return true;
+  });
+  std::vector<TransitionSolve> out;
+  out.reserve(end - begin);
+  for (std::size_t k = begin; k < end; ++k) {
+    auto it = p.results.find(k);
+    out.push_back(std::move(it->second));
+    p.results.erase(it);
+  }
+  return out;
+}
+
+std::vector<TransitionSolve> TransitionSolver::solve(std::span<const TransitionTask> tasks) {
+  start_wave(std::vector<TransitionTask>(tasks.begin(), tasks.end()));
+  return solve_range(0, tasks.size(), tasks.size());
+}
+
+std::vector<StiffnessResult> TransitionSolver::stiffnesses(
+    const std::vector<StiffnessTask>& tasks) {
+  std::vector<StiffnessResult> results(tasks.size());
+  if (tasks.empty()) return results;
+  Pool& p = *pool_;
+  std::unique_lock<std::mutex> lock(p.mutex);
+  p.stiffness_tasks = &tasks;
+  p.stiffness_next = 0;
+  p.stiffness_left = tasks.size();
+  p.stiffness_results = &results;
+  start_threads();
+  p.work.notify_all();
+  try {
+    wait_for(lock, [&] { return p.stiffness_left == 0; });
+  } catch (...) {
+    // No thread may still write into `results` once it is gone.
+    p.stiffness_tasks = nullptr;
+    p.done.wait(lock, [&] { return p.busy == 0; });
+    throw;
+  }
+  p.stiffness_tasks = nullptr;
+  p.stiffness_results = nullptr;
+  return results;
+}
 
 const ConfigVectors& TransitionSolver::source_vectors(int worker, const Configuration& source) {
   std::optional<LoadedSource>& loaded = sources_[worker];
@@ -139,48 +332,6 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
   return out;
 }
 
-template <typename Body>
-void TransitionSolver::for_each_parallel(std::size_t count, Body&& body) {
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto work = [&](int worker) {
-    try {
-      if (!solvers_[worker]) {
-        solvers_[worker] = std::make_unique<PathSolver>(problem_);
-        solvers_[worker]->set_algorithm(algorithm_);
-      }
-      for (std::size_t k = next++; k < count; k = next++) body(worker, k);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-      next = count;
-    }
-  };
-  const int workers =
-      static_cast<int>(std::min<std::size_t>(threads_, std::max<std::size_t>(1, count)));
-  if (workers <= 1) {
-    work(0);
-  } else {
-    std::vector<std::thread> pool;
-    pool.reserve(static_cast<std::size_t>(workers));
-    for (int w = 0; w < workers; ++w) pool.emplace_back(work, w);
-    for (auto& t : pool) t.join();
-  }
-  if (error) std::rethrow_exception(error);
-}
-
-std::vector<TransitionSolve> TransitionSolver::solve(std::span<const TransitionTask> tasks) {
-  std::vector<TransitionSolve> results(tasks.size());
-  for_each_parallel(tasks.size(),
-                    [&](int worker, std::size_t k) { results[k] = solve_one(worker, tasks[k]); });
-  return results;
-}
-
-std::vector<TransitionSolve> TransitionSolver::solve_range(std::size_t begin, std::size_t end) {
-  return solve(std::span<const TransitionTask>(*wave_).subspan(begin, end - begin));
-}
-
 StiffnessResult stiffness_result(const Eigen::Matrix3d& stiffness, const Eigen::MatrixX3d& du_dp) {
   StiffnessResult out;
   for (int r = 0; r < 3; ++r)
@@ -199,19 +350,15 @@ StiffnessResult rest_stiffness(const Problem& problem) {
   return stiffness_result(k, du_dp);
 }
 
-std::vector<StiffnessResult> TransitionSolver::stiffnesses(
-    const std::vector<StiffnessTask>& tasks) {
-  std::vector<StiffnessResult> results(tasks.size());
-  for_each_parallel(tasks.size(), [&](int worker, std::size_t k) {
-    PathSolver& solver = *solvers_[worker];
-    probe_.set_state(solver, *tasks[k].vectors, tasks[k].position);
-    const long long before = solver.timings().factorizations;
-    Eigen::MatrixX3d du_dp;
-    const Eigen::Matrix3d stiffness = solver.haptic_stiffness(&du_dp);
-    results[k] = stiffness_result(stiffness, du_dp);
-    results[k].factorisations = static_cast<int>(solver.timings().factorizations - before);
-  });
-  return results;
+StiffnessResult TransitionSolver::stiffness_one(int worker, const StiffnessTask& task) {
+  PathSolver& solver = *solvers_[worker];
+  probe_.set_state(solver, *task.vectors, task.position);
+  const long long before = solver.timings().factorizations;
+  Eigen::MatrixX3d du_dp;
+  const Eigen::Matrix3d stiffness = solver.haptic_stiffness(&du_dp);
+  StiffnessResult result = stiffness_result(stiffness, du_dp);
+  result.factorisations = static_cast<int>(solver.timings().factorizations - before);
+  return result;
 }
 
 SolverTimings TransitionSolver::timings() const {

@@ -17,6 +17,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -86,8 +87,10 @@ class TransitionEngine {
   // The tasks of the next wave; the engine may keep a reference until the next call.
   virtual void start_wave(const std::vector<TransitionTask>& tasks) = 0;
   // The results of tasks [begin, end) of the wave; ranges come in order. An engine may solve
-  // later tasks of the wave meanwhile (never past the wave).
-  virtual std::vector<TransitionSolve> solve_range(std::size_t begin, std::size_t end) = 0;
+  // later tasks of the wave meanwhile, never at or past ahead_end (the stage's limit on
+  // transitions ends the run there) nor past the wave.
+  virtual std::vector<TransitionSolve> solve_range(std::size_t begin, std::size_t end,
+                                                   std::size_t ahead_end) = 0;
   // The haptic stiffness of each task's state (set from the vectors, as a later move from that
   // configuration would); result k belongs to task k.
   virtual std::vector<StiffnessResult> stiffnesses(const std::vector<StiffnessTask>& tasks) = 0;
@@ -109,6 +112,14 @@ using SourceLoader = std::function<ConfigVectors(const Configuration&)>;
 // From the state directory's blobs (load_config_vectors); keeps a reference to blobs.
 SourceLoader blob_source_loader(const BlobStore& blobs, int num_dofs, const VectorLayout& layout);
 
+// The transitions and stiffnesses on N threads of this process, each with its own PathSolver,
+// kept running across batches and waves (a pool). solve_range() lets the threads run ahead of
+// the batch asked for, up to a look-ahead window of the wave, so that they keep solving while
+// the stage decides and stores the batch (docs/benchmarks.md, "Scaling"); stiffnesses() come
+// first when both wait. Tasks are handed out in runs of one source's directions: a thread that
+// solves several directions of a source in a row loads its vectors and factorises its tangent
+// once (PathSolver's start factors). Each result is a pure function of its task, so which
+// thread ran it, and when, changes nothing in the catalogue.
 class TransitionSolver : public TransitionEngine {
  public:
   // Keeps references to problem and probe (they must outlive it). threads >= 1.
@@ -117,21 +128,36 @@ class TransitionSolver : public TransitionEngine {
   ~TransitionSolver() override;
 
   // Solves every task that has a target, in parallel; result k belongs to task k. An exception
-  // in a worker (e.g. an unreadable source blob) is rethrown here after all workers stopped.
+  // in a worker (e.g. an unreadable source blob) is rethrown here after the pool stopped
+  // taking work (the engine is then unusable).
   std::vector<TransitionSolve> solve(std::span<const TransitionTask> tasks);
 
-  void start_wave(const std::vector<TransitionTask>& tasks) override { wave_ = &tasks; }
-  std::vector<TransitionSolve> solve_range(std::size_t begin, std::size_t end) override;
+  // Copies the wave's tasks (the threads may still run ahead on them after the stage let go).
+  void start_wave(const std::vector<TransitionTask>& tasks) override;
+  std::vector<TransitionSolve> solve_range(std::size_t begin, std::size_t end,
+                                           std::size_t ahead_end) override;
   std::vector<StiffnessResult> stiffnesses(const std::vector<StiffnessTask>& tasks) override;
+  // Complete after finish() (the threads' counters are read when they have stopped).
   SolverTimings timings() const override;
+  // Stops and joins the threads (work under way ends at its current task).
+  void finish() override;
+
+  // How far past the requested batch the threads may run: enough work for each thread to
+  // take a few whole sources, bounded so the solved results held meanwhile stay under about
+  // 1 GiB (each holds its displacements and slopes).
+  static std::size_t lookahead(int threads, int num_dofs);
 
  private:
+  struct Pool;
   TransitionSolve solve_one(int worker, const TransitionTask& task);
+  StiffnessResult stiffness_one(int worker, const StiffnessTask& task);
   // The source's vectors, read once for the directions of a source a worker solves in a row.
   const ConfigVectors& source_vectors(int worker, const Configuration& source);
-  // Runs body(worker, k) for k in [0, count) on the workers (each with its own solver).
-  template <typename Body>
-  void for_each_parallel(std::size_t count, Body&& body);
+  void worker_loop(int worker);
+  void start_threads();
+  // Waits (lock held) until `done` or a worker failed; rethrows a worker's exception.
+  template <typename Done>
+  void wait_for(std::unique_lock<std::mutex>& lock, Done&& done);
 
   const Problem& problem_;
   const ProbeModel& probe_;
@@ -144,7 +170,7 @@ class TransitionSolver : public TransitionEngine {
     ConfigVectors vectors;
   };
   std::vector<std::optional<LoadedSource>> sources_;  // per worker: the last source read
-  const std::vector<TransitionTask>* wave_ = nullptr;
+  std::unique_ptr<Pool> pool_;
 };
 
 }  // namespace hapstate

@@ -433,7 +433,15 @@ ExpandReport run_expand(const ExpandOptions& options) {
         const std::size_t e = std::min(tasks.size(), b + options.batch_size);
         const std::vector<TransitionTask> batch(tasks.begin() + b, tasks.begin() + e);
         const auto solve_start = SteadyClock::now();
-        const std::vector<TransitionSolve> solves = solver.solve_range(b, e);
+        // Solving ahead is worth it up to where a --max-transitions limit ends the run.
+        std::size_t ahead_end = tasks.size();
+        if (options.max_transitions) {
+          const long long left = std::max(0LL, *options.max_transitions - report.decided);
+          const long long batches = (left + options.batch_size - 1) / options.batch_size;
+          ahead_end = std::min<std::size_t>(
+              tasks.size(), b + static_cast<std::size_t>(batches * options.batch_size));
+        }
+        const std::vector<TransitionSolve> solves = solver.solve_range(b, e, ahead_end);
         const auto store_start = SteadyClock::now();
         expander.commit_batch(batch, solves, solver, &report);
         report.solve_wall_s += std::chrono::duration<double>(store_start - solve_start).count();
