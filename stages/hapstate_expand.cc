@@ -132,19 +132,22 @@ int main(int argc, char** argv) {
           r.solved ? double(r.factorisations) / r.solved : 0.0,
           r.solved ? double(t.inner_iterations) / r.solved : 0.0);
       if (r.solved && t.factor_bytes > 0) {
-        // Each back-substitution reads the factor twice (forward, then backward); a
-        // factorisation writes it once. What the memory bus carries beyond that (the tangent,
-        // the vectors) is smaller on these meshes.
+        // Each back-substitution reads the factor twice (forward, then backward): the
+        // conjugate-gradient iterations the factor rounded to float, the other solves the
+        // double one; a factorisation writes it once. The tangent and the vectors the memory
+        // bus also carries are smaller on these meshes.
         const double per = double(t.back_substitutions) / r.solved;
-        const double bytes = (2 * per + double(t.factorizations) / r.solved) * t.factor_bytes;
+        const double single = double(t.single_back_substitutions) / r.solved;
+        const double factorisations = double(t.factorizations) / r.solved;
+        const double bytes = 2 * (per - single) * t.factor_bytes +
+                             2 * single * t.single_factor_bytes + factorisations * t.factor_bytes;
         std::printf(
-            "hapstate-expand: timings: factor %.1f MB per solver; per solved transition %.1f "
-            "back-substitutions (%.1f of them conjugate-gradient iterations) and %.2f "
-            "factorisations: about %.0f MB of factor read or written; %.2f GB/s over the "
-            "solves' wall time\n",
-            t.factor_bytes / 1e6, per, double(t.inner_iterations) / r.solved,
-            double(t.factorizations) / r.solved, bytes / 1e6,
-            r.solve_wall_s > 0 ? bytes * r.solved / r.solve_wall_s / 1e9 : 0.0);
+            "hapstate-expand: timings: factor %.1f MB per solver (%.1f MB rounded to float); "
+            "per solved transition %.1f back-substitutions (%.1f of them in float: the "
+            "conjugate-gradient iterations) and %.2f factorisations: about %.0f MB of factor "
+            "read or written; %.2f GB/s over the solves' wall time\n",
+            t.factor_bytes / 1e6, t.single_factor_bytes / 1e6, per, single, factorisations,
+            bytes / 1e6, r.solve_wall_s > 0 ? bytes * r.solved / r.solve_wall_s / 1e9 : 0.0);
       }
       if (t.contact_queries > 0) {
         std::printf(

@@ -239,10 +239,11 @@ StiffnessResult get_stiffness_result(Reader& r) {
 
 void put(Writer& w, const SolverTimings& t) {
   for (double v :
-       {t.assembly, t.factorize, t.solve, t.analyze, t.contact_detection, t.factor_bytes})
+       {t.assembly, t.factorize, t.solve, t.analyze, t.contact_detection, t.factor_bytes,
+        t.single_factor_bytes})
     w.pod(v);
   for (long long v : {t.assemblies, t.factorizations, t.psd_fallbacks, t.inner_iterations,
-                      t.contact_queries, t.back_substitutions})
+                      t.contact_queries, t.back_substitutions, t.single_back_substitutions})
     w.pod(v);
 }
 
@@ -252,7 +253,7 @@ SolverTimings get_timings(Reader& r) {
        {&t.assembly, &t.factorize, &t.solve, &t.analyze, &t.contact_detection, &t.factor_bytes})
     *v = r.pod<double>();
   for (long long* v : {&t.assemblies, &t.factorizations, &t.psd_fallbacks, &t.inner_iterations,
-                       &t.contact_queries, &t.back_substitutions})
+                       &t.contact_queries, &t.back_substitutions, &t.single_back_substitutions})
     *v = r.pod<long long>();
   return t;
 }

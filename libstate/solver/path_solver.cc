@@ -60,6 +60,7 @@ constexpr int kMaxIterationFactor = 4;
 // 4 823 / 4 189 / 3 607 / 2 980 / 2 384 and linear solves per contact step 12.8 / 12.7 / 12.6 /
 // 12.8 / 13.2 / 15.7 with a fresh assembly every iteration / 3e-3 / 1e-2 / 3e-2 / 0.1 / 1.
 constexpr double kElasticDrift = 1e-2;
+const bool kSinglePrecisionPreconditioner = !std::getenv("HS_DOUBLE");
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxLineSearch = 20;
 }  // namespace
@@ -97,6 +98,7 @@ PathSolver::PathSolver(const Problem& problem)
   factor_ = cholesky_.get();
   timings_.analyze = cholesky_->analyze_seconds();
   timings_.factor_bytes = cholesky_->factor_bytes();
+  timings_.single_factor_bytes = cholesky_->factor_bytes(/*single=*/true);
   scene_.role = problem.constraints.role;
   // Nodes used by no tet have no stiffness: hold them where they are.
   std::vector<bool> used(num_nodes_, false);
@@ -267,8 +269,13 @@ void PathSolver::constrain_values() {
 }
 
 void PathSolver::back_substitute(SparseCholesky& factor, const Eigen::VectorXd& b,
-                                 Eigen::VectorXd* x) {
-  factor.solve(b, x);
+                                 Eigen::VectorXd* x, bool single) {
+  if (single) {
+    factor.solve_single(b, x);
+    ++timings_.single_back_substitutions;
+  } else {
+    factor.solve(b, x);
+  }
   ++timings_.back_substitutions;
 }
 
@@ -461,7 +468,7 @@ PathSolver::CgOutcome PathSolver::preconditioned_cg() {
   du_.setZero(num_dofs());
   cg_r_ = -r_;
   const double target = kInexactTolerance * cg_r_.norm();
-  back_substitute(*factor_, cg_r_, &cg_z_);
+  back_substitute(*factor_, cg_r_, &cg_z_, kSinglePrecisionPreconditioner);
   cg_p_ = cg_z_;
   double rz = cg_r_.dot(cg_z_);
   CgOutcome outcome = CgOutcome::kNotConverged;
@@ -480,7 +487,7 @@ PathSolver::CgOutcome PathSolver::preconditioned_cg() {
       outcome = CgOutcome::kConverged;
       break;
     }
-    back_substitute(*factor_, cg_r_, &cg_z_);
+    back_substitute(*factor_, cg_r_, &cg_z_, kSinglePrecisionPreconditioner);
     const double rz_next = cg_r_.dot(cg_z_);
     cg_p_ = cg_z_ + (rz_next / rz) * cg_p_;
     rz = rz_next;

@@ -37,8 +37,8 @@ struct SolverTimings {
   long long inner_iterations = 0;  // conjugate-gradient iterations of the inexact Newton
   // Solves with a factor (forward and backward substitution: each reads the whole factor), and
   // the largest factor's size in bytes (SparseCholesky::factor_bytes; a maximum, not a sum).
-  long long back_substitutions = 0;
-  double factor_bytes = 0;
+  long long back_substitutions = 0, single_back_substitutions = 0;  // the second: of the first
+  double factor_bytes = 0, single_factor_bytes = 0;                    // the second: rounded
   // Contact probe: collision detection (summed by TransitionSolver::timings from
   // PathSolver::contact_timings; PathSolver::timings leaves them 0).
   double contact_detection = 0;
@@ -55,7 +55,10 @@ struct SolverTimings {
     psd_fallbacks += other.psd_fallbacks;
     inner_iterations += other.inner_iterations;
     back_substitutions += other.back_substitutions;
+    single_back_substitutions += other.single_back_substitutions;
     factor_bytes = factor_bytes > other.factor_bytes ? factor_bytes : other.factor_bytes;
+    single_factor_bytes =
+        single_factor_bytes > other.single_factor_bytes ? single_factor_bytes : other.single_factor_bytes;
     contact_detection += other.contact_detection;
     contact_queries += other.contact_queries;
     return *this;
@@ -148,8 +151,10 @@ class PathSolver {
   bool probe_tangent_on_elastic(const Eigen::VectorXd& u, bool psd_only);
   void constrain_values();
   bool factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesky* target);
-  // x = factor^{-1} b, counted in timings_.back_substitutions.
-  void back_substitute(SparseCholesky& factor, const Eigen::VectorXd& b, Eigen::VectorXd* x);
+  // x = factor^{-1} b (single: with the factor rounded to float, SparseCholesky::solve_single),
+  // counted in timings_.back_substitutions.
+  void back_substitute(SparseCholesky& factor, const Eigen::VectorXd& b, Eigen::VectorXd* x,
+                       bool single = false);
   void set_probe_dofs(const Eigen::Vector3d& t, Eigen::VectorXd* u) const;
   void set_probe_translation(const Eigen::Vector3d& dt, Eigen::VectorXd* v) const;
   // The largest displacement of one node in du [m].

@@ -2,9 +2,13 @@
 
 #include <cholmod.h>
 
+#include <Eigen/Dense>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 
 namespace hapstate {
@@ -19,6 +23,10 @@ struct SparseCholesky::Impl {
   cholmod_dense* sol = nullptr;
   cholmod_dense* work_y = nullptr;
   cholmod_dense* work_e = nullptr;
+  // solve_single: the supernodal factor's values rounded to float (current while
+  // single_current), the permuted right-hand side and a supernode's gathered rows.
+  std::vector<float> single_x, single_w, single_rows;
+  bool single_current = false;
 };
 
 SparseCholesky::SparseCholesky(const SymmetricPattern& pattern, Method method)
@@ -50,7 +58,15 @@ SparseCholesky::SparseCholesky(const SymmetricPattern& pattern, Method method)
   s.matrix.dtype = CHOLMOD_DOUBLE;
   s.matrix.sorted = 1;
   s.matrix.packed = 1;
-  s.factor = cholmod_analyze(&s.matrix, &s.common);
+  {
+    // METIS (one of the orderings CHOLMOD tries) keeps its random state in globals: two
+    // analyses at once on two threads raced on it and gave different orderings, so different
+    // factors, rounding and conjugate-gradient counts from one run to the next (liverFine:
+    // factors of 38.3-40.1 MB, 18-49 s for the same 26 transitions, catalogues that differed).
+    static std::mutex analysis;
+    std::lock_guard<std::mutex> lock(analysis);
+    s.factor = cholmod_analyze(&s.matrix, &s.common);
+  }
   if (s.factor == nullptr) {
     cholmod_finish(&s.common);
     throw std::runtime_error("CHOLMOD symbolic analysis failed (status " +
@@ -74,6 +90,7 @@ SparseCholesky::~SparseCholesky() {
 bool SparseCholesky::factorize(const std::vector<double>& values) {
   Impl& s = *impl_;
   std::copy(values.begin(), values.end(), s.values.begin());
+  s.single_current = false;
   const int ok = cholmod_factorize(&s.matrix, s.factor, &s.common);
   return ok && s.common.status == CHOLMOD_OK && s.factor->minor == s.factor->n;
 }
@@ -87,16 +104,74 @@ void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
   std::memcpy(x->data(), s.sol->x, sizeof(double) * b.size());
 }
 
+// L L^T = P A P^T with L supernodal (CHOLMOD's layout: supernode j holds columns super[j] ..
+// super[j+1]-1; its rows s[pi[j]] .. s[pi[j+1]-1], the first ones its own columns; its values a
+// dense column-major block at x[px[j]] with one row per row index). x = P^T L^-T L^-1 P b.
+void SparseCholesky::solve_single(const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+  Impl& s = *impl_;
+  const cholmod_factor* f = s.factor;
+  if (!f->is_super || f->itype != CHOLMOD_INT) {
+    solve(b, x);
+    return;
+  }
+  const auto n = static_cast<Eigen::Index>(f->n);
+  if (!s.single_current) {
+    const auto* values = static_cast<const double*>(f->x);
+    s.single_x.resize(f->xsize);
+    for (std::size_t k = 0; k < f->xsize; ++k) s.single_x[k] = static_cast<float>(values[k]);
+    s.single_w.resize(f->n);
+    s.single_rows.resize(std::max<std::size_t>(f->maxesize, 1));
+    s.single_current = true;
+  }
+  const auto* perm = static_cast<const int*>(f->Perm);
+  const auto* super = static_cast<const int*>(f->super);
+  const auto* pi = static_cast<const int*>(f->pi);
+  const auto* px = static_cast<const int*>(f->px);
+  const auto* rows = static_cast<const int*>(f->s);
+  float* w = s.single_w.data();
+  float* gathered = s.single_rows.data();
+  for (Eigen::Index k = 0; k < n; ++k) w[k] = static_cast<float>(b[perm[k]]);
+  const auto nsuper = static_cast<int>(f->nsuper);
+  using Block = Eigen::Map<const Eigen::MatrixXf>;
+  for (int j = 0; j < nsuper; ++j) {  // forward: L y = P b
+    const int first = super[j], cols = super[j + 1] - first;
+    const int below = pi[j + 1] - pi[j] - cols;
+    const Block block(s.single_x.data() + px[j], cols + below, cols);
+    Eigen::Map<Eigen::VectorXf> y(w + first, cols);
+    block.topRows(cols).triangularView<Eigen::Lower>().solveInPlace(y);
+    if (below == 0) continue;
+    Eigen::Map<Eigen::VectorXf> update(gathered, below);
+    update.noalias() = block.bottomRows(below) * y;
+    const int* below_rows = rows + pi[j] + cols;
+    for (int r = 0; r < below; ++r) w[below_rows[r]] -= update[r];
+  }
+  for (int j = nsuper - 1; j >= 0; --j) {  // backward: L^T z = y
+    const int first = super[j], cols = super[j + 1] - first;
+    const int below = pi[j + 1] - pi[j] - cols;
+    const Block block(s.single_x.data() + px[j], cols + below, cols);
+    Eigen::Map<Eigen::VectorXf> z(w + first, cols);
+    if (below > 0) {
+      Eigen::Map<Eigen::VectorXf> known(gathered, below);
+      const int* below_rows = rows + pi[j] + cols;
+      for (int r = 0; r < below; ++r) known[r] = w[below_rows[r]];
+      z.noalias() -= block.bottomRows(below).transpose() * known;
+    }
+    block.topRows(cols).triangularView<Eigen::Lower>().transpose().solveInPlace(z);
+  }
+  x->resize(n);
+  for (Eigen::Index k = 0; k < n; ++k) (*x)[perm[k]] = w[k];
+}
+
 }  // namespace hapstate
 
 namespace hapstate {
 
 double SparseCholesky::factor_nonzeros() const { return impl_->common.lnz; }
 double SparseCholesky::factor_flops() const { return impl_->common.fl; }
-double SparseCholesky::factor_bytes() const {
+double SparseCholesky::factor_bytes(bool single) const {
   const cholmod_factor* f = impl_->factor;
   if (f->is_super)
-    return static_cast<double>(f->xsize) * sizeof(double) +
+    return static_cast<double>(f->xsize) * (single ? sizeof(float) : sizeof(double)) +
            static_cast<double>(f->ssize) * sizeof(int);
   return impl_->common.lnz * (sizeof(double) + sizeof(int));
 }

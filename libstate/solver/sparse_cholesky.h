@@ -25,14 +25,21 @@ class SparseCholesky {
   bool factorize(const std::vector<double>& values);
   // x = A^{-1} b with the last successful factorisation.
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x);
+  // x ~ A^{-1} b with the factor rounded to single precision (a preconditioner: it reads half
+  // the bytes of solve(), and conjugate gradients in double precision make up the difference).
+  // A supernodal factor only; a simplicial one is solved in double precision. The rounded copy
+  // is made on the first call after each factorisation.
+  void solve_single(const Eigen::VectorXd& b, Eigen::VectorXd* x);
 
   double analyze_seconds() const { return analyze_seconds_; }
   // Non-zeros of the factor and flop count of one numeric factorisation (from the analysis).
   double factor_nonzeros() const;
   double factor_flops() const;
   // Bytes of the factor's values and row indices as stored (a supernodal factor stores its
-  // supernodes' dense blocks): what one forward or one backward substitution reads.
-  double factor_bytes() const;
+  // supernodes' dense blocks): what one forward or one backward substitution reads; single:
+  // what solve_single's substitutions read (the values as float; a simplicial factor's are
+  // read as they are).
+  double factor_bytes(bool single = false) const;
   // "supernodal" or "simplicial", and the fill-reducing ordering CHOLMOD chose.
   const char* method() const;
   const char* ordering() const;
