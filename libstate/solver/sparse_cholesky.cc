@@ -29,6 +29,63 @@ struct SparseCholesky::Impl {
   bool single_current = false;
 };
 
+namespace {
+
+// The symbolic analyses of this process, shared: every solver of a stage factorises the same
+// pattern, and one analysis (the fill-reducing ordering: liverFine 0.17 s, more on bigger
+// meshes) serves them all; each gets a copy. The most recent few patterns are kept.
+struct Analysis {
+  std::vector<int> col_ptr, row_idx;
+  SparseCholesky::Method method;
+  cholmod_common common;
+  cholmod_factor* symbolic = nullptr;
+  double lnz = 0, fl = 0;
+  Analysis() { cholmod_start(&common); }
+  ~Analysis() {
+    cholmod_free_factor(&symbolic, &common);
+    cholmod_finish(&common);
+  }
+  Analysis(const Analysis&) = delete;
+  Analysis& operator=(const Analysis&) = delete;
+};
+constexpr std::size_t kKeptAnalyses = 4;
+
+// The analysis of `matrix` (whose pattern col_ptr / row_idx are), copied from the cache or made
+// and kept. One at a time: METIS (one of the orderings CHOLMOD tries) keeps its random state in
+// globals, and two analyses at once on two threads raced on it and gave different orderings,
+// so different factors, rounding and conjugate-gradient counts from one run to the next
+// (liverFine: factors of 38.3-40.1 MB, 18-49 s for the same 26 transitions, catalogues that
+// differed).
+cholmod_factor* analyze(const std::vector<int>& col_ptr, const std::vector<int>& row_idx,
+                        SparseCholesky::Method method, cholmod_sparse* matrix,
+                        cholmod_common* common) {
+  static std::mutex mutex;
+  static std::vector<std::unique_ptr<Analysis>> kept;
+  std::lock_guard<std::mutex> lock(mutex);
+  for (const auto& a : kept) {
+    if (a->method != method || a->col_ptr != col_ptr || a->row_idx != row_idx) continue;
+    common->lnz = a->lnz;
+    common->fl = a->fl;
+    return cholmod_copy_factor(a->symbolic, common);
+  }
+  cholmod_factor* factor = cholmod_analyze(matrix, common);
+  if (factor == nullptr) return nullptr;
+  auto a = std::make_unique<Analysis>();
+  a->col_ptr = col_ptr;
+  a->row_idx = row_idx;
+  a->method = method;
+  a->lnz = common->lnz;
+  a->fl = common->fl;
+  a->symbolic = cholmod_copy_factor(factor, &a->common);
+  if (a->symbolic != nullptr) {
+    if (kept.size() == kKeptAnalyses) kept.erase(kept.begin());
+    kept.push_back(std::move(a));
+  }
+  return factor;
+}
+
+}  // namespace
+
 SparseCholesky::SparseCholesky(const SymmetricPattern& pattern, Method method)
     : impl_(std::make_unique<Impl>()) {
   const auto start = std::chrono::steady_clock::now();
@@ -58,15 +115,7 @@ SparseCholesky::SparseCholesky(const SymmetricPattern& pattern, Method method)
   s.matrix.dtype = CHOLMOD_DOUBLE;
   s.matrix.sorted = 1;
   s.matrix.packed = 1;
-  {
-    // METIS (one of the orderings CHOLMOD tries) keeps its random state in globals: two
-    // analyses at once on two threads raced on it and gave different orderings, so different
-    // factors, rounding and conjugate-gradient counts from one run to the next (liverFine:
-    // factors of 38.3-40.1 MB, 18-49 s for the same 26 transitions, catalogues that differed).
-    static std::mutex analysis;
-    std::lock_guard<std::mutex> lock(analysis);
-    s.factor = cholmod_analyze(&s.matrix, &s.common);
-  }
+  s.factor = analyze(s.col_ptr, s.row_idx, method, &s.matrix, &s.common);
   if (s.factor == nullptr) {
     cholmod_finish(&s.common);
     throw std::runtime_error("CHOLMOD symbolic analysis failed (status " +
