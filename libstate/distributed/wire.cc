@@ -238,9 +238,8 @@ StiffnessResult get_stiffness_result(Reader& r) {
 }
 
 void put(Writer& w, const SolverTimings& t) {
-  for (double v :
-       {t.assembly, t.factorize, t.solve, t.analyze, t.contact_detection, t.factor_bytes,
-        t.single_factor_bytes})
+  for (double v : {t.assembly, t.factorize, t.solve, t.analyze, t.contact_detection, t.factor_bytes,
+                   t.single_factor_bytes})
     w.pod(v);
   for (long long v : {t.assemblies, t.factorizations, t.psd_fallbacks, t.inner_iterations,
                       t.contact_queries, t.back_substitutions, t.single_back_substitutions})
@@ -249,8 +248,8 @@ void put(Writer& w, const SolverTimings& t) {
 
 SolverTimings get_timings(Reader& r) {
   SolverTimings t;
-  for (double* v :
-       {&t.assembly, &t.factorize, &t.solve, &t.analyze, &t.contact_detection, &t.factor_bytes})
+  for (double* v : {&t.assembly, &t.factorize, &t.solve, &t.analyze, &t.contact_detection,
+                    &t.factor_bytes, &t.single_factor_bytes})
     *v = r.pod<double>();
   for (long long* v : {&t.assemblies, &t.factorizations, &t.psd_fallbacks, &t.inner_iterations,
                        &t.contact_queries, &t.back_substitutions, &t.single_back_substitutions})

@@ -60,7 +60,12 @@ constexpr int kMaxIterationFactor = 4;
 // 4 823 / 4 189 / 3 607 / 2 980 / 2 384 and linear solves per contact step 12.8 / 12.7 / 12.6 /
 // 12.8 / 13.2 / 15.7 with a fresh assembly every iteration / 3e-3 / 1e-2 / 3e-2 / 0.1 / 1.
 constexpr double kElasticDrift = 1e-2;
-const bool kSinglePrecisionPreconditioner = !std::getenv("HS_DOUBLE");
+// The conjugate gradients' preconditioner solves with the factor rounded to float
+// (SparseCholesky::solve_single): half the bytes per iteration, a few more iterations.
+// liverFine's first 64 transitions on 2 threads (docs/benchmarks.md, "Scaling the expansion"):
+// 30.4 / 30.8 s against 35.4 / 35.0 s in double precision; 71.5 against 70.0 conjugate-gradient
+// iterations per solved transition; the solves' time 18.2 against 26.8 s.
+constexpr bool kSinglePrecisionPreconditioner = true;
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxLineSearch = 20;
 }  // namespace

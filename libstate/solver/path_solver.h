@@ -38,7 +38,7 @@ struct SolverTimings {
   // Solves with a factor (forward and backward substitution: each reads the whole factor), and
   // the largest factor's size in bytes (SparseCholesky::factor_bytes; a maximum, not a sum).
   long long back_substitutions = 0, single_back_substitutions = 0;  // the second: of the first
-  double factor_bytes = 0, single_factor_bytes = 0;                    // the second: rounded
+  double factor_bytes = 0, single_factor_bytes = 0;                 // the second: rounded
   // Contact probe: collision detection (summed by TransitionSolver::timings from
   // PathSolver::contact_timings; PathSolver::timings leaves them 0).
   double contact_detection = 0;
@@ -57,8 +57,9 @@ struct SolverTimings {
     back_substitutions += other.back_substitutions;
     single_back_substitutions += other.single_back_substitutions;
     factor_bytes = factor_bytes > other.factor_bytes ? factor_bytes : other.factor_bytes;
-    single_factor_bytes =
-        single_factor_bytes > other.single_factor_bytes ? single_factor_bytes : other.single_factor_bytes;
+    single_factor_bytes = single_factor_bytes > other.single_factor_bytes
+                              ? single_factor_bytes
+                              : other.single_factor_bytes;
     contact_detection += other.contact_detection;
     contact_queries += other.contact_queries;
     return *this;

@@ -129,6 +129,10 @@ TEST(Wire, SetupStiffnessAndTimingsRoundTrip) {
   t.contact_detection = 0.25;
   t.factorizations = 17;
   t.contact_queries = 99;
+  t.factor_bytes = 4e7;
+  t.single_factor_bytes = 2e7;
+  t.back_substitutions = 1234;
+  t.single_back_substitutions = 1200;
   wire::Writer w;
   wire::put(w, s);
   wire::put(w, k);
@@ -153,6 +157,10 @@ TEST(Wire, SetupStiffnessAndTimingsRoundTrip) {
   EXPECT_EQ(t2.contact_detection, 0.25);
   EXPECT_EQ(t2.factorizations, 17);
   EXPECT_EQ(t2.contact_queries, 99);
+  EXPECT_EQ(t2.factor_bytes, 4e7);
+  EXPECT_EQ(t2.single_factor_bytes, 2e7);
+  EXPECT_EQ(t2.back_substitutions, 1234);
+  EXPECT_EQ(t2.single_back_substitutions, 1200);
 }
 
 TEST(Wire, TruncatedMessageIsAnError) {

@@ -1,9 +1,9 @@
 // The sparse Cholesky factorisation's solves: double precision against the matrix itself, and
 // the single-precision solve (the conjugate gradients' preconditioner) against the double one.
+#include "solver/sparse_cholesky.h"
 #include "fem/assembler.h"
 #include "material/material.h"
 #include "mesh/box_mesh.h"
-#include "solver/sparse_cholesky.h"
 
 #include <gtest/gtest.h>
 
