@@ -501,6 +501,31 @@ PathSolver::CgOutcome PathSolver::preconditioned_cg() {
   return outcome;
 }
 
+PathSolver::StartFactor* PathSolver::kept_start_factor(const Eigen::Vector3d& t) {
+  for (StartFactor& slot : start_factors_)
+    if (slot.valid && t == slot.t && u_.size() == slot.u.size() &&
+        (u_.array() == slot.u.array()).all() && boundary_->save() == slot.boundary)
+      return &slot;
+  return nullptr;
+}
+
+PathSolver::StartFactor& PathSolver::start_factor_to_fill(const Eigen::Vector3d& t) {
+  StartFactor* slot = &start_factors_[0];
+  for (StartFactor& s : start_factors_)
+    if (!s.valid || (slot->valid && s.last_use < slot->last_use)) slot = &s;
+  if (!slot->cholesky) {
+    slot->cholesky = std::make_unique<SparseCholesky>(assembler_->pattern());
+    timings_.analyze += slot->cholesky->analyze_seconds();
+  }
+  slot->valid = false;
+  slot->u = u_;
+  slot->t = t;
+  slot->f = f_;
+  slot->k = k_values_;
+  slot->boundary = boundary_->save();
+  return *slot;
+}
+
 // The predictor at (u_, t_from) for the probe step dt (DOF vector): f_, K dt with the
 // unconstrained tangent, and factor_ its factorisation. A move's first sub-step under inexact
 // Newton keeps the factor (with f and K) in one of start_factors_: the next move from the same
@@ -513,14 +538,11 @@ bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::Ve
                                   bool move_start, Eigen::VectorXd* k_dt, MoveResult* result) {
   const bool keep = inexact_newton() && move_start;
   if (keep) {
-    for (StartFactor& slot : start_factors_) {
-      if (!slot.valid || t_from != slot.t || u_.size() != slot.u.size() ||
-          !(u_.array() == slot.u.array()).all() || !(boundary_->save() == slot.boundary))
-        continue;
-      f_ = slot.f;
-      symmetric_multiply(assembler_->pattern(), slot.k, dt, k_dt);
-      factor_ = slot.cholesky.get();
-      slot.last_use = ++start_factor_uses_;
+    if (StartFactor* slot = kept_start_factor(t_from)) {
+      f_ = slot->f;
+      symmetric_multiply(assembler_->pattern(), slot->k, dt, k_dt);
+      factor_ = slot->cholesky.get();
+      slot->last_use = ++start_factor_uses_;
       return true;
     }
   }
@@ -531,22 +553,7 @@ bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::Ve
     result->reason = "start state has an inverted element";
     return false;
   }
-  StartFactor* slot = nullptr;
-  if (keep) {
-    slot = &start_factors_[0];
-    for (StartFactor& s : start_factors_)
-      if (!s.valid || (slot->valid && s.last_use < slot->last_use)) slot = &s;
-    if (!slot->cholesky) {
-      slot->cholesky = std::make_unique<SparseCholesky>(assembler_->pattern());
-      timings_.analyze += slot->cholesky->analyze_seconds();
-    }
-    slot->valid = false;
-    slot->u = u_;
-    slot->t = t_from;
-    slot->f = f_;
-    slot->k = k_values_;
-    slot->boundary = boundary_->save();
-  }
+  StartFactor* slot = keep ? &start_factor_to_fill(t_from) : nullptr;
   symmetric_multiply(assembler_->pattern(), k_values_, dt, k_dt);
   const long long before = timings_.factorizations;
   const bool ok = factorize_with_fallback(u_, keep ? slot->cholesky.get() : cholesky_.get());
@@ -746,7 +753,7 @@ MoveResult PathSolver::move_once(const Eigen::Vector3d& t_target) {
 // their component), so K_uc = sum of K's columns of component c and K_cc the sums of K_PP. The
 // frictionless sphere couples through its energy (its active gaps held as the constraints they
 // converge to).
-Eigen::Matrix3d PathSolver::haptic_stiffness(Eigen::MatrixX3d* du_dp) {
+Eigen::Matrix3d PathSolver::haptic_stiffness(Eigen::MatrixX3d* du_dp, bool keep_factor) {
   if (du_dp) du_dp->setZero(num_dofs(), 3);
   t_solve_ = t_;
   k_elastic_valid_ = false;  // k_values_ below is assembled here
@@ -770,11 +777,22 @@ Eigen::Matrix3d PathSolver::haptic_stiffness(Eigen::MatrixX3d* du_dp) {
     if (now_.role[d] != DofRole::kFree) k_uc.row(d).setZero();
   Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
   if (k_cc.isZero(0.0)) return stiffness;  // nothing holds or presses the body
-  if (!factorize_with_fallback(u_, cholesky_.get()))
+  // keep_factor: the factor is the one the next move's predictor would make here (a probe
+  // without an energy of its own adds nothing to this tangent or force), so it is kept as
+  // that move's start factor (predictor_factor), the same to the bit.
+  StartFactor* slot = keep_factor && inexact_newton() && !boundary_->force_from_energy()
+                          ? &start_factor_to_fill(t_)
+                          : nullptr;
+  SparseCholesky& factor = slot ? *slot->cholesky : *cholesky_;
+  if (!factorize_with_fallback(u_, &factor))
     return stiffness * std::numeric_limits<double>::quiet_NaN();
+  if (slot) {
+    slot->valid = true;
+    slot->last_use = ++start_factor_uses_;
+  }
   for (int c = 0; c < 3; ++c) {
     Eigen::VectorXd z;
-    back_substitute(*cholesky_, k_uc.col(c), &z);
+    back_substitute(factor, k_uc.col(c), &z);
     if (du_dp)
       for (int d = 0; d < num_dofs(); ++d)
         (*du_dp)(d, c) = now_.role[d] == DofRole::kFree ? -z[d]

@@ -110,7 +110,9 @@ class PathSolver {
   // du_dp, if given, receives the displacement's derivative with respect to the probe
   // position at equilibrium: column c = d u / d p_c, one row per DOF, dimensionless (the
   // back-substitutions of the Schur complement give it at no extra factorisation).
-  Eigen::Matrix3d haptic_stiffness(Eigen::MatrixX3d* du_dp = nullptr);
+  // keep_factor: a move from this state follows (a midpoint's second half): its factorisation
+  // is kept for that move's predictor, which then needs none of its own.
+  Eigen::Matrix3d haptic_stiffness(Eigen::MatrixX3d* du_dp = nullptr, bool keep_factor = false);
 
   const SolverTimings& timings() const { return timings_; }
   const SparseCholesky& linear_solver() const { return *cholesky_; }
@@ -182,6 +184,12 @@ class PathSolver {
     long long last_use = 0;
   };
   std::array<StartFactor, 2> start_factors_;
+  // The kept factor of the state (u_, t, the boundary's), if any.
+  StartFactor* kept_start_factor(const Eigen::Vector3d& t);
+  // The slot to keep the factor of (u_, t) in (the least recently used), holding that state,
+  // f_ and the unconstrained tangent in k_values_; valid once the caller's factorisation
+  // succeeded.
+  StartFactor& start_factor_to_fill(const Eigen::Vector3d& t);
   long long start_factor_uses_ = 0;
   // Grab probe (ProbeBoundary::keeps_newton_force): the force at u_ after a successful move
   // (the converged Newton's), so that

@@ -278,8 +278,8 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
   probe_.set_state(solver, source_vectors(worker, task.source), task.from);
   if (records_midpoint(task.direction)) {
     // Half-way first: the force and the haptic stiffness there are the interpolant's values
-    // between check-points. The second half starts from it (the stiffness's factorisation does
-    // not change it: each sub-step's predictor assembles and factorises anew); a half that
+    // between check-points. The second half starts from it (the stiffness's factorisation is
+    // the one its predictor would make, kept for it); a half that
     // fails is not recorded, and the move is then solved whole from the source as any other.
     MoveResult half = probe_.move_to(solver, 0.5 * (task.from + task.to));
     if (half.ok) {
@@ -291,7 +291,7 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
         out.midpoint_u[d] = static_cast<float>(u_m[d] / problem_.unit);
       const long long before = solver.timings().factorizations;
       Eigen::MatrixX3d du_dp;
-      const Eigen::Matrix3d k = solver.haptic_stiffness(&du_dp);
+      const Eigen::Matrix3d k = solver.haptic_stiffness(&du_dp, /*keep_factor=*/true);
       half.factorisations += static_cast<int>(solver.timings().factorizations - before);
       if (k.allFinite()) {
         std::array<double, 9> row_major{};
