@@ -137,6 +137,12 @@ class SlidingBoundary final : public ProbeBoundary {
                  const std::vector<double>& multipliers) override {
     if (!contact_.set_sparse_multipliers(multipliers))
       throw InputError("contact multipliers: expected pairs (surface triangle index, value >= 0)");
+    // A stored state starts with the base penalty, as every sub-step does: the active set of
+    // the haptic stiffness computed from it (SlidingContact::active uses the penalty) must not
+    // depend on what this solver solved before. It did: the expansion's stiffnesses of the
+    // plate's configurations differed between --threads 1, 2 and 3 (configurations 61, 62,
+    // 79-82, ...), the transitions and forces not.
+    contact_.set_penalty_scale(1.0);
   }
   BoundaryState save() const override {
     BoundaryState s;
