@@ -12,6 +12,7 @@
 
 #include <cstdio>
 #include <map>
+#include <string>
 
 int main(int argc, char** argv) {
   using namespace hapstate;
@@ -88,14 +89,15 @@ int main(int argc, char** argv) {
     o.progress = quiet ? nullptr : stderr;
     if (!quiet) {
       // What it detected and chose (docs/distributed.md, "Layout").
-      const int ranks = ranks_on_this_host();
-      std::fprintf(
-          stderr, "hapstate-expand: %d usable cores here%s; %s%d solver thread%s%s\n",
-          usable_cores(),
-          ranks > 1 ? (", " + std::to_string(ranks) + " ranks of this job on this host").c_str()
-                    : "",
-          mpi.distributed() ? (std::to_string(mpi.size() - 1) + " worker ranks x ").c_str() : "",
-          o.threads, o.threads == 1 ? "" : "s", mpi.distributed() ? " each" : "");
+      std::string line =
+          "hapstate-expand: " + std::to_string(usable_cores()) + " usable cores here";
+      if (const int ranks = ranks_on_this_host(); ranks > 1)
+        line += ", " + std::to_string(ranks) + " ranks of this job on this host";
+      line += "; ";
+      if (mpi.distributed()) line += std::to_string(mpi.size() - 1) + " worker ranks x ";
+      line += std::to_string(o.threads) + (o.threads == 1 ? " solver thread" : " solver threads");
+      if (mpi.distributed()) line += " each";
+      std::fprintf(stderr, "%s\n", line.c_str());
     }
     install_stop_request_handler(
         "\nhapstate-expand: stopping after the current batch (Ctrl-C again stops at once; "

@@ -240,8 +240,7 @@ class MpiEngine final : public TransitionEngine {
     // much of the window is left, down to one task per thread near its end.
     const std::size_t per_thread = static_cast<std::size_t>(threads_);
     const std::size_t most =
-        std::clamp<std::size_t>((horizon_ - std::min(horizon_, next_)) / (2 * workers_.size()),
-                                per_thread, Direction::kCount * per_thread);
+        guided_run(horizon_ - std::min(horizon_, next_), workers_.size(), per_thread);
     while (next_ < horizon_ && chunk.jobs.size() < most) {
       const TransitionTask& t = (*wave_)[next_];
       if (chunk.jobs.size() >= per_thread && !chunk.tasks.empty() &&

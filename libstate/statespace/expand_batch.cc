@@ -127,10 +127,8 @@ void TransitionSolver::worker_loop(int worker) {
           run.list = p.list;
           run.begin = p.next;
           run.end = run.begin + 1;
-          // Guided: whole sources while much is left, shorter runs near the end of the wave.
-          const std::size_t most = std::clamp<std::size_t>(
-              (p.horizon - p.next) / (2 * static_cast<std::size_t>(threads_)), 1,
-              Direction::kCount);
+          const std::size_t most =
+              guided_run(p.horizon - p.next, static_cast<std::size_t>(threads_), 1);
           while (run.end < p.horizon && run.end - run.begin < most &&
                  p.tasks[run.end].source.id == p.tasks[run.begin].source.id)
             ++run.end;
@@ -230,6 +228,12 @@ const ConfigVectors& TransitionSolver::source_vectors(int worker, const Configur
     loaded = LoadedSource{source, sources_loader_(source)};
   }
   return loaded->vectors;
+}
+
+std::size_t guided_run(std::size_t left, std::size_t consumers, std::size_t least) {
+  least = std::max<std::size_t>(1, least);
+  return std::clamp<std::size_t>(left / (2 * std::max<std::size_t>(1, consumers)), least,
+                                 Direction::kCount * least);
 }
 
 bool records_midpoint(Direction direction) {

@@ -107,6 +107,12 @@ class TransitionEngine {
   virtual void finish() {}
 };
 
+// How many consecutive tasks of one source a consumer (a thread, or an MPI worker with `least`
+// threads) takes at once when `left` tasks of the window remain for `consumers` of them:
+// whole sources (26 directions, times least) while much is left, down to `least` near the end
+// of a wave (guided). Used by the thread pool and the MPI coordinator alike.
+std::size_t guided_run(std::size_t left, std::size_t consumers, std::size_t least);
+
 // Where a worker gets a source configuration's vectors from.
 using SourceLoader = std::function<ConfigVectors(const Configuration&)>;
 // From the state directory's blobs (load_config_vectors); keeps a reference to blobs.
