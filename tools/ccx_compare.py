@@ -87,9 +87,10 @@ def ccx_results(ccx_dir, meta):
     unit, n, points = meta["unit"], meta["num_nodes"], meta["num_points"]
     probe_dofs = {(node, c) for node, c in meta["probe_dofs"]}
     u_at, rf_at = {}, {}
+    shift = meta.get("first_point_time", 1) - 1  # a rest step (gravity) comes first
     for b in read_dat(os.path.join(ccx_dir, JOB + ".dat")):
-        k = round(b["time"])
-        if abs(b["time"] - k) > 1e-6 or not 1 <= k <= points:
+        k = round(b["time"]) - shift
+        if abs(b["time"] - shift - k) > 1e-6 or not 1 <= k <= points:
             continue
         if b["quantity"] == "displacements" and b["set"] == "NALL":
             u_at[k] = b
@@ -108,7 +109,10 @@ def ccx_results(ccx_dir, meta):
             for c in range(3):
                 if (node_id - 1, c) in probe_dofs:
                     on_probe[c] += f[c]
-        out.append({"u": u, "felt": [0.0 - f for f in on_probe]})
+        # ccx's RF is the internal force alone: the felt force adds the grabbed nodes' own
+        # weight (zero at the rest state; absent without gravity).
+        weight = meta.get("probe_body_force", [0.0, 0.0, 0.0])
+        out.append({"u": u, "felt": [w - f for f, w in zip(on_probe, weight)]})
     return out
 
 

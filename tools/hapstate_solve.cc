@@ -45,6 +45,7 @@ struct Options {
   std::string ccx_dir;
   bool quiet = false;
   bool timings = false;
+  bool rest = false;
   SolverAlgorithm algorithm = SolverAlgorithm::kFast;
   int threads = 0;  // 0: automatic (threads_for)
 };
@@ -73,15 +74,79 @@ ProbePath make_path(const Options& o, const Scene& scene, const Problem& problem
   const double h = smallest_grid_spacing(scene.grid);
   Eigen::Vector3d lo = problem.probe_rest - Eigen::Vector3d::Constant(4 * h);
   Eigen::Vector3d hi = problem.probe_rest + Eigen::Vector3d::Constant(4 * h);
-  if (scene.grid.box) {
-    lo = scene.grid.box->min;
-    hi = scene.grid.box->max;
+  if (scene.grid.box) {  // drawn around the mesh as drawn: it follows the grab point's sag
+    lo = scene.grid.box->min + problem.probe_sag;
+    hi = scene.grid.box->max + problem.probe_sag;
   }
   const double length = o.step_length > 0 ? o.step_length : h;
   return random_path(problem.probe_rest, o.random_steps, length, lo, hi, o.seed);
 }
 
+// --rest: the loaded rest state alone (solved by build_problem), as a node table, a VTU file
+// and/or a CalculiX deck of its gravity step.
+int run_rest(const Options& o) {
+  SceneParseOptions parse;
+  parse.require_probe = false;
+  const Scene scene = load_scene(o.scene, parse);
+  MeshReport report;
+  const Problem problem = build_problem(scene, &report);
+  for (const auto& w : report.warnings)
+    std::fprintf(stderr, "hapstate-solve: mesh: %s\n", w.c_str());
+  const Eigen::Matrix3Xd u =
+      problem.rest_m.size() > 0
+          ? Eigen::Matrix3Xd(Eigen::Map<const Eigen::Matrix3Xd>(problem.rest_m.data(), 3,
+                                                                problem.mesh.num_nodes()) /
+                             problem.unit)
+          : Eigen::Matrix3Xd::Zero(3, problem.mesh.num_nodes());
+  Eigen::Index worst = 0;
+  const double sag = u.cols() > 0 ? u.colwise().norm().maxCoeff(&worst) : 0.0;
+  Eigen::Vector3d weight = Eigen::Vector3d::Zero();
+  for (int n = 0; n < problem.mesh.num_nodes(); ++n)
+    if (problem.loads.has_force()) weight += problem.loads.force.segment<3>(3 * n);
+  if (!problem.loads.has_force()) {
+    std::printf(
+        "hapstate-solve: no body force (no [loads] gravity): the rest state is the mesh "
+        "as drawn\n");
+  } else {
+    const Eigen::Vector3d x = problem.mesh.nodes.col(worst);
+    std::printf(
+        "hapstate-solve: loaded rest state: weight %.6g N (%.6g kg); the largest "
+        "displacement %.6g mesh units, node %lld at (%.6g, %.6g, %.6g) as drawn, moved "
+        "by (%.6g, %.6g, %.6g)\n",
+        weight.norm(), weight.norm() / problem.loads.gravity.norm(), sag,
+        static_cast<long long>(worst), x.x(), x.y(), x.z(), u(0, worst), u(1, worst), u(2, worst));
+    if (!problem.constraints.probe_nodes.empty())
+      std::printf(
+          "hapstate-solve: the grab point moved by (%.6g, %.6g, %.6g) mesh units to "
+          "(%.6g, %.6g, %.6g)\n",
+          problem.probe_sag.x(), problem.probe_sag.y(), problem.probe_sag.z(),
+          problem.probe_rest.x(), problem.probe_rest.y(), problem.probe_rest.z());
+  }
+  if (!o.output.empty()) {
+    std::ofstream out(o.output);
+    if (!out) throw InputError(o.output + ": cannot write output CSV");
+    out << "node,x,y,z,ux,uy,uz\n" << std::setprecision(12);
+    for (int n = 0; n < problem.mesh.num_nodes(); ++n) {
+      const Eigen::Vector3d x = problem.mesh.nodes.col(n);
+      out << n << ',' << x.x() << ',' << x.y() << ',' << x.z() << ',' << u(0, n) << ',' << u(1, n)
+          << ',' << u(2, n) << '\n';
+    }
+    if (!out) throw InputError(o.output + ": write failed");
+  }
+  if (!o.vtu_dir.empty()) {
+    std::filesystem::create_directories(o.vtu_dir);
+    write_vtu(std::filesystem::path(o.vtu_dir) / "rest.vtu", problem.mesh, u);
+  }
+  if (!o.ccx_dir.empty()) {
+    if (problem.contact)
+      throw InputError(o.scene + ": --export-ccx: a contact probe cannot be exported");
+    write_ccx_deck(problem, {}, o.ccx_dir);
+  }
+  return kExitOk;
+}
+
 int run(const Options& o) {
+  if (o.rest) return run_rest(o);
   const Scene scene = load_scene(o.scene);
   MeshReport report;
   const Problem problem = build_problem(scene, &report);
@@ -249,6 +314,11 @@ int main(int argc, char** argv) {
   app.add_option("--export-ccx", o.ccx_dir,
                  "write the same problem as a CalculiX deck (DIR/problem.inp, see "
                  "tools/ccx_compare.py; default: not written)");
+  app.add_flag("--rest", o.rest,
+               "solve the loaded rest state alone (gravity and supports, the probe holding "
+               "nothing; the scene may omit [probe] and [grid]): prints the weight and the "
+               "largest sag; -o writes node,x,y,z,ux,uy,uz (mesh units), --vtu DIR/rest.vtu, "
+               "--export-ccx a deck of its gravity step");
   app.add_flag("-q,--quiet", o.quiet, "no progress line");
   app.add_option("--algorithm", o.algorithm,
                  "fast (default): one sub-step per move where it converges, inexact Newton "
@@ -275,6 +345,11 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? kExitOk : kExitBadInput;  // --help is not an error
   }
   return guarded_main("hapstate-solve", [&] {
+    if (o.rest) {
+      if (!o.path_csv.empty() || !o.straight.empty() || !o.by.empty() || o.random_steps > 0)
+        throw InputError("--rest takes no probe path");
+      return run(o);
+    }
     if (o.path_csv.empty() && o.straight.empty() && o.by.empty() && o.random_steps == 0)
       throw InputError(
           "give a probe path: --path FILE, --straight X Y Z, --by DX DY DZ or --random N");

@@ -135,6 +135,9 @@ std::string step_cards(const CcxDeckOptions& o, bool nlgeom) {
 void write_meta(const Problem& p, int num_points, const std::filesystem::path& file) {
   std::ofstream out(file);
   out << "{\n  \"format\": 1,\n  \"law\": \"" << law_name(p.material.law) << "\",\n"
+      << "  \"first_point_time\": " << ccx_first_point_time(p) << ",\n"
+      << "  \"probe_body_force\": [" << num(probe_body_force(p).x()) << ", "
+      << num(probe_body_force(p).y()) << ", " << num(probe_body_force(p).z()) << "],\n"
       << "  \"unit\": " << num(p.unit) << ",\n  \"num_nodes\": " << p.mesh.num_nodes() << ",\n"
       << "  \"num_points\": " << num_points << ",\n  \"probe_rest\": [" << num(p.probe_rest.x())
       << ", " << num(p.probe_rest.y()) << ", " << num(p.probe_rest.z()) << "],\n"
@@ -189,7 +192,8 @@ std::string ccx_material_cards(const MaterialConstants& c) {
 
 void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_path,
                     const std::filesystem::path& dir, const CcxDeckOptions& options) {
-  if (probe_path.empty()) throw InputError(deck_error(dir, "the probe path is empty"));
+  if (probe_path.empty() && !p.loads.has_force())
+    throw InputError(deck_error(dir, "the probe path is empty"));
   if (options.increments_per_step < 1 || options.max_iterations < 2 ||
       !(options.residual_tolerance > 0) || !(options.correction_tolerance > 0)) {
     throw InputError(deck_error(dir, "bad deck options"));
@@ -235,7 +239,31 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
   probe_nodes.erase(std::unique(probe_nodes.begin(), probe_nodes.end()), probe_nodes.end());
   if (!probe_nodes.empty()) write_node_set(out, "PROBE", probe_nodes);
 
-  out << "*MATERIAL, NAME=TISSUE\n" << material << "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n";
+  const bool gravity = p.loads.has_force();
+  if (gravity && !(p.loads.density > 0 && p.loads.gravity.norm() > 0))
+    throw InputError(deck_error(dir, "the body force has no density and gravity to export"));
+  if (gravity && p.rest_m.size() != 3 * m.num_nodes())
+    throw InputError(deck_error(dir, "gravity without the loaded rest state (Problem::rest_m)"));
+  out << "*MATERIAL, NAME=TISSUE\n" << material;
+  if (gravity) out << "*DENSITY\n" << num(p.loads.density) << "\n";
+  out << "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE\n";
+  if (p.loads.has_springs()) {
+    // A support: one grounded linear spring (SPRING1) per supported DOF, N/m.
+    out << "** supports ([[support]]): SPRING1 elements, one per supported DOF\n";
+    int id = m.num_tets();
+    for (int d = 0; d < 3 * m.num_nodes(); ++d) {
+      const double k = p.loads.spring[d];
+      if (!(k > 0) || p.constraints.role[d] == DofRole::kFixed) continue;
+      ++id;
+      // ccx reads a stiffness written as an integer ("10") as no data: always a decimal point.
+      std::string stiffness = num(k);
+      if (stiffness.find_first_of(".eE") == std::string::npos) stiffness += ".";
+      out << "*ELEMENT, TYPE=SPRING1, ELSET=S" << id << "\n"
+          << id << ", " << d / 3 + 1 << "\n*SPRING, ELSET=S" << id << "\n"
+          << d % 3 + 1 << "\n"
+          << stiffness << "\n";
+    }
+  }
   bool any_fixed = false;
   for (int c = 0; c < 3; ++c) any_fixed = any_fixed || !sets.fixed[c].empty();
   if (any_fixed) {
@@ -247,29 +275,46 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
   }
 
   const std::string step = step_cards(options, nlgeom);
+  const std::string prints =
+      "*NODE PRINT, NSET=NALL, FREQUENCY=" + std::to_string(kPrintOnlyStepEnd) + "\nU\n" +
+      (probe_nodes.empty() ? "" : "*NODE PRINT, NSET=PROBE, TOTALS=YES\nRF\n") +
+      (options.write_frd ? "*NODE FILE\nU, RF\n" : "");
+  if (gravity) {
+    const double g = p.loads.gravity.norm();
+    const Eigen::Vector3d dir_g = p.loads.gravity / g;
+    out << "**\n** the loaded rest state: gravity, the probe nodes free; step time ends at 1\n"
+        << step << "*DLOAD\nEALL, GRAV, " << num(g) << ", " << num(dir_g.x()) << ", "
+        << num(dir_g.y()) << ", " << num(dir_g.z()) << "\n"
+        << prints << "*END STEP\n";
+  }
+  const int first_time = ccx_first_point_time(p);
   for (std::size_t k = 0; k < probe_path.size(); ++k) {
     const Eigen::Vector3d& pk = probe_path[k];
     const Eigen::Vector3d t = (pk - p.probe_rest) * p.unit;
     out << "**\n** path point " << k + 1 << ": probe at (" << num(pk.x()) << ", " << num(pk.y())
         << ", " << num(pk.z()) << ") mesh units, t = (" << num(t.x()) << ", " << num(t.y()) << ", "
-        << num(t.z()) << ") m; step time ends at " << k + 1 << "\n"
+        << num(t.z()) << ") m" << (gravity ? " from the rest state" : "") << "; step time ends at "
+        << static_cast<int>(k) + first_time << "\n"
         << step;
     bool any_probe = false;
     for (int c = 0; c < 3; ++c) any_probe = any_probe || !sets.probe[c].empty();
-    if (any_probe) {
+    if (any_probe && !gravity) {
       out << "*BOUNDARY\n";
       for (int c = 0; c < 3; ++c) {
         if (sets.probe[c].empty()) continue;
         out << set_name("PROBE", c) << ", " << c + 1 << ", " << c + 1 << ", " << num(t[c]) << "\n";
       }
+    } else if (any_probe) {  // per node: its rest displacement + t
+      out << "*BOUNDARY\n";
+      for (int c = 0; c < 3; ++c)
+        for (int node : sets.probe[c])
+          out << node + 1 << ", " << c + 1 << ", " << c + 1 << ", "
+              << num(p.rest_m[3 * node + c] + t[c]) << "\n";
     }
-    out << "*NODE PRINT, NSET=NALL, FREQUENCY=" << kPrintOnlyStepEnd << "\nU\n";
-    if (!probe_nodes.empty()) out << "*NODE PRINT, NSET=PROBE, TOTALS=YES\nRF\n";
-    if (options.write_frd) out << "*NODE FILE\nU, RF\n";
-    out << "*END STEP\n";
+    out << prints << "*END STEP\n";
   }
   if (!out) throw InputError(deck_error(dir, "cannot write the deck files"));
-  write_probe_path(probe_path, dir / kCcxPathFile);
+  write_probe_path(probe_path, dir / kCcxPathFile);  // header only for the rest step alone
   write_meta(p, static_cast<int>(probe_path.size()), dir / kCcxMetaFile);
 }
 

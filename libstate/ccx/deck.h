@@ -31,11 +31,35 @@ inline constexpr const char* kCcxMetaFile = "hapstate.json";  // what the .dat r
 
 // Writes DIR/problem.inp, DIR/path.csv and DIR/hapstate.json (creating DIR if needed).
 // One ccx *STEP per point p_k of `probe_path` (mesh units): the probe DOFs are prescribed to
-// t_k = (p_k - problem.probe_rest) * unit metres, the fixed DOFs to 0. Node ids are ours + 1,
-// coordinates in metres, so ccx forces are in N. Throws InputError for an empty path, an
+// t_k = (p_k - problem.probe_rest) * unit metres, the fixed DOFs to 0. With gravity
+// (problem.loads) a first step finds the loaded rest state with the probe nodes free
+// (*DENSITY, *DLOAD GRAV, kept by the later steps), and the probe DOFs are then prescribed to
+// their rest displacement (problem.rest_m) + t_k: path point k ends at time k + 1
+// (ccx_first_point_time; an empty path is allowed then: the rest step alone). Supports
+// (loads.spring) are SPRING1 elements, one per DOF. Node ids are ours + 1, coordinates in
+// metres, so ccx forces are in N. Throws InputError for an empty path (without gravity), an
 // inconsistent problem (DOF roles vs mesh) or material constants ccx cannot represent.
 void write_ccx_deck(const Problem& problem, const std::vector<Eigen::Vector3d>& probe_path,
                     const std::filesystem::path& dir, const CcxDeckOptions& options = {});
+
+// The step time at whose end the deck's first path point is printed: 2 after a rest step
+// (gravity), else 1; point k at time k - 1 + ccx_first_point_time.
+inline int ccx_first_point_time(const Problem& problem) {
+  return problem.loads.has_force() ? 2 : 1;
+}
+
+// The body force on the probe's DOFs summed per component [N] (zero without gravity). ccx's RF
+// at a prescribed node is its internal force alone, while hapstate's felt force also counts the
+// node's own weight (it is zero at the rest state): felt = -(sum of RF) + this.
+inline Eigen::Vector3d probe_body_force(const Problem& problem) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  if (!problem.loads.has_force()) return sum;
+  for (int node : problem.constraints.probe_nodes)
+    for (int c = 0; c < 3; ++c)
+      if (problem.constraints.role[3 * node + c] == DofRole::kProbe)
+        sum[c] += problem.loads.force[3 * node + c];
+  return sum;
+}
 
 // The *MATERIAL body of the deck for `c` (the law's keyword card and its data line).
 // Throws InputError for constants outside the law's domain (mu <= 0, nu outside (-1, 0.5),

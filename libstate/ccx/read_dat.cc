@@ -1,5 +1,7 @@
 #include "ccx/read_dat.h"
 
+#include "ccx/deck.h"
+
 #include "util/error.h"
 #include "util/text.h"
 
@@ -107,6 +109,26 @@ std::vector<CcxDatBlock> read_ccx_dat(const std::filesystem::path& dat) {
   return blocks;
 }
 
+Eigen::Matrix3Xd ccx_rest_displacement(const Problem& problem,
+                                       const std::vector<CcxDatBlock>& blocks) {
+  const int n = problem.mesh.num_nodes();
+  const CcxDatBlock* last = nullptr;
+  for (const CcxDatBlock& b : blocks)
+    if (b.quantity == "displacements" && b.set == "NALL" && std::abs(b.time - 1.0) <= 1e-6)
+      last = &b;
+  if (last == nullptr || static_cast<int>(last->ids.size()) != n)
+    throw InputError(
+        "CalculiX results: no displacements of every node at the end of the rest "
+        "step (time 1; ccx stopped early?)");
+  Eigen::Matrix3Xd u = Eigen::Matrix3Xd::Zero(3, n);
+  for (std::size_t i = 0; i < last->ids.size(); ++i) {
+    if (last->ids[i] < 1 || last->ids[i] > n)
+      throw InputError("CalculiX results: node id out of range");
+    u.col(last->ids[i] - 1) = last->values.col(static_cast<Eigen::Index>(i)) / problem.unit;
+  }
+  return u;
+}
+
 std::vector<CcxPathPoint> ccx_path_results(const Problem& problem,
                                            const std::vector<CcxDatBlock>& blocks, int num_points) {
   const int n = problem.mesh.num_nodes();
@@ -114,11 +136,12 @@ std::vector<CcxPathPoint> ccx_path_results(const Problem& problem,
   if (static_cast<int>(role.size()) != 3 * n) {
     throw InputError("CalculiX results: constraints do not match the mesh");
   }
-  // The last table of each kind printed at time k (the end of step k).
+  // The last table of each kind printed at time k (the end of path point k's step).
   std::map<int, const CcxDatBlock*> u_at, rf_at;
+  const int shift = ccx_first_point_time(problem) - 1;  // a rest step first (gravity)
   for (const CcxDatBlock& b : blocks) {
-    const double k = std::round(b.time);
-    if (std::abs(b.time - k) > 1e-6 || k < 1 || k > num_points) continue;
+    const double k = std::round(b.time) - shift;
+    if (std::abs(b.time - shift - k) > 1e-6 || k < 1 || k > num_points) continue;
     if (b.quantity == "displacements" && b.set == "NALL") u_at[static_cast<int>(k)] = &b;
     if (b.quantity == "forces" && b.set == "PROBE") rf_at[static_cast<int>(k)] = &b;
   }
@@ -155,7 +178,9 @@ std::vector<CcxPathPoint> ccx_path_results(const Problem& problem,
         }
       }
     }
-    pt.force_felt = -pt.force_on_probe_nodes;
+    // ccx's RF is the internal force alone; the felt force is zero at the rest state
+    // (probe_body_force: the grabbed nodes' own weight, zero without gravity).
+    pt.force_felt = -pt.force_on_probe_nodes + probe_body_force(problem);
   }
   return out;
 }

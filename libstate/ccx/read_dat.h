@@ -32,9 +32,15 @@ struct CcxPathPoint {
   Eigen::Vector3d force_on_probe_nodes;  // N, sum of ccx RF over the probe DOFs (support -> body)
 };
 
+// The loaded rest state of a deck with gravity (its first step, ending at time 1), mesh units,
+// one column per node. Throws InputError if it is missing.
+Eigen::Matrix3Xd ccx_rest_displacement(const Problem& problem,
+                                       const std::vector<CcxDatBlock>& blocks);
+
 // Results of a deck written by write_ccx_deck(problem, path with `num_points` points): the
-// end of step k (time k) gives point k-1. Throws InputError if a point is missing (ccx failed
-// before the end) or the tables do not match the problem.
+// end of path point k's step (time k, or k + 1 after a rest step) gives point k-1. Throws
+// InputError if a point is missing (ccx failed before the end) or the tables do not match the
+// problem.
 std::vector<CcxPathPoint> ccx_path_results(const Problem& problem,
                                            const std::vector<CcxDatBlock>& blocks, int num_points);
 

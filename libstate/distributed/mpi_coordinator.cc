@@ -50,8 +50,7 @@ class MpiEngine final : public TransitionEngine {
   MpiEngine(const StageContext& ctx, const ProbeModel& probe, const BlobStore& blobs,
             const MpiSession& session, int threads, SolverAlgorithm algorithm)
       : threads_(threads),
-        load_source_(blob_source_loader(blobs, 3 * static_cast<int>(ctx.problem.mesh.num_nodes()),
-                                        probe.layout())),
+        load_source_(blob_source_loader(blobs, rest_displacements(ctx.problem), probe.layout())),
         start_(Clock::now()) {
     for (int r = 1; r < session.size(); ++r)
       workers_.push_back(Worker{r, 0, 0, 0, 0.0, SolverTimings{}, 0});

@@ -60,8 +60,8 @@ void put(Writer& w, const Setup& s) {
   w.string(s.scene_label);
   w.pod(s.problem_hash);
   const ProblemVectors& p = s.problem;
-  for (const auto* v :
-       {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes, &p.probe_components, &p.rest})
+  for (const auto* v : {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes, &p.probe_components,
+                        &p.rest, &p.force, &p.spring, &p.rest_u, &p.sag})
     w.values(*v);
 }
 
@@ -73,8 +73,8 @@ Setup get_setup(Reader& r) {
   s.scene_label = r.string();
   s.problem_hash = r.pod<std::uint64_t>();
   ProblemVectors& p = s.problem;
-  for (auto* v :
-       {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes, &p.probe_components, &p.rest})
+  for (auto* v : {&p.nodes, &p.tets, &p.surface, &p.role, &p.probe_nodes, &p.probe_components,
+                  &p.rest, &p.force, &p.spring, &p.rest_u, &p.sag})
     *v = r.values<double>();
   return s;
 }

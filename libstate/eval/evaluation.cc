@@ -116,6 +116,10 @@ EvalResult run_eval(const EvalOptions& options) {
       cursor->reset({path.front().x(), path.front().y(), path.front().z()});
   }
   std::vector<float> u(3 * view_nodes.size());
+  // With gravity both displacements include the sag; the errors are measured on what the probe
+  // adds to it (u - u_rest), not flattered by the sag in the denominator.
+  const bool sagged = ctx.problem.loads.has_force();
+  const std::vector<double> rest_u = rest_displacements(ctx.problem);
   // Per scheme, per step.
   std::vector<std::vector<SquaredNorms>> norms_all(cursors.size()), norms_surface(cursors.size());
 
@@ -138,7 +142,8 @@ EvalResult run_eval(const EvalOptions& options) {
     const bool free = probe->clear_of_body(p);
     travel_in_contact = free ? 0 : travel_in_contact + (k > 0 ? (p - path[k - 1]).norm() : 0);
     step.contact_onset = !free && travel_in_contact < result.spacing.minCoeff();
-    const Eigen::Matrix3Xd exact_u = solver.displacements();
+    Eigen::Matrix3Xd exact_u = solver.displacements();
+    if (sagged) exact_u -= Eigen::Map<const Eigen::Matrix3Xd>(rest_u.data(), 3, exact_u.cols());
     for (std::size_t s = 0; s < cursors.size(); ++s) {
       SchemeResult r;
       const Force f = cursors[s]->force({p.x(), p.y(), p.z()});
@@ -146,6 +151,10 @@ EvalResult run_eval(const EvalOptions& options) {
       Snapshot snap;
       cursors[s]->snapshot(&snap);
       displacements(file, snap, u);
+      if (sagged)
+        for (std::size_t v = 0; v < view_nodes.size(); ++v)
+          for (int c = 0; c < 3; ++c)
+            u[3 * v + c] -= static_cast<float>(rest_u[3 * std::size_t(view_nodes[v]) + c]);
       norms_all[s].push_back(squared_norms(u, exact_u, view_nodes, all));
       norms_surface[s].push_back(squared_norms(u, exact_u, view_nodes, surface));
       step.schemes.push_back(r);

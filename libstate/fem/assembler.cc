@@ -118,6 +118,25 @@ void Assembler::gather(const Eigen::VectorXd& u, int e, Vec12* u_e) const {
   for (int a = 0; a < 4; ++a) u_e->segment<3>(3 * a) = u.segment<3>(3 * tets_(a, e));
 }
 
+double Assembler::add_loads(const Eigen::VectorXd& u, Eigen::VectorXd* f,
+                            std::vector<double>* k_values) const {
+  double energy = 0;
+  if (loads_->has_force()) {
+    energy -= load_scale_ * loads_->force.dot(u);
+    if (f) *f -= load_scale_ * loads_->force;
+  }
+  if (loads_->has_springs()) {
+    for (int d = 0; d < pattern_.n; ++d) {
+      const double k = loads_->spring[d];
+      if (k == 0.0) continue;
+      energy += 0.5 * k * u[d] * u[d];
+      if (f) (*f)[d] += k * u[d];
+      if (k_values) (*k_values)[pattern_.diag[d]] += k;
+    }
+  }
+  return energy;
+}
+
 double Assembler::energy(const Eigen::VectorXd& u) const {
   double total = 0;
   Vec12 u_e;
@@ -125,6 +144,7 @@ double Assembler::energy(const Eigen::VectorXd& u) const {
     gather(u, e, &u_e);
     total += tet_energy(geometry_[e], *material_, u_e, nullptr, nullptr);
   }
+  if (loads_ && std::isfinite(total)) total += add_loads(u, nullptr, nullptr);
   return total;
 }
 
@@ -139,6 +159,7 @@ double Assembler::energy_and_force(const Eigen::VectorXd& u, Eigen::VectorXd* f)
     total += w;
     for (int a = 0; a < 4; ++a) f->segment<3>(3 * tets_(a, e)) += f_e.segment<3>(3 * a);
   }
+  if (loads_) total += add_loads(u, f, nullptr);
   return total;
 }
 
@@ -160,6 +181,7 @@ double Assembler::energy_force_tangent(const Eigen::VectorXd& u, Eigen::VectorXd
     upper_triangle(k_e, &upper);
     scatter(e, f_e, upper, f, k_values);
   }
+  if (loads_) total += add_loads(u, f, k_values);
   return total;
 }
 
@@ -191,6 +213,7 @@ double Assembler::energy_force_tangent_parallel(const Eigen::VectorXd& u, Eigen:
     total += element_w_[e];
     scatter(e, element_f_[e], element_k_[e], f, k_values);
   }
+  if (loads_) total += add_loads(u, f, k_values);
   return total;
 }
 

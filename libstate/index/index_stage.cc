@@ -300,6 +300,9 @@ IndexReport run_index(const IndexOptions& options) {
     const int num_nodes = ctx.problem.mesh.num_nodes();
     const std::vector<std::int32_t> view_nodes = g.content.view_nodes;
     const std::vector<Configuration>& configs = g.configs;
+    // The zero configurations' u: the loaded rest state (empty without a body force: zeros).
+    const std::vector<double> rest_u =
+        ctx.problem.loads.has_force() ? rest_displacements(ctx.problem) : std::vector<double>{};
     Progress progress("hapstate-index: displacements", static_cast<long long>(configs.size()),
                       options.progress);
     g.content.displacements = [&](std::int32_t k, std::span<float> out) {
@@ -312,6 +315,10 @@ IndexReport run_index(const IndexOptions& options) {
                            " displacement values, the mesh needs " + std::to_string(3 * num_nodes));
         for (std::size_t v = 0; v < view_nodes.size(); ++v)
           for (int r = 0; r < 3; ++r) out[3 * v + r] = u[3 * std::size_t(view_nodes[v]) + r];
+      } else if (!rest_u.empty()) {  // a zero configuration: the loaded rest state
+        for (std::size_t v = 0; v < view_nodes.size(); ++v)
+          for (int r = 0; r < 3; ++r)
+            out[3 * v + r] = static_cast<float>(rest_u[3 * std::size_t(view_nodes[v]) + r]);
       }
       progress.update(k + 1);
     };

@@ -6,6 +6,7 @@
 #include "maintenance/level_merge.h"
 #include "scene/scene.h"
 #include "statespace/stage_record.h"
+#include "statespace/stored_problem.h"
 #include "util/error.h"
 
 #include <algorithm>
@@ -137,7 +138,8 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
 
     // 2. Duplicate levels.
     MergeSearchStats stats;
-    const std::vector<LevelMerge> merges = find_level_merges(catalogue, blobs, tolerances, &stats);
+    const std::vector<LevelMerge> merges = find_level_merges(
+        catalogue, blobs, tolerances, stored_rest_displacements(dir, scene.mesh.unit), &stats);
     report.compared_pairs = stats.compared;
     report.bound_rejections = stats.bound_rejections;
     std::set<ConfigId> merged_ids;

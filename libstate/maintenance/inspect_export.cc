@@ -4,6 +4,7 @@
 #include "maintenance/inspect_common.hpp"
 #include "mesh/load.h"
 #include "scene/scene.h"
+#include "statespace/stored_problem.h"
 #include "util/error.h"
 #include "util/hash.h"
 
@@ -116,6 +117,14 @@ InspectOutput export_config_vtu(const StateDir& dir, ConfigId id, const std::fil
                        std::to_string(mesh.num_nodes()) + " nodes (x3)");
     }
     u = Eigen::Map<const Eigen::Matrix3Xd>(values.data(), 3, mesh.num_nodes());
+  } else {  // a zero configuration: the loaded rest state (none without a body force)
+    SceneParseOptions options;
+    options.check_files = false;
+    options.require_probe = false;
+    const Scene parsed = parse_scene(scene->text, dir.root / "scene.toml", options);
+    const std::vector<double> rest = stored_rest_displacements(dir, parsed.mesh.unit);
+    if (rest.size() == 3 * static_cast<std::size_t>(mesh.num_nodes()))
+      u = Eigen::Map<const Eigen::Matrix3Xd>(rest.data(), 3, mesh.num_nodes());
   }
   write_vtu(vtu, mesh, u);
   const double max_displacement = mesh.num_nodes() > 0 ? u.colwise().norm().maxCoeff() : 0.0;

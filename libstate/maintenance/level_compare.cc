@@ -16,9 +16,13 @@ std::vector<double> or_zeros(const std::vector<double>& v, const std::vector<dou
 
 }  // namespace
 
-ConfigVectors read_level_vectors(const BlobStore& blobs, const Configuration& c) {
+ConfigVectors read_level_vectors(const BlobStore& blobs, const Configuration& c,
+                                 const std::vector<double>& rest_u) {
   ConfigVectors v;
-  if (!c.blob) return v;
+  if (!c.blob) {
+    v.u = rest_u;  // the zero configuration: the loaded rest state (empty: u = 0)
+    return v;
+  }
   v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
   v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
   // Sticking contact: the touched set is part of the configuration (never merge different sets).

@@ -18,8 +18,9 @@ struct Candidate {
   std::optional<std::size_t> h_length;
 };
 
-const ConfigVectors& vectors_of(Candidate& c, const BlobStore& blobs) {
-  if (!c.vectors) c.vectors = read_level_vectors(blobs, c.config);
+const ConfigVectors& vectors_of(Candidate& c, const BlobStore& blobs,
+                                const std::vector<double>& rest_u) {
+  if (!c.vectors) c.vectors = read_level_vectors(blobs, c.config, rest_u);
   return *c.vectors;
 }
 
@@ -36,6 +37,7 @@ std::size_t h_length_of(Candidate& c, const BlobStore& blobs) {
 
 std::vector<LevelMerge> find_level_merges(Catalogue& catalogue, const BlobStore& blobs,
                                           const LevelTolerances& tolerances,
+                                          const std::vector<double>& rest_u,
                                           MergeSearchStats* stats) {
   MergeSearchStats local;
   MergeSearchStats& s = stats != nullptr ? *stats : local;
@@ -58,8 +60,8 @@ std::vector<LevelMerge> find_level_merges(Catalogue& catalogue, const BlobStore&
           continue;
         }
         ++s.compared;
-        const double d = compaction_level_distance(vectors_of(rep, blobs),
-                                                   vectors_of(candidate, blobs), tolerances);
+        const double d = compaction_level_distance(
+            vectors_of(rep, blobs, rest_u), vectors_of(candidate, blobs, rest_u), tolerances);
         if (d <= 1.0) {
           merges.push_back({rep.config.id, candidate.config.id, d});
           merged = true;

@@ -32,8 +32,10 @@ struct MergeSearchStats {
 // far (ascending id) and merged into the first one within tolerance; otherwise it becomes a
 // representative. Sorted by `merged`. Reads blobs; writes nothing. Throws InputError for a
 // missing or unreadable blob.
+// rest_u: the zero configurations' u (stored_rest_displacements; empty: zeros).
 std::vector<LevelMerge> find_level_merges(Catalogue& catalogue, const BlobStore& blobs,
                                           const LevelTolerances& tolerances,
+                                          const std::vector<double>& rest_u,
                                           MergeSearchStats* stats = nullptr);
 
 struct MergeCounts {

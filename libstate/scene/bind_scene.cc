@@ -4,7 +4,9 @@
 #include "scene/node_list.h"
 #include "scene/rigid_modes.h"
 #include "scene/select.h"
+#include "solver/rest_state.h"
 #include "solver/triangle_distance.h"
+#include "util/error.h"
 
 #include <sstream>
 
@@ -101,8 +103,30 @@ std::vector<int> select_grabbed(const SceneProbe& probe, const Mesh& mesh,
   return ids;
 }
 
+// The contact sphere at rest must not overlap the body's surface, `positions` (mesh units: as
+// drawn, or in the loaded rest state, `sagged`).
+void check_sphere_clear(const SceneProbe& probe, const Eigen::Matrix3Xd& positions,
+                        const Triangles& surface, bool sagged, Diagnostics& diagnostics) {
+  for (int t = 0; t < surface.cols(); ++t) {
+    const TrianglePoint tp =
+        closest_point(positions.col(surface(0, t)), positions.col(surface(1, t)),
+                      positions.col(surface(2, t)), *probe.point);
+    if (tp.distance < *probe.radius) {
+      std::ostringstream os;
+      os.precision(6);
+      os << "probe: contact: the sphere at rest (centre " << format_point(*probe.point)
+         << ", radius " << *probe.radius << ") overlaps the body"
+         << (sagged ? " as it hangs in its loaded rest state" : "") << ": the surface point "
+         << format_point(tp.closest) << " is at distance " << tp.distance
+         << "; put probe.point at least probe.radius away from the body";
+      diagnostics.add(probe.line, os.str());
+      return;
+    }
+  }
+}
+
 // The contact sphere: candidates are the surface nodes with no fixed component (a partly fixed
-// node cannot be held by the sticking sphere); the sphere at rest must not overlap the body.
+// node cannot be held by the sticking sphere).
 ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
                            const std::vector<DofRole>& role, Diagnostics& diagnostics) {
   ContactSphere sphere = make_contact_sphere(mesh, role, *probe.radius, probe.friction);
@@ -110,22 +134,36 @@ ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
     diagnostics.add(probe.line, "probe: contact: " + mesh_name(mesh) +
                                     " has no surface node without fixed components to touch");
   }
-  for (int t = 0; t < mesh.surface.cols(); ++t) {
-    const TrianglePoint tp =
-        closest_point(mesh.nodes.col(mesh.surface(0, t)), mesh.nodes.col(mesh.surface(1, t)),
-                      mesh.nodes.col(mesh.surface(2, t)), *probe.point);
-    if (tp.distance < sphere.radius) {
-      std::ostringstream os;
-      os.precision(6);
-      os << "probe: contact: the sphere at rest (centre " << format_point(*probe.point)
-         << ", radius " << sphere.radius << ") overlaps the body: the surface point "
-         << format_point(tp.closest) << " is at distance " << tp.distance
-         << "; put probe.point at least probe.radius away from the body";
-      diagnostics.add(probe.line, os.str());
-      break;
-    }
-  }
   return sphere;
+}
+
+// Solves the loaded rest state into problem->rest_m; a grab point follows its nodes there
+// (probe_rest, probe_sag); a contact sphere at rest must be clear of the sagged body.
+void settle_rest_state(const Scene& scene, Problem* problem, Diagnostics& diagnostics) {
+  const RestState rest = solve_rest_state(*problem);
+  if (!rest.result.ok) {
+    throw InputError(scene.path.string() + ":" + std::to_string(scene.loads.line) +
+                     ": loads.gravity: the body's loaded rest state was not found (" +
+                     rest.result.reason +
+                     "); check material.density (kg/m^3), loads.gravity (m/s^2) and mesh.unit, "
+                     "or hold the body with more [[fixed]] nodes or [[support]] surfaces");
+  }
+  problem->rest_m = rest.u_m;
+  const std::vector<int>& grabbed = problem->constraints.probe_nodes;
+  if (!grabbed.empty()) {
+    Eigen::Vector3d sag = Eigen::Vector3d::Zero();
+    for (int n : grabbed) sag += rest.u_m.segment<3>(3 * n);
+    problem->probe_sag = sag / (static_cast<double>(grabbed.size()) * problem->unit);
+    problem->probe_rest += problem->probe_sag;
+  }
+  if (problem->contact && scene.has_probe) {
+    const Eigen::Matrix3Xd sagged =
+        problem->mesh.nodes +
+        Eigen::Map<const Eigen::Matrix3Xd>(rest.u_m.data(), 3, problem->mesh.num_nodes()) /
+            problem->unit;
+    check_sphere_clear(scene.probe, sagged, problem->mesh.surface, true, diagnostics);
+    diagnostics.throw_if_any();
+  }
 }
 
 }  // namespace
@@ -171,10 +209,40 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
     }
   }
 
+  // Gravity and supports (fem/loads.h), in metres.
+  const Eigen::Matrix3Xd positions_m = mesh.nodes * scene.mesh.unit;
+  if (scene.loads.gravity && scene.material.density) {
+    problem.loads.density = *scene.material.density;
+    problem.loads.gravity = *scene.loads.gravity;
+    problem.loads.force =
+        gravity_force(positions_m, mesh.tets, *scene.material.density, *scene.loads.gravity);
+  }
+  for (size_t i = 0; i < scene.supports.size(); ++i) {
+    const SupportSelector& support = scene.supports[i];
+    const std::string label = "support[" + std::to_string(i) + "]";
+    const std::vector<int> nodes = select_fixed(support.where, label, mesh, diagnostics);
+    if (nodes.empty()) continue;
+    std::vector<bool> selected(static_cast<size_t>(mesh.num_nodes()), false);
+    for (int n : nodes) selected[static_cast<size_t>(n)] = true;
+    if (add_surface_springs(positions_m, mesh.surface, selected, support.stiffness,
+                            support.where.dofs, &problem.loads.spring) == 0) {
+      diagnostics.add(support.where.line,
+                      label + " (" + describe(support.where) + ") selects " +
+                          std::to_string(nodes.size()) +
+                          " node(s) but no surface triangle (one whose three corners are all "
+                          "selected): a support acts on the surface");
+    }
+  }
+
+  const bool has_probe = scene.has_probe;
   const SceneProbe& probe = scene.probe;
-  if (probe.mode == ProbeMode::kContact) {
+  if (!has_probe) {
+    // hapstate-solve --rest: no probe; the body must be held by fixed nodes and supports.
+  } else if (probe.mode == ProbeMode::kContact) {
     problem.contact = bind_contact(probe, mesh, role, diagnostics);
     problem.probe_rest = *probe.point;
+    if (!problem.loads.has_force())
+      check_sphere_clear(probe, mesh.nodes, mesh.surface, false, diagnostics);
   } else {
     const std::vector<int> grabbed = select_grabbed(probe, mesh, diagnostics);
     int conflicts = 0;
@@ -205,16 +273,39 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
   }
   diagnostics.throw_if_any();
 
-  for (const FreeRigidModes& f : free_rigid_modes(mesh, role)) {
+  // A supported DOF holds the body as a fixed one does (for the rigid-body check only).
+  std::vector<DofRole> held = role;
+  for (size_t d = 0; d < held.size(); ++d)
+    if (problem.loads.has_springs() && problem.loads.spring[static_cast<Eigen::Index>(d)] > 0 &&
+        held[d] == DofRole::kFree)
+      held[d] = DofRole::kFixed;
+  for (const FreeRigidModes& f : free_rigid_modes(mesh, held)) {
     diagnostics.add(0, "the constraints leave " + std::to_string(f.free_modes) +
                            " rigid-body mode(s) free in component " + std::to_string(f.component) +
                            " of " + std::to_string(f.num_nodes) + " nodes (e.g. " + f.example +
-                           "); add fixed nodes");
+                           "); add fixed nodes" + (scene.supports.empty() ? "" : " or supports"));
   }
   diagnostics.throw_if_any();
+  if (problem.loads.has_force()) {
+    // The body settles under its weight before the probe takes hold: fixed nodes and supports
+    // alone must hold it.
+    for (DofRole& r : held)
+      if (r == DofRole::kProbe) r = DofRole::kFree;
+    for (const FreeRigidModes& f : free_rigid_modes(mesh, held)) {
+      diagnostics.add(scene.loads.line,
+                      "loads.gravity: the fixed nodes and supports leave " +
+                          std::to_string(f.free_modes) + " rigid-body mode(s) free in component " +
+                          std::to_string(f.component) + " of " + std::to_string(f.num_nodes) +
+                          " nodes (e.g. " + f.example +
+                          "), so the body would fall before the probe takes hold of it; add "
+                          "[[fixed]] nodes or [[support]] surfaces");
+    }
+    diagnostics.throw_if_any();
+  }
 
   problem.constraints.role = std::move(role);
   problem.mesh = std::move(mesh);
+  if (problem.loads.has_force()) settle_rest_state(scene, &problem, diagnostics);
   return problem;
 }
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <type_traits>
 
 namespace hapstate {
 namespace {
@@ -97,8 +98,9 @@ std::string join_and(const std::vector<std::string_view>& names) {
 }
 
 SceneMaterial parse_material(const TableReader& r) {
-  r.allow_only({"law", "young", "poisson", "mu", "lambda", "c10", "c01", "d1"});
+  r.allow_only({"law", "young", "poisson", "mu", "lambda", "c10", "c01", "d1", "density"});
   SceneMaterial m;
+  m.density = r.number("density", positive());
   std::optional<Law> law;
   if (!r.has("law")) {
     r.missing("law", "linear, stvk, neohooke or mooney");
@@ -169,8 +171,13 @@ std::optional<PlaneSelector> parse_plane(const TableReader& r) {
   return plane;
 }
 
-std::optional<FixedSelector> parse_fixed(const TableReader& r, const Context& context) {
-  r.allow_only({"box", "plane", "group", "nodes", "dofs"});
+// A [[fixed]] or [[support]] selector (`kind`); a support's stiffness is read by the caller.
+std::optional<FixedSelector> parse_fixed(const TableReader& r, const Context& context,
+                                         std::string_view kind = "fixed") {
+  if (kind == "support")
+    r.allow_only({"box", "plane", "group", "nodes", "dofs", "stiffness"});
+  else
+    r.allow_only({"box", "plane", "group", "nodes", "dofs"});
   FixedSelector selector;
   selector.line = r.line();
   bool ok = true;
@@ -179,8 +186,8 @@ std::optional<FixedSelector> parse_fixed(const TableReader& r, const Context& co
     if (r.has(key)) given.push_back(key);
   }
   if (given.size() != 1) {
-    std::string message =
-        "[[fixed]] table '" + r.name() + "': give exactly one of box, plane, group, nodes";
+    std::string message = "[[" + std::string(kind) + "]] table '" + r.name() +
+                          "': give exactly one of box, plane, group, nodes";
     if (!given.empty()) message += " (got " + join_and(given) + ")";
     r.diagnostics().add(r.line(), message);
     ok = false;
@@ -219,22 +226,54 @@ std::optional<FixedSelector> parse_fixed(const TableReader& r, const Context& co
   return selector;
 }
 
-std::vector<FixedSelector> parse_fixed_list(const TableReader& root, const Context& context) {
-  std::vector<FixedSelector> list;
-  const toml::node* node = root.get("fixed");
+// Every table of the array of tables `name` ([[name]] headers) through `parse_one`, which
+// returns std::optional<T> (nothing for a table with problems, already reported).
+template <class ParseOne>
+auto parse_table_array(const TableReader& root, const std::string& name, ParseOne parse_one) {
+  using Item = typename std::invoke_result_t<ParseOne, const TableReader&>::value_type;
+  std::vector<Item> list;
+  const toml::node* node = root.get(name);
   if (node == nullptr) return list;
   const auto* array = node->as_array();
   if (array == nullptr || !array->is_array_of_tables()) {
-    root.bad("fixed", "expected an array of tables ([[fixed]] headers), got " +
-                          (array ? std::string("an array of values") : type_phrase(*node)));
+    root.bad(name, "expected an array of tables ([[" + name + "]] headers), got " +
+                       (array ? std::string("an array of values") : type_phrase(*node)));
     return list;
   }
   for (size_t i = 0; i < array->size(); ++i) {
-    const TableReader r(*array->get(i)->as_table(), "fixed[" + std::to_string(i) + "]",
+    const TableReader r(*array->get(i)->as_table(), name + "[" + std::to_string(i) + "]",
                         root.diagnostics());
-    if (auto selector = parse_fixed(r, context)) list.push_back(std::move(*selector));
+    if (auto item = parse_one(r)) list.push_back(std::move(*item));
   }
   return list;
+}
+
+std::vector<FixedSelector> parse_fixed_list(const TableReader& root, const Context& context) {
+  return parse_table_array(root, "fixed",
+                           [&](const TableReader& r) { return parse_fixed(r, context); });
+}
+
+std::vector<SupportSelector> parse_support_list(const TableReader& root, const Context& context) {
+  return parse_table_array(root, "support",
+                           [&](const TableReader& r) -> std::optional<SupportSelector> {
+                             if (!r.has("stiffness"))
+                               r.missing("stiffness",
+                                         "N/m^3, the supporting pressure per metre of "
+                                         "displacement");
+                             const auto stiffness = r.number("stiffness", positive());
+                             auto selector = parse_fixed(r, context, "support");
+                             if (!selector || !stiffness) return std::nullopt;
+                             return SupportSelector{std::move(*selector), *stiffness};
+                           });
+}
+
+SceneLoads parse_loads(const TableReader& r) {
+  r.allow_only({"gravity"});
+  SceneLoads loads;
+  loads.line = r.line();
+  if (!r.has("gravity")) r.missing("gravity", "[gx, gy, gz] in m/s^2, in the mesh's axes");
+  loads.gravity = r.point("gravity");
+  return loads;
 }
 
 SceneProbe parse_probe(const TableReader& r, const Context& context) {
@@ -387,14 +426,24 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& path,
   const Context context{path, options};
   Diagnostics diagnostics(file);
   const TableReader root(root_table, "", diagnostics);
-  root.allow_only({"mesh", "material", "fixed", "probe", "grid", "solver", "levels"});
+  root.allow_only(
+      {"mesh", "material", "fixed", "support", "loads", "probe", "grid", "solver", "levels"});
   section(root, "mesh", true, [&](const TableReader& r) { scene.mesh = parse_mesh(r, context); });
   section(root, "material", true,
           [&](const TableReader& r) { scene.material = parse_material(r); });
   scene.fixed = parse_fixed_list(root, context);
-  section(root, "probe", true,
+  scene.supports = parse_support_list(root, context);
+  section(root, "loads", false, [&](const TableReader& r) { scene.loads = parse_loads(r); });
+  if (scene.loads.gravity && !scene.material.density) {
+    diagnostics.add(scene.loads.line,
+                    "key 'loads.gravity' needs 'material.density' (kg/m^3): the body's weight is "
+                    "density x volume x gravity");
+  }
+  scene.has_probe = root.has("probe");
+  section(root, "probe", options.require_probe,
           [&](const TableReader& r) { scene.probe = parse_probe(r, context); });
-  section(root, "grid", true, [&](const TableReader& r) { scene.grid = parse_grid(r); });
+  section(root, "grid", options.require_probe,
+          [&](const TableReader& r) { scene.grid = parse_grid(r); });
   section(root, "solver", false, [&](const TableReader& r) { scene.solver = parse_solver(r); });
   section(root, "levels", false, [&](const TableReader& r) { scene.levels = parse_levels(r); });
   diagnostics.throw_if_any();

@@ -37,6 +37,14 @@ struct SceneMaterial {
   std::optional<double> young, poisson;  // Pa, -
   std::optional<double> mu, lambda;      // Pa
   std::optional<double> c10, c01, d1;    // Pa, Pa, 1/Pa
+  std::optional<double> density;         // kg/m^3 (needed by gravity only)
+};
+
+// [loads]: the body force. Gravity acts on the mesh as drawn (a dead load: the weight of each
+// tet's mass, density x reference volume) in the mesh's axes.
+struct SceneLoads {
+  std::optional<Eigen::Vector3d> gravity;  // m/s^2; needs material.density
+  int line = 0;                            // line of the [loads] header
 };
 
 // [[fixed]] selectors: exactly one per table.
@@ -59,6 +67,14 @@ struct FixedSelector {
   std::variant<BoxSelector, PlaneSelector, GroupSelector, NodesSelector> where;
   DofMask dofs{true, true, true};
   int line = 0;  // line of the [[fixed]] header in the scene file (0 if unknown)
+};
+
+// [[support]]: an elastic foundation over the selected surface (the surface triangles whose
+// three corners are selected), pulling it towards its position in the mesh as drawn with
+// `stiffness` N/m^3 (pressure per metre of displacement), in the components of `where.dofs`.
+struct SupportSelector {
+  FixedSelector where;
+  double stiffness = 0;  // N/m^3, > 0
 };
 
 enum class ProbeMode { kGrab, kContact };
@@ -100,6 +116,9 @@ struct Scene {
   SceneMesh mesh;
   SceneMaterial material;
   std::vector<FixedSelector> fixed;  // union of all selectors is fixed (may be empty)
+  std::vector<SupportSelector> supports;
+  SceneLoads loads;
+  bool has_probe = true;  // false only for a scene parsed with require_probe = false and no [probe]
   SceneProbe probe;
   SceneGrid grid;
   SolverOptions solver;
@@ -110,6 +129,8 @@ struct SceneParseOptions {
   // Check that mesh.file and every nodes file exist. Off when re-reading a stored scene
   // whose files are not needed (e.g. the text kept in the catalogue).
   bool check_files = true;
+  // [probe] and [grid] are required (off: hapstate-solve --rest, the loaded rest state alone).
+  bool require_probe = true;
 };
 
 // Parses and validates scene text. `path` is used in messages and to resolve relative file

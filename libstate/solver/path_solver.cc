@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 
@@ -99,6 +100,8 @@ PathSolver::PathSolver(const Problem& problem)
       options_(problem.solver) {
   const Eigen::Matrix3Xd positions_m = problem.mesh.nodes * unit_;
   assembler_ = std::make_unique<Assembler>(positions_m, problem.mesh.tets, *material_);
+  loads_ = problem.loads;
+  assembler_->set_loads(&loads_);
   cholesky_ = std::make_unique<SparseCholesky>(assembler_->pattern());
   factor_ = cholesky_.get();
   timings_.analyze = cholesky_->analyze_seconds();
@@ -113,7 +116,8 @@ PathSolver::PathSolver(const Problem& problem)
     if (!used[n])
       for (int c = 0; c < 3; ++c) scene_.role[3 * n + c] = DofRole::kFixed;
   scene_.component.assign(3 * num_nodes_, -1);
-  scene_.base.setZero(num_dofs());
+  rest_ = problem.rest_m.size() == num_dofs() ? problem.rest_m : Eigen::VectorXd::Zero(num_dofs());
+  scene_.base = rest_;  // a grabbed DOF follows the probe from where the rest state put it
   boundary_ = make_probe_boundary(problem, *assembler_, scene_.role);
   reset();
 }
@@ -123,12 +127,52 @@ PathSolver::~PathSolver() = default;
 int PathSolver::num_dofs() const { return assembler_->num_dofs(); }
 
 void PathSolver::reset() {
-  u_.setZero(num_dofs());
+  u_ = rest_;
   state_force_valid_ = false;
   t_.setZero();
   t_solve_.setZero();
   boundary_->reset();
   apply_prescription();
+}
+
+MoveResult PathSolver::settle_under_loads() {
+  constexpr double kFirstStep = 0.25, kSmallestStep = 1.0 / 4096;
+  constexpr int kEasyIterations = 8;  // a step that took at most this many: the next one doubles
+  const auto start = Clock::now();
+  MoveResult result;
+  state_force_valid_ = false;
+  double scale = 0, step = kFirstStep;
+  Eigen::VectorXd converged = u_;
+  while (scale < 1.0) {
+    const double next = std::min(1.0, scale + step);
+    assembler_->set_load_scale(next);
+    MoveResult attempt;
+    const bool ok = newton(options_.tolerance, &attempt, /*have_factor=*/false);
+    result.iterations += attempt.iterations;
+    result.residual = attempt.residual;
+    if (ok) {
+      scale = next;
+      converged = u_;
+      ++result.substeps;
+      if (attempt.iterations <= kEasyIterations) step = std::min(1.0, 2 * step);
+      continue;
+    }
+    u_ = converged;
+    ++result.cutbacks;
+    step /= 2;
+    if (step < kSmallestStep) {
+      assembler_->set_load_scale(scale);
+      result.ok = false;
+      result.failure = attempt.failure;
+      char where[96];
+      std::snprintf(where, sizeof where,
+                    "the body loads could not be raised past %.4g of their value: ", scale);
+      result.reason = where + attempt.reason;
+      break;
+    }
+  }
+  result.wall_ms = 1e3 * seconds_since(start);
+  return result;
 }
 
 void PathSolver::set_state(const Eigen::VectorXd& u_m, const Eigen::Vector3d& t,
@@ -317,7 +361,8 @@ bool PathSolver::factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesk
   return factorize();
 }
 
-// Newton iterations at the current probe position until ||r_free|| <= abs + rel * ||reactions||.
+// Newton iterations at the current probe position until
+// ||r_free|| <= abs + rel * (||reactions|| + ||body force||).
 // Full Newton refactorises every iteration. Inexact Newton (inexact_newton()) keeps the factor
 // it has (the predictor's, or its own last) as a preconditioner: each iteration assembles the
 // tangent at the current iterate (a probe energy's tangent on a nearby iterate's elastic one:
@@ -358,7 +403,9 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
       result->reason = "residual is not finite";
       return false;
     }
-    if (rnorm <= options_.absolute_tolerance + rel_tol * reaction_norm(f_)) return true;
+    if (rnorm <=
+        options_.absolute_tolerance + rel_tol * (reaction_norm(f_) + assembler_->load_norm()))
+      return true;
     const bool progressing =
         it >= kProgressWindow && it < kMaxIterationFactor * options_.max_iterations &&
         rnorm < kProgressFactor * result->residual_history[it - kProgressWindow];

@@ -72,8 +72,15 @@ class PathSolver {
   ~PathSolver();
 
   int num_dofs() const;
-  // Back to the rest state (u = 0, t = 0).
+  // Back to the rest state (u = Problem::rest_m, or 0 without loads; t = 0).
   void reset();
+  // Finds the equilibrium under the problem's body loads (Problem::loads) from the current
+  // state by incremental loading: the body force scaled up from 0 to 1 in steps (a quarter
+  // first, doubled after an easy step, halved after a failed one, down to 1/4096), each
+  // converged by Newton with the move's safeguards (line search, PSD fallback). The probe stays
+  // where it is (solver/rest_state.h frees it first). On failure the state is the last
+  // converged one and the load scale is left there.
+  MoveResult settle_under_loads();
   // Moves the probe to displacement t_target (mesh units, relative to Problem::probe_rest)
   // from the current state. A move that fails is tried again as 4, then 16 equal moves, each
   // converged to the full tolerance (MoveResult::split_pieces; the counts of the failed
@@ -83,6 +90,8 @@ class PathSolver {
   Eigen::Vector3d probe_displacement() const { return t_; }  // mesh units
   // Displacement of every node, mesh units (3 x num_nodes).
   Eigen::Matrix3Xd displacements() const;
+  // The loaded rest state (Problem::rest_m, or zeros), metres.
+  const Eigen::VectorXd& rest_state_m() const { return rest_; }
   // Raw state vector (metres, DOF order 3*node + component) and its setter.
   const Eigen::VectorXd& state_m() const { return u_; }
   // Sticking contact: `touched` are the nodes the sphere holds in that state (anchors are taken
@@ -202,6 +211,8 @@ class PathSolver {
 
   double unit_;
   int num_nodes_;
+  BodyLoads loads_;       // the problem's (the assembler points at it)
+  Eigen::VectorXd rest_;  // Problem::rest_m, or zeros
   SolverOptions options_;
   SolverTimings timings_;
 

@@ -21,11 +21,12 @@ std::vector<int> read_touched_set(const BlobStore& blobs, const Configuration& c
   return touched;
 }
 
-ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
-                                  const VectorLayout& layout) {
+ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c,
+                                  const std::vector<double>& rest_u, const VectorLayout& layout) {
+  const int num_dofs = static_cast<int>(rest_u.size());
   ConfigVectors v;
   if (!c.blob) {
-    v.u.assign(num_dofs, 0.0);
+    v.u = rest_u;
     v.t.assign(layout.t_size(0), 0.0);
     v.h.assign(layout.h_size(0), 0.0);
     return v;

@@ -15,11 +15,12 @@ namespace hapstate {
 // InputError naming the segment and configuration otherwise.
 std::vector<int> read_touched_set(const BlobStore& blobs, const Configuration& c, int num_nodes);
 
-// The vectors of a stored configuration: from its blob, or zeros for one without a blob (the
-// zero configuration: nothing touched), laid out as `layout` says (the touched set read from
-// <name>/touched where it is stored). Throws InputError naming the segment and vector if they
-// cannot be read or have the wrong sizes.
-ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c, int num_dofs,
-                                  const VectorLayout& layout);
+// The vectors of a stored configuration: from its blob, or for one without a blob (the zero
+// configuration: nothing touched, no force) u = `rest_u` (rest_displacements(problem): the
+// loaded rest state, zeros without loads; its size is the problem's DOFs) and zeros, laid out
+// as `layout` says (the touched set read from <name>/touched where it is stored). Throws
+// InputError naming the segment and vector if they cannot be read or have the wrong sizes.
+ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c,
+                                  const std::vector<double>& rest_u, const VectorLayout& layout);
 
 }  // namespace hapstate

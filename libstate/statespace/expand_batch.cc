@@ -14,9 +14,10 @@
 
 namespace hapstate {
 
-SourceLoader blob_source_loader(const BlobStore& blobs, int num_dofs, const VectorLayout& layout) {
-  return [&blobs, num_dofs, layout](const Configuration& c) {
-    return load_config_vectors(blobs, c, num_dofs, layout);
+SourceLoader blob_source_loader(const BlobStore& blobs, std::vector<double> rest_u,
+                                const VectorLayout& layout) {
+  return [&blobs, rest_u = std::move(rest_u), layout](const Configuration& c) {
+    return load_config_vectors(blobs, c, rest_u, layout);
   };
 }
 

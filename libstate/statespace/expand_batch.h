@@ -116,7 +116,8 @@ std::size_t guided_run(std::size_t left, std::size_t consumers, std::size_t leas
 // Where a worker gets a source configuration's vectors from.
 using SourceLoader = std::function<ConfigVectors(const Configuration&)>;
 // From the state directory's blobs (load_config_vectors); keeps a reference to blobs.
-SourceLoader blob_source_loader(const BlobStore& blobs, int num_dofs, const VectorLayout& layout);
+SourceLoader blob_source_loader(const BlobStore& blobs, std::vector<double> rest_u,
+                                const VectorLayout& layout);
 
 // The transitions and stiffnesses on N threads of this process, each with its own PathSolver,
 // kept running across batches and waves (a pool). solve_range() lets the threads run ahead of

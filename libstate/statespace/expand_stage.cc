@@ -64,7 +64,7 @@ class Expander {
         max_force_(ctx.scene.probe.max_force) {
     num_probe_nodes_ =
         std::max<int>(1, static_cast<int>(ctx.problem.constraints.probe_nodes.size()));
-    num_dofs_ = 3 * ctx.problem.mesh.num_nodes();
+    rest_u_ = rest_displacements(ctx.problem);
     for (const Checkpoint& c : ctx.catalogue.read_all_checkpoints()) {
       grid_.by_ijk.emplace(c.ijk, c);
       grid_.ijk_of.emplace(c.id, c.ijk);
@@ -278,7 +278,7 @@ class Expander {
     auto it = cache_.find(c.id);
     if (it != cache_.end()) return it->second;
     if (cache_.size() >= kMaxCached) cache_.clear();
-    return cache_.emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, probe_->layout()))
+    return cache_.emplace(c.id, load_config_vectors(blobs_, c, rest_u_, probe_->layout()))
         .first->second;
   }
 
@@ -292,7 +292,7 @@ class Expander {
   LevelTolerances tolerances_;
   double max_force_;
   int num_probe_nodes_ = 1;
-  int num_dofs_ = 0;
+  std::vector<double> rest_u_;  // the zero configuration's u
   GridIndexOf grid_;
   std::unordered_map<ConfigId, ConfigVectors> cache_;
   std::map<ConfigId, int> decided_before_;
@@ -320,8 +320,8 @@ std::unique_ptr<TransitionEngine> make_engine(const ExpandOptions& o, const Stag
   if (o.engine) return o.engine(ctx, probe, blobs);
   return std::make_unique<TransitionSolver>(
       ctx.problem, probe,
-      blob_source_loader(blobs, 3 * static_cast<int>(ctx.problem.mesh.num_nodes()), probe.layout()),
-      o.threads, o.algorithm);
+      blob_source_loader(blobs, rest_displacements(ctx.problem), probe.layout()), o.threads,
+      o.algorithm);
 }
 
 }  // namespace

@@ -65,18 +65,19 @@ Eigen::Vector3d grid_spacing(const SceneGrid& grid) {
   return h;
 }
 
-Box grid_workspace(const SceneGrid& grid, const Eigen::Vector3d& probe_rest) {
-  if (grid.box) return *grid.box;
+Box grid_workspace(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
+                   const Eigen::Vector3d& sag) {
+  if (grid.box) return Box{grid.box->min + sag, grid.box->max + sag};
   const Eigen::Vector3d reach = kDefaultWorkspaceSpacings * grid_spacing(grid);
   return Box{probe_rest - reach, probe_rest + reach};
 }
 
 GridSpec resolve_grid(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
-                      const std::string& scene_label) {
+                      const std::string& scene_label, const Eigen::Vector3d& sag) {
   GridSpec g;
   g.origin = probe_rest;
   g.spacing = grid_spacing(grid);
-  g.workspace = grid_workspace(grid, probe_rest);
+  g.workspace = grid_workspace(grid, probe_rest, sag);
   if (!g.in_workspace(probe_rest)) {
     throw InputError(scene_label + ": [grid] box = [" + point_text(g.workspace.min) + ", " +
                      point_text(g.workspace.max) + "] does not contain the probe's rest position " +

@@ -40,8 +40,11 @@ struct GridSpec {
 // Spacing per axis: grid.spacing, or box extent / (dims - 1).
 Eigen::Vector3d grid_spacing(const SceneGrid& grid);
 
-// The workspace: grid.box, or 4 spacings each way around `probe_rest`.
-Box grid_workspace(const SceneGrid& grid, const Eigen::Vector3d& probe_rest);
+// The workspace: grid.box shifted by `sag` (how far the loaded rest state carried the grab point:
+// the box is drawn around the mesh as drawn and follows it; Problem::probe_sag), or 4 spacings
+// each way around `probe_rest`.
+Box grid_workspace(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
+                   const Eigen::Vector3d& sag = Eigen::Vector3d::Zero());
 
 // Axes on which grid.dims asks for more check-points than grid.box holds (the probe's rest
 // position is not on the box's lattice): one message per axis saying what was lost and how far
@@ -49,9 +52,11 @@ Box grid_workspace(const SceneGrid& grid, const Eigen::Vector3d& probe_rest);
 std::vector<std::string> grid_short_axes(const SceneGrid& grid, const GridSpec& spec,
                                          const std::string& scene_label);
 
-// Resolves the grid of a scene around the probe rest position. Throws InputError (naming
-// `scene_label`) if the rest position lies outside grid.box.
+// Resolves the grid of a scene around the probe rest position (grid.box shifted by `sag`, as in
+// grid_workspace). Throws InputError (naming `scene_label`) if the rest position lies outside
+// the workspace.
 GridSpec resolve_grid(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
-                      const std::string& scene_label);
+                      const std::string& scene_label,
+                      const Eigen::Vector3d& sag = Eigen::Vector3d::Zero());
 
 }  // namespace hapstate

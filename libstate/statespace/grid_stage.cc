@@ -26,7 +26,8 @@ bool in_workspace(CheckpointClass c) {
   return c == CheckpointClass::kWorkspace || c == CheckpointClass::kFree;
 }
 
-// The zero configuration (no blob: u = 0, nothing touched or t = 0) of `checkpoint`.
+// The zero configuration (no blob: u = the loaded rest state, nothing touched, t = 0) of
+// `checkpoint`.
 Configuration zero_configuration(const StageContext& ctx, CheckpointId checkpoint) {
   Configuration c;
   c.checkpoint = checkpoint;
@@ -35,8 +36,33 @@ Configuration zero_configuration(const StageContext& ctx, CheckpointId checkpoin
   c.stiffness = rest_stiffness(ctx.problem).stiffness;
   c.expandable = 0.0 <= ctx.scene.probe.max_force;
   c.status = ConfigStatus::kOpen;
-  c.summary.assign(LevelSketch(ctx.problem).summary_size(), 0.0);
+  c.summary = LevelSketch(ctx.problem).summary(rest_displacements(ctx.problem));
   return c;
+}
+
+// What the loaded rest state did (the zero configuration's shape): the largest sag and where the
+// grab point went, mesh units.
+std::string rest_state_text(const Problem& p) {
+  const std::vector<double> u = rest_displacements(p);
+  double largest = 0;
+  for (std::size_t n = 0; 3 * n < u.size(); ++n)
+    largest = std::max(largest, std::hypot(u[3 * n], u[3 * n + 1], u[3 * n + 2]));
+  char text[320];
+  if (p.contact) {
+    std::snprintf(text, sizeof text,
+                  "the body rests under its loads (gravity, supports) with a largest "
+                  "displacement of %.4g mesh units; the sphere's rest point and the workspace "
+                  "stay where the scene puts them",
+                  largest);
+  } else {
+    std::snprintf(text, sizeof text,
+                  "the body rests under its loads (gravity, supports) with a largest "
+                  "displacement of %.4g mesh units; the grab point sagged by (%.4g, %.4g, %.4g) to "
+                  "(%.6g, %.6g, %.6g), and the grid (an explicit grid.box too) moved with it",
+                  largest, p.probe_sag.x(), p.probe_sag.y(), p.probe_sag.z(), p.probe_rest.x(),
+                  p.probe_rest.y(), p.probe_rest.z());
+  }
+  return text;
 }
 
 }  // namespace
@@ -176,6 +202,7 @@ GridReport run_grid(const GridOptions& options) {
       (report.transitions_reopened ? ", " + std::to_string(report.transitions_reopened) +
                                          " transitions reopened into the enlarged workspace"
                                    : "");
+  if (ctx.problem.loads.has_force()) report.message += "; " + rest_state_text(ctx.problem);
   run.message = report.message;
   cat.insert_stage_run(run);
   tx.commit();

@@ -95,7 +95,8 @@ ImportReport run_import(const ImportOptions& options) {
   const Scene scene = load_scene(options.scene);
   MeshReport mesh_report;
   const Problem problem = build_problem(scene, &mesh_report);
-  const GridSpec grid = resolve_grid(scene.grid, problem.probe_rest, options.scene.string());
+  const GridSpec grid =
+      resolve_grid(scene.grid, problem.probe_rest, options.scene.string(), problem.probe_sag);
   const ContentHash mesh_hash = content_hash_file(scene.mesh.file);
   const NamedHashes identity = scene_identity(scene, problem, mesh_hash);
   const StateDir dir{options.state};

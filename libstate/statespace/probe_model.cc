@@ -14,6 +14,19 @@ Eigen::VectorXd metres(const std::vector<double>& u, double unit) {
   return Eigen::Map<const Eigen::VectorXd>(u.data(), static_cast<Eigen::Index>(u.size())) * unit;
 }
 
+// The body's surface as it rests: the mesh's nodes carried by the loaded rest state (the mesh
+// as drawn without loads). What a contact probe at rest can touch.
+Mesh rest_shape(const Problem& problem) {
+  Mesh shape;
+  shape.nodes = problem.mesh.nodes;
+  shape.surface = problem.mesh.surface;
+  if (problem.rest_m.size() == 3 * problem.mesh.num_nodes())
+    shape.nodes +=
+        Eigen::Map<const Eigen::Matrix3Xd>(problem.rest_m.data(), 3, problem.mesh.num_nodes()) /
+        problem.unit;
+  return shape;
+}
+
 // The signed clearance of a contact probe (ProbeModel::clearance): whether the sphere's centre is
 // inside the body at rest comes from the winding number of the rest surface, built on first use
 // (only hapstate-index asks; one thread).
@@ -94,11 +107,13 @@ class GrabProbe final : public ProbeModel {
 class ContactProbe final : public ProbeModel {
  public:
   explicit ContactProbe(const Problem& problem)
-      : problem_(problem), reach_(problem.contact->radius * (1.0 - kPenetrationTolerance)) {
+      : problem_(problem),
+        shape_(rest_shape(problem)),
+        reach_(problem.contact->radius * (1.0 - kPenetrationTolerance)) {
     const auto& candidates = problem.contact->candidates;
     rest_.resize(3, static_cast<Eigen::Index>(candidates.size()));
     for (std::size_t k = 0; k < candidates.size(); ++k)
-      rest_.col(static_cast<Eigen::Index>(k)) = problem.mesh.nodes.col(candidates[k]);
+      rest_.col(static_cast<Eigen::Index>(k)) = shape_.nodes.col(candidates[k]);
     index_.build(rest_, problem.contact->radius);
   }
 
@@ -152,10 +167,11 @@ class ContactProbe final : public ProbeModel {
 
  private:
   const Problem& problem_;
+  Mesh shape_;  // the body in its rest state
   double reach_;
   Eigen::Matrix3Xd rest_;  // rest positions of the candidate nodes
   SphereQuery index_;
-  RestInside inside_{problem_.mesh};
+  RestInside inside_{shape_};
 };
 
 // Frictionless contact (solver/sliding_contact.h). "Touches" uses the solver's own criterion:
@@ -165,15 +181,15 @@ class ContactProbe final : public ProbeModel {
 class SlidingProbe final : public ProbeModel {
  public:
   explicit SlidingProbe(const Problem& problem)
-      : problem_(problem), radius_(problem.contact->radius) {
-    const Triangles& tri = problem.mesh.surface;
+      : problem_(problem), shape_(rest_shape(problem)), radius_(problem.contact->radius) {
+    const Triangles& tri = shape_.surface;
     centroids_.resize(3, tri.cols());
     for (int t = 0; t < tri.cols(); ++t) {
       Eigen::Vector3d m = Eigen::Vector3d::Zero();
-      for (int i = 0; i < 3; ++i) m += problem.mesh.nodes.col(tri(i, t)) / 3.0;
+      for (int i = 0; i < 3; ++i) m += shape_.nodes.col(tri(i, t)) / 3.0;
       centroids_.col(t) = m;
       for (int i = 0; i < 3; ++i)
-        spread_ = std::max(spread_, (problem.mesh.nodes.col(tri(i, t)) - m).norm());
+        spread_ = std::max(spread_, (shape_.nodes.col(tri(i, t)) - m).norm());
     }
     index_.build(centroids_, std::max(radius_, spread_));
   }
@@ -192,8 +208,8 @@ class SlidingProbe final : public ProbeModel {
   bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override {
     std::vector<int> near;
     index_.inside(0.5 * (a + b), radius_ + spread_ + 0.5 * (b - a).norm(), &near);
-    const Triangles& tri = problem_.mesh.surface;
-    const Eigen::Matrix3Xd& x = problem_.mesh.nodes;
+    const Triangles& tri = shape_.surface;
+    const Eigen::Matrix3Xd& x = shape_.nodes;
     for (int t : near) {
       const double d =
           segment_triangle_distance(a, b, x.col(tri(0, t)), x.col(tri(1, t)), x.col(tri(2, t)));
@@ -204,8 +220,8 @@ class SlidingProbe final : public ProbeModel {
   std::optional<Clearance> clearance(const Eigen::Vector3d& p, double range) const override {
     std::vector<int> near;
     index_.inside(p, radius_ + spread_ + range, &near);
-    const Triangles& tri = problem_.mesh.surface;
-    const Eigen::Matrix3Xd& x = problem_.mesh.nodes;
+    const Triangles& tri = shape_.surface;
+    const Eigen::Matrix3Xd& x = shape_.nodes;
     std::optional<Eigen::Vector3d> nearest;
     for (int t : near) {
       const TrianglePoint tp =
@@ -218,11 +234,12 @@ class SlidingProbe final : public ProbeModel {
 
  private:
   const Problem& problem_;
+  Mesh shape_;  // the body in its rest state
   double radius_;
   double spread_ = 0;           // largest distance of a triangle corner from its centroid
   Eigen::Matrix3Xd centroids_;  // rest centroids of the surface triangles
   SphereQuery index_;
-  RestInside inside_{problem_.mesh};
+  RestInside inside_{shape_};
 };
 
 }  // namespace

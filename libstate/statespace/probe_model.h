@@ -55,7 +55,7 @@ class ProbeModel {
   // at its rest position).
   bool start_path_at(PathSolver& solver, const Eigen::Vector3d& p) const {
     if (!clear_of_body(p)) return false;
-    solver.set_state(Eigen::VectorXd::Zero(solver.num_dofs()), p - rest_position());
+    solver.set_state(solver.rest_state_m(), p - rest_position());
     return true;
   }
   // Whether moving the probe from a to b with the body at rest keeps it at rest, so the move

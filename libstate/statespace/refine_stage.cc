@@ -64,7 +64,7 @@ class Refiner {
         blobs_(ctx.dir.blobs()),
         probe_(make_probe_model(ctx.problem)),
         threads_(threads),
-        num_dofs_(3 * ctx.problem.mesh.num_nodes()) {
+        rest_u_(rest_displacements(ctx.problem)) {
     for (const Checkpoint& c : ctx.catalogue.read_all_checkpoints()) checkpoints_.emplace(c.id, c);
     for (const Configuration& c : ctx.catalogue.read_all_configurations())
       if (c.status != ConfigStatus::kMerged) configurations_.emplace(c.id, c);
@@ -192,7 +192,7 @@ class Refiner {
   const ConfigVectors& vectors(int worker, const Configuration& c) {
     std::optional<std::pair<ConfigId, ConfigVectors>>& slot = loaded_[worker];
     if (!slot || slot->first != c.id)
-      slot.emplace(c.id, load_config_vectors(blobs_, c, num_dofs_, probe_->layout()));
+      slot.emplace(c.id, load_config_vectors(blobs_, c, rest_u_, probe_->layout()));
     return slot->second;
   }
 
@@ -200,7 +200,7 @@ class Refiner {
   BlobStore blobs_;
   std::unique_ptr<ProbeModel> probe_;
   int threads_;
-  int num_dofs_;
+  std::vector<double> rest_u_;  // the zero configuration's u
   std::unordered_map<CheckpointId, Checkpoint> checkpoints_;
   std::map<ConfigId, Configuration> configurations_;
   std::map<std::pair<ConfigId, int>, Transition> transitions_;

@@ -69,7 +69,7 @@ NamedHashes scene_identity(const Scene& scene, const Problem& problem,
     parts.emplace_back("max_force", h.value());
   }
   {
-    const Box w = grid_workspace(scene.grid, problem.probe_rest);
+    const Box w = grid_workspace(scene.grid, problem.probe_rest, problem.probe_sag);
     ContentHasher h;
     h.update(std::span<const double>(w.min.data(), 3))
         .update(std::span<const double>(w.max.data(), 3));
@@ -85,7 +85,9 @@ bool is_mutable_scene_part(const std::string& part) {
 
 std::string describe_scene_part(const std::string& part) {
   if (part == "mesh") return "the mesh file's content";
-  if (part == "problem") return "the mesh geometry or the fixed/grabbed nodes ([[fixed]], [probe])";
+  if (part == "problem")
+    return "the mesh geometry, the fixed/grabbed nodes or the loads ([[fixed]], [probe], [loads], "
+           "[[support]], material.density)";
   if (part == "material") return "the material ([material] or mesh.unit)";
   if (part == "probe")
     return "the probe mode (probe.mode), the contact sphere's radius or its friction";

@@ -21,7 +21,7 @@ StageContext open_stage_context(const std::filesystem::path& state) {
   const std::string label = dir.catalogue().string() + " (stored scene)";
   Scene scene = parse_scene(record.text, dir.catalogue(), SceneParseOptions{false});
   Problem problem = load_stored_problem(dir, scene, *expected);
-  GridSpec grid = resolve_grid(scene.grid, problem.probe_rest, label);
+  GridSpec grid = resolve_grid(scene.grid, problem.probe_rest, label, problem.probe_sag);
   return StageContext{dir,
                       std::move(lock),
                       std::move(catalogue),

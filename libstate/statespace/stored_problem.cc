@@ -26,6 +26,12 @@ ContentHash hash_of(const ProblemVectors& v) {
     h.update(static_cast<std::int64_t>(part->size()));
     h.update(std::span<const double>(*part));
   }
+  // The loads' parts only where present: a problem without loads hashes as it always did.
+  for (const auto* part : {&v.force, &v.spring, &v.rest_u, &v.sag}) {
+    if (part->empty()) continue;
+    h.update(static_cast<std::int64_t>(part->size()));
+    h.update(std::span<const double>(*part));
+  }
   return h.value();
 }
 
@@ -53,6 +59,10 @@ ProblemVectors problem_vectors(const Problem& p) {
   for (int n : p.constraints.probe_nodes) v.probe_nodes.push_back(n);
   for (bool b : p.constraints.probe_components) v.probe_components.push_back(b ? 1.0 : 0.0);
   v.rest = {p.probe_rest.x(), p.probe_rest.y(), p.probe_rest.z()};
+  v.force = flatten(p.loads.force);
+  v.spring = flatten(p.loads.spring);
+  v.rest_u = flatten(p.rest_m);
+  if (!p.probe_sag.isZero(0.0)) v.sag = {p.probe_sag.x(), p.probe_sag.y(), p.probe_sag.z()};
   return v;
 }
 
@@ -75,6 +85,10 @@ void write_stored_problem(const StateDir& dir, const Problem& problem,
   writer.write("constraints/probe_nodes", std::span<const int>(ints(v.probe_nodes)));
   writer.write("constraints/probe_components", std::span<const int>(ints(v.probe_components)));
   writer.write("probe/rest", v.rest);
+  if (!v.force.empty()) writer.write("loads/force", v.force);
+  if (!v.spring.empty()) writer.write("loads/spring", v.spring);
+  if (!v.rest_u.empty()) writer.write("rest/u", v.rest_u);
+  if (!v.sag.empty()) writer.write("probe/sag", v.sag);
   writer.close();
 }
 
@@ -89,7 +103,25 @@ Problem load_stored_problem(const StateDir& dir, const Scene& scene, const Conte
   v.probe_nodes = store.read(kProblemSegment, "constraints/probe_nodes");
   v.probe_components = store.read(kProblemSegment, "constraints/probe_components");
   v.rest = store.read(kProblemSegment, "probe/rest");
+  const auto optional = [&](const char* name) {
+    return store.contains(kProblemSegment, name) ? store.read(kProblemSegment, name)
+                                                 : std::vector<double>{};
+  };
+  v.force = optional("loads/force");
+  v.spring = optional("loads/spring");
+  v.rest_u = optional("rest/u");
+  v.sag = optional("probe/sag");
   return problem_from_vectors(v, scene, expected, where);
+}
+
+std::vector<double> stored_rest_displacements(const StateDir& dir, double unit) {
+  // A state without a stored problem (hand-made in tests) has no rest state either.
+  if (!std::filesystem::exists(dir.problem() / segment_file_name(kProblemSegment))) return {};
+  BlobStore store(dir.problem(), 1);
+  if (!store.contains(kProblemSegment, "rest/u")) return {};
+  std::vector<double> u = store.read(kProblemSegment, "rest/u");
+  for (double& x : u) x /= unit;
+  return u;
 }
 
 Problem problem_from_vectors(const ProblemVectors& v, const Scene& scene,
@@ -103,7 +135,11 @@ Problem problem_from_vectors(const ProblemVectors& v, const Scene& scene,
   }
   const std::size_t num_nodes = v.nodes.size() / 3;
   if (v.nodes.size() % 3 || v.tets.size() % 4 || v.surface.size() % 3 ||
-      v.role.size() != v.nodes.size() || v.probe_components.size() != 3 || v.rest.size() != 3) {
+      v.role.size() != v.nodes.size() || v.probe_components.size() != 3 || v.rest.size() != 3 ||
+      (!v.force.empty() && v.force.size() != v.nodes.size()) ||
+      (!v.spring.empty() && v.spring.size() != v.nodes.size()) ||
+      (!v.rest_u.empty() && v.rest_u.size() != v.nodes.size()) ||
+      (!v.sag.empty() && v.sag.size() != 3)) {
     throw InputError(where + ": inconsistent vector sizes (corrupt?)");
   }
   Problem p;
@@ -121,6 +157,17 @@ Problem problem_from_vectors(const ProblemVectors& v, const Scene& scene,
       to_ids(v.probe_nodes, static_cast<double>(num_nodes), where + ": constraints/probe_nodes");
   for (int c = 0; c < 3; ++c) p.constraints.probe_components[c] = v.probe_components[c] != 0;
   p.probe_rest = Eigen::Vector3d(v.rest[0], v.rest[1], v.rest[2]);
+  const auto vector = [](const std::vector<double>& x) {
+    return Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+  };
+  p.loads.force = vector(v.force);
+  if (!v.force.empty() && scene.loads.gravity && scene.material.density) {
+    p.loads.density = *scene.material.density;
+    p.loads.gravity = *scene.loads.gravity;
+  }
+  p.loads.spring = vector(v.spring);
+  p.rest_m = vector(v.rest_u);
+  if (!v.sag.empty()) p.probe_sag = Eigen::Vector3d(v.sag[0], v.sag[1], v.sag[2]);
   p.unit = scene.mesh.unit;
   p.material = resolve_material(scene.material);
   p.solver = scene.solver;

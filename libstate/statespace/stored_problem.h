@@ -2,7 +2,10 @@
 // that later stages and playback never need the original mesh or node files again.
 // Vectors (float64, zstd): mesh/nodes (3 per node, mesh units), mesh/tets (4 per tet),
 // mesh/surface (3 per triangle), constraints/role (one DofRole per DOF),
-// constraints/probe_nodes, constraints/probe_components (3 flags), probe/rest (3, mesh units).
+// constraints/probe_nodes, constraints/probe_components (3 flags), probe/rest (3, mesh units);
+// with gravity or supports (fem/loads.h) also loads/force (N per DOF), loads/spring (N/m per
+// DOF), rest/u (the loaded rest state, metres per DOF) and probe/sag (3, mesh units), each only
+// where it is not empty (a scene without loads stores and hashes what it always did).
 #pragma once
 
 #include "blobs/segment.h"
@@ -19,6 +22,7 @@ namespace hapstate {
 // The stored problem's vectors, as in the segment (integers as float64).
 struct ProblemVectors {
   std::vector<double> nodes, tets, surface, role, probe_nodes, probe_components, rest;
+  std::vector<double> force, spring, rest_u, sag;  // empty without loads
 };
 
 inline constexpr SegmentId kProblemSegment{1};
@@ -36,6 +40,10 @@ void write_stored_problem(const StateDir& dir, const Problem& problem,
 // and max_force. Throws InputError naming the segment if it is missing or unreadable, or if
 // its hash differs from `expected` (the import stage's record).
 Problem load_stored_problem(const StateDir& dir, const Scene& scene, const ContentHash& expected);
+
+// The zero configuration's u (mesh units, 3 per node) as stored: the loaded rest state
+// ("rest/u" / `unit`, the scene's mesh.unit), or empty for a problem without a body force (u = 0).
+std::vector<double> stored_rest_displacements(const StateDir& dir, double unit);
 
 // The vectors load_stored_problem reads, taken from a Problem (what the expand stage's
 // coordinator sends to worker ranks that cannot read the state directory).

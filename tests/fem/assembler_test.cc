@@ -80,6 +80,59 @@ TEST(Assembler, TangentIsCentralDifferenceOfForce) {
   }
 }
 
+// Gravity and supports (fem/loads.h) enter energy, force and tangent consistently: the force is
+// the energy's central difference and the tangent the force's, with a body force and springs on
+// some DOFs; the load scale multiplies the body force alone; gravity_force lumps m g exactly.
+TEST(Assembler, BodyLoadsAreConsistentWithTheEnergy) {
+  Fixture fx;
+  BodyLoads loads;
+  loads.force = gravity_force(fx.mesh.nodes, fx.mesh.tets, 1000.0, Eigen::Vector3d(0.3, 0, -9.81));
+  const double volume = 0.02 * 0.03 * 0.025;
+  Eigen::Vector3d weight = Eigen::Vector3d::Zero();
+  for (int n = 0; n < fx.mesh.num_nodes(); ++n) weight += loads.force.segment<3>(3 * n);
+  EXPECT_NEAR((weight - 1000.0 * volume * Eigen::Vector3d(0.3, 0, -9.81)).norm(), 0.0, 1e-12);
+  std::vector<bool> bottom(fx.mesh.num_nodes(), false);
+  for (int n = 0; n < fx.mesh.num_nodes(); ++n) bottom[n] = fx.mesh.nodes(2, n) == 0.0;
+  ASSERT_EQ(add_surface_springs(fx.mesh.nodes, fx.mesh.surface, bottom, 2e5, {true, false, true},
+                                &loads.spring),
+            2 * 2 * 2);                                          // 2 x 2 cells of 2 triangles
+  EXPECT_NEAR(loads.spring.sum(), 2 * 2e5 * 0.02 * 0.03, 1e-9);  // x and z over the face
+  for (const Case& c : cases()) {
+    auto material = make_material(c.constants);
+    Assembler plain(fx.mesh.nodes, fx.mesh.tets, *material);
+    Assembler assembler(fx.mesh.nodes, fx.mesh.tets, *material);
+    assembler.set_loads(&loads);
+    assembler.set_load_scale(0.7);
+    const Eigen::VectorXd u = fx.random_u(5, 1e-3);
+    Eigen::VectorXd f, f0;
+    std::vector<double> k, k0;
+    const double w = assembler.energy_force_tangent(u, &f, &k);
+    const double w0 = plain.energy_force_tangent(u, &f0, &k0);
+    double springs = 0;
+    for (int d = 0; d < u.size(); ++d) springs += 0.5 * loads.spring[d] * u[d] * u[d];
+    EXPECT_NEAR(w, w0 - 0.7 * loads.force.dot(u) + springs, 1e-12 * std::abs(w0)) << c.name;
+    EXPECT_LE((f - (f0 - 0.7 * loads.force + loads.spring.cwiseProduct(u))).norm(),
+              1e-12 * f.norm())
+        << c.name;
+    const double h = 1e-7;
+    Eigen::VectorXd fd(u.size());
+    for (int i = 0; i < u.size(); ++i) {
+      Eigen::VectorXd up = u, um = u;
+      up[i] += h;
+      um[i] -= h;
+      fd[i] = (assembler.energy(up) - assembler.energy(um)) / (2 * h);
+    }
+    EXPECT_LE((fd - f).norm(), 1e-6 * f.norm()) << c.name;
+    const Eigen::VectorXd v = fx.random_u(13, 1.0);
+    Eigen::VectorXd kv, fp, fm;
+    symmetric_multiply(assembler.pattern(), k, v, &kv);
+    assembler.energy_and_force(u + 1e-8 * v, &fp);
+    assembler.energy_and_force(u - 1e-8 * v, &fm);
+    EXPECT_LE(((fp - fm) / 2e-8 - kv).norm(), 1e-6 * kv.norm()) << c.name;
+    EXPECT_NEAR(assembler.load_norm(), 0.7 * loads.force.norm(), 1e-15);
+  }
+}
+
 // Patch test: a homogeneous deformation u = G X + b leaves every interior node in equilibrium
 // (zero internal force) and its force on the boundary equals the traction P N of the closed form.
 // Threads compute the element terms; the scatter keeps the serial order, so the energy, force

@@ -88,7 +88,8 @@ TEST(FindLevelMerges, FindsExactlyTheDuplicates) {
   Catalogue cat(dir.path() / "catalogue.sqlite", OpenMode::kReadOnly);
   BlobStore blobs(dir.path() / "blobs");
   MergeSearchStats stats;
-  const auto merges = find_level_merges(cat, blobs, {test_util::kUTol, test_util::kHTol}, &stats);
+  const auto merges =
+      find_level_merges(cat, blobs, {test_util::kUTol, test_util::kHTol}, {}, &stats);
   ASSERT_EQ(merges.size(), 2u);
   EXPECT_EQ(merges[0].kept, ConfigId(3));
   EXPECT_EQ(merges[0].merged, ConfigId(4));

@@ -290,6 +290,61 @@ TEST_F(BindScene, ContactProbeNeedsFixedNodesThatHoldTheBody) {
             std::string::npos);
 }
 
+// [loads] and [[support]] (issue 40): gravity lumps the body's weight, a support spreads its
+// stiffness over the selected surface, and supports hold the body as fixed nodes do.
+TEST_F(BindScene, GravityAndSupportsBecomeBodyLoads) {
+  const std::string text =
+      kHead + "lambda = 4000\ndensity = 1000\n[loads]\ngravity = [0, 0, -9.81]\n" +
+      "[[support]]\nbox = [[-0.1, -0.1, -0.1], [2.1, 2.1, 0.1]]\n" +
+      "stiffness = 5e4\ndofs = \"z\"\n[probe]\npoint = [2, 2, 2]\n" + "max_force = 1.5\n" + kTail;
+  // Held by the support alone in z: x, y and the rotation about z are free.
+  EXPECT_NE(error_of([&] {
+              bind_scene(parse_scene(text, scene_path(), {.check_files = false}), cube_);
+            }).find("rigid-body mode(s) free"),
+            std::string::npos);
+  const std::string held = kHead +
+                           "lambda = 4000\ndensity = 1000\n[loads]\ngravity = [0, 0, -9.81]\n" +
+                           "[[support]]\nbox = [[-0.1, -0.1, -0.1], [2.1, 2.1, 0.1]]\n" +
+                           "stiffness = 5e4\n[probe]\npoint = [2, 2, 2]\nmax_force = 1.5\n" + kTail;
+  const Problem p = bind_scene(parse_scene(held, scene_path(), {.check_files = false}), cube_);
+  // 2 x 2 x 2 mm of density 1000 under g: the weight, lumped to the nodes.
+  Eigen::Vector3d weight = Eigen::Vector3d::Zero();
+  for (int n = 0; n < 27; ++n) weight += p.loads.force.segment<3>(3 * n);
+  EXPECT_NEAR(weight.z(), -1000 * 8e-9 * 9.81, 1e-15);
+  // 5e4 N/m^3 over the 4 mm^2 bottom face, in x, y and z.
+  EXPECT_NEAR(p.loads.spring.sum(), 3 * 5e4 * 4e-6, 1e-12);
+  // The body settled on its support; the grab point followed it.
+  ASSERT_EQ(p.rest_m.size(), 81);
+  EXPECT_LT(p.probe_sag.z(), 0.0);
+  EXPECT_NEAR(p.probe_rest.z(), 2 + p.probe_sag.z(), 1e-15);
+  EXPECT_NEAR(p.probe_sag.z() * 1e-3, p.rest_m[3 * 26 + 2], 1e-15);
+}
+
+TEST_F(BindScene, LoadsProblemsAreNamed) {
+  // A support over the interior line of nodes x = 1, y = 1 touches no surface triangle.
+  const std::string line_support =
+      kHead + "lambda = 4000\n" + kFixX0 +
+      "[[support]]\nbox = [[0.9, 0.9, -0.1], [1.1, 1.1, 2.1]]\n" +
+      "stiffness = 1e3\n[probe]\npoint = [2, 2, 2]\nmax_force = 1.5\n" + kTail;
+  EXPECT_EQ(error_of([&] {
+              bind_scene(parse_scene(line_support, scene_path(), {.check_files = false}), cube_);
+            }),
+            at(10,
+               "support[0] (box [[0.9, 0.9, -0.1], [1.1, 1.1, 2.1]]) selects 3 node(s) but "
+               "no surface triangle (one whose three corners are all selected): a support "
+               "acts on the surface"));
+  // Gravity on a body that only the probe holds: it would fall before the probe takes hold.
+  const std::string hanging =
+      kHead + "lambda = 4000\ndensity = 1000\n[loads]\n" +
+      "gravity = [0, 0, -9.81]\n[probe]\npoint = [1, 1, 2]\nradius = 1.5\n" + "max_force = 1.5\n" +
+      kTail;
+  const std::string fall = error_of(
+      [&] { bind_scene(parse_scene(hanging, scene_path(), {.check_files = false}), cube_); });
+  EXPECT_NE(fall.find(":9: loads.gravity: the fixed nodes and supports leave 6 rigid-body mode(s)"),
+            std::string::npos)
+      << fall;
+}
+
 TEST_F(BindScene, MeshWithoutTets) {
   Mesh empty;
   empty.source = "empty.msh";

@@ -259,13 +259,30 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"max_iterations = 30", "max_iterations = 30\nmax_cutbacks = -1", 24,
                 "key 'solver.max_cutbacks' = -1: must be in [0, 50]"},
         BadCase{"max_iterations = 30", "max_iterations = 30\n[levels]\nforce_tolerance = 0", 25,
-                "key 'levels.force_tolerance' = 0: must be > 0"}));
+                "key 'levels.force_tolerance' = 0: must be > 0"},
+        // Gravity, density and supports (issue 40).
+        BadCase{"poisson = 0.45", "poisson = 0.45\ndensity = -1000", 9,
+                "key 'material.density' = -1000: must be > 0"},
+        BadCase{"poisson = 0.45", "poisson = 0.45\ndensity = 1000\n[loads]\ngravity = [0, nan, 0]",
+                11, "key 'loads.gravity' = [0, nan, 0]: element 1: must be a finite number"},
+        BadCase{"poisson = 0.45", "poisson = 0.45\n[loads]\ngravity = [0, 0, -9.81]", 9,
+                "key 'loads.gravity' needs 'material.density' (kg/m^3): the body's weight is "
+                "density x volume x gravity"},
+        BadCase{"poisson = 0.45", "poisson = 0.45\ndensity = 1000\n[loads]\ngravity = -9.81", 11,
+                "key 'loads.gravity' = -9.81: expected an array of 3 numbers [x, y, z], got a "
+                "floating-point number"},
+        BadCase{"[[fixed]]\n",
+                "[[support]]\nbox = [[0, 0, 0], [1, 1, 1]]\nstiffness = -5\n[[fixed]]\n", 12,
+                "key 'support[0].stiffness' = -5: must be > 0"},
+        BadCase{"[[fixed]]\n", "[[support]]\nbox = [[0, 0, 0], [1, 1, 1]]\n[[fixed]]\n", 10,
+                "missing key 'support[0].stiffness' (N/m^3, the supporting pressure per metre of "
+                "displacement)"}));
 
 TEST_F(ParseScene, UnknownKeyIsNamedWithSuggestion) {
   EXPECT_EQ(error(replace_once(kBase, "poisson = 0.45", "poisson = 0.45\npoison = 0.3")),
             at(9,
                "unknown key 'material.poison' (did you mean 'poisson'?); allowed: law, young, "
-               "poisson, mu, lambda, c10, c01, d1"));
+               "poisson, mu, lambda, c10, c01, d1, density"));
   EXPECT_EQ(error(replace_once(kBase, "[[fixed]]\n", "[[fixed]]\ncolour = \"red\"\n")),
             at(11, "unknown key 'fixed[0].colour'; allowed: box, plane, group, nodes, dofs"));
   EXPECT_EQ(error(replace_once(kBase, "box = [[0.0, 3.0, -1.0], [2.0, 5.0, 2.0]]",
@@ -277,11 +294,11 @@ TEST_F(ParseScene, UnknownTableIsNamed) {
   EXPECT_EQ(error(kBase + "[solvr]\nsubsteps = 2\n"),
             at(24,
                "unknown table 'solvr' (did you mean 'solver'?); allowed: mesh, material, "
-               "fixed, probe, grid, solver, levels"));
+               "fixed, support, loads, probe, grid, solver, levels"));
   EXPECT_EQ(error("substeps = 2\n" + kBase),
             at(1,
-               "unknown key 'substeps'; allowed: mesh, material, fixed, probe, grid, solver, "
-               "levels"));
+               "unknown key 'substeps'; allowed: mesh, material, fixed, support, loads, probe, "
+               "grid, solver, levels"));
 }
 
 TEST_F(ParseScene, WrongTableShapes) {

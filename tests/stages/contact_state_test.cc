@@ -77,7 +77,8 @@ TEST_F(ContactState, PlateColumnHoldsBothSidesAndLeavingGivesTheZeroConfiguratio
     for (const Configuration& c : levels) {
       ASSERT_TRUE(c.blob.has_value());
       // Frictionless: h is the sphere's force on the body, minus the felt force; no t.
-      const ConfigVectors v = load_config_vectors(blobs, c, 3 * 242, VectorLayout{false, 0, 3});
+      const ConfigVectors v = load_config_vectors(blobs, c, std::vector<double>(3 * 242, 0.0),
+                                                  VectorLayout{false, 0, 3});
       EXPECT_TRUE(v.t.empty());
       for (int k = 0; k < 3; ++k) EXPECT_NEAR(v.h[k], -c.force[k], 1e-12);
     }

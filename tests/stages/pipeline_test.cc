@@ -309,7 +309,8 @@ TEST_F(Pipeline, ManyLevelsAreDistinctAndIndependentOfThreads) {
     std::vector<ConfigVectors> v;
     for (std::size_t l = 0; l < levels.size(); ++l) {
       EXPECT_EQ(levels[l].level, Level(static_cast<std::int64_t>(l)));
-      v.push_back(load_config_vectors(blobs, levels[l], 3 * 81, VectorLayout{false, 3, 3}));
+      v.push_back(load_config_vectors(blobs, levels[l], std::vector<double>(3 * 81, 0.0),
+                                      VectorLayout{false, 3, 3}));
       // One grabbed node: the force felt is minus its reactions h; t is the probe offset.
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(levels[l].force[c], -v.back().h[c], 1e-12);
       const Checkpoint& p = a.checkpoints[checkpoint.value() - 1];

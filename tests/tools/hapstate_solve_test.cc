@@ -137,6 +137,47 @@ TEST_F(HapstateSolve, StraightPathWritesOneOkRowPerPoint) {
   }
 }
 
+// --rest (issue 40): the liver under its own weight, with no [probe] and no [grid]; the table
+// holds the library's rest state, and a path from rest starts with zero force.
+TEST_F(HapstateSolve, RestSolvesTheLoadedRestStateAlone) {
+  std::string text = slurp(kScene);
+  text = std::regex_replace(text, std::regex("file = \"[^\"]*\""),
+                            "file = \"" HAPSTATE_SOURCE_DIR "/data/meshes/liver.msh\"");
+  text = std::regex_replace(text, std::regex("poisson = 0.45"),
+                            "poisson = 0.45\ndensity = 1000\n[loads]\ngravity = [0, -9.81, 0]");
+  std::ofstream(p("gravity.toml")) << text;
+  const std::string no_probe = text.substr(0, text.find("[probe]"));
+  std::ofstream(p("rest_only.toml")) << no_probe;
+  const Run r = solve({p("rest_only.toml"), "--rest", "-o", p("rest.csv"), "--vtu", p("vtu")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("loaded rest state: weight"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(p("vtu/rest.vtu")));
+  const auto lines = lines_of(p("rest.csv"));
+  ASSERT_EQ(lines.size(), kLiverNodes + 1u);
+  EXPECT_EQ(lines[0], "node,x,y,z,ux,uy,uz");
+  const Problem problem = build_problem(load_scene(p("gravity.toml")));
+  ASSERT_EQ(problem.rest_m.size(), 3 * kLiverNodes);
+  double largest = 0;
+  for (int n = 0; n < kLiverNodes; ++n) {
+    const auto cells = split(lines[n + 1]);
+    ASSERT_EQ(cells.size(), 7u);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(std::stod(cells[4 + c]), problem.rest_m[3 * n + c] / problem.unit, 1e-9);
+    largest = std::max(largest, problem.rest_m.segment<3>(3 * n).norm() / problem.unit);
+  }
+  EXPECT_GT(largest, 0.1);  // cm: the liver does sag
+  // The scene with its probe: the first point of a path is the rest position, force zero.
+  const Run path =
+      solve({p("gravity.toml"), "--by", "0", "0", "0", "--steps", "1", "-q", "-o", p("path.csv")});
+  ASSERT_EQ(path.exit_code, 0) << path.err;
+  const auto row = split(lines_of(p("path.csv")).at(1));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(std::stod(row[4 + c]), 0.0, 1e-9);
+  // A path needs the probe: without [probe] the scene is refused with the table named.
+  const Run refused = solve({p("rest_only.toml"), "--by", "0", "0", "1", "-o", p("x.csv")});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("missing table [probe]"), std::string::npos) << refused.err;
+}
+
 TEST_F(HapstateSolve, MalformedPathNamesFileAndLine) {
   const std::string path = p("bad_path.csv");
   std::ofstream(path) << "x,y,z\n-2.5,3.5,2.3\n-2.5,3.x5,2.4\n-2.5,3.5,2.5\n";
