@@ -282,10 +282,28 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
   if (gravity) {
     const double g = p.loads.gravity.norm();
     const Eigen::Vector3d dir_g = p.loads.gravity / g;
-    out << "**\n** the loaded rest state: gravity, the probe nodes free; step time ends at 1\n"
-        << step << "*DLOAD\nEALL, GRAV, " << num(g) << ", " << num(dir_g.x()) << ", "
-        << num(dir_g.y()) << ", " << num(dir_g.z()) << "\n"
-        << prints << "*END STEP\n";
+    // The whole weight at once is a large load (a soft organ may sag by much of its size): ccx
+    // may cut its increments back here, whatever the path's steps do.
+    CcxDeckOptions rest = options;
+    rest.allow_cutbacks = true;
+    // A deck with a path holds the probe nodes at our rest state's displacement from the first
+    // step on: ccx ramps a newly prescribed displacement from zero, not from where the node is,
+    // which undoes the sag within the first increment of a later step and diverges. Their RF
+    // there must then be their own weight (the felt force zero): the check that our rest state
+    // is an equilibrium of the free body. Without a path the probe nodes stay free.
+    const bool hold = !probe_path.empty();
+    out << "**\n** the loaded rest state: gravity, the probe nodes "
+        << (hold ? "held at hapstate's rest displacement" : "free") << "; step time ends at 1\n"
+        << step_cards(rest, nlgeom) << "*DLOAD\nEALL, GRAV, " << num(g) << ", " << num(dir_g.x())
+        << ", " << num(dir_g.y()) << ", " << num(dir_g.z()) << "\n";
+    if (hold) {
+      out << "*BOUNDARY\n";
+      for (int c = 0; c < 3; ++c)
+        for (int node : sets.probe[c])
+          out << node + 1 << ", " << c + 1 << ", " << c + 1 << ", " << num(p.rest_m[3 * node + c])
+              << "\n";
+    }
+    out << prints << "*END STEP\n";
   }
   const int first_time = ccx_first_point_time(p);
   for (std::size_t k = 0; k < probe_path.size(); ++k) {

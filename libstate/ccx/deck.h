@@ -32,9 +32,10 @@ inline constexpr const char* kCcxMetaFile = "hapstate.json";  // what the .dat r
 // Writes DIR/problem.inp, DIR/path.csv and DIR/hapstate.json (creating DIR if needed).
 // One ccx *STEP per point p_k of `probe_path` (mesh units): the probe DOFs are prescribed to
 // t_k = (p_k - problem.probe_rest) * unit metres, the fixed DOFs to 0. With gravity
-// (problem.loads) a first step finds the loaded rest state with the probe nodes free
-// (*DENSITY, *DLOAD GRAV, kept by the later steps), and the probe DOFs are then prescribed to
-// their rest displacement (problem.rest_m) + t_k: path point k ends at time k + 1
+// (problem.loads) a first step finds the loaded rest state (*DENSITY, *DLOAD GRAV, kept by the
+// later steps), with the probe nodes free when the path is empty, else held at their rest
+// displacement (problem.rest_m: ccx ramps a new prescribed displacement from zero), and the
+// probe DOFs are then prescribed to that displacement + t_k: path point k ends at time k + 1
 // (ccx_first_point_time; an empty path is allowed then: the rest step alone). Supports
 // (loads.spring) are SPRING1 elements, one per DOF. Node ids are ours + 1, coordinates in
 // metres, so ccx forces are in N. Throws InputError for an empty path (without gravity), an

@@ -4,8 +4,8 @@
 
 namespace hapstate {
 
-Eigen::VectorXd gravity_force(const Eigen::Matrix3Xd& positions_m, const Tets& tets,
-                              double density, const Eigen::Vector3d& gravity) {
+Eigen::VectorXd gravity_force(const Eigen::Matrix3Xd& positions_m, const Tets& tets, double density,
+                              const Eigen::Vector3d& gravity) {
   Eigen::VectorXd force = Eigen::VectorXd::Zero(3 * positions_m.cols());
   for (Eigen::Index e = 0; e < tets.cols(); ++e) {
     const Eigen::Vector3d x0 = positions_m.col(tets(0, e));

@@ -29,8 +29,8 @@ struct BodyLoads {
 
 // The dead weight of a body of uniform density [kg/m^3] under gravity g [m/s^2]: per node a
 // quarter of each of its tets' mass times g (exact for P1 elements), positions in metres.
-Eigen::VectorXd gravity_force(const Eigen::Matrix3Xd& positions_m, const Tets& tets,
-                              double density, const Eigen::Vector3d& gravity);
+Eigen::VectorXd gravity_force(const Eigen::Matrix3Xd& positions_m, const Tets& tets, double density,
+                              const Eigen::Vector3d& gravity);
 
 // Adds to `spring` (one value per DOF) an elastic foundation of `stiffness` [N/m^3: pressure per
 // metre of displacement] over the surface triangles whose three corners are all `selected`: each

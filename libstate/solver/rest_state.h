@@ -12,8 +12,8 @@
 namespace hapstate {
 
 struct RestState {
-  Eigen::VectorXd u_m;  // metres, one value per DOF (the last converged state on failure)
-  MoveResult result;    // substeps = load steps, iterations = Newton's linear solves
+  Eigen::VectorXd u_m;     // metres, one value per DOF (the last converged state on failure)
+  MoveResult result;       // substeps = load steps, iterations = Newton's linear solves
   double largest_sag = 0;  // the largest node displacement, mesh units
 };
 
