@@ -74,5 +74,22 @@ TEST(LiverScene, BuildProblem) {
   EXPECT_EQ(p.max_force, 3.0);
 }
 
+// pipelines/liver-gravity: the same liver under its weight on an elastic bed. It builds, rests
+// settled (its sag as docs/benchmarks.md gives it), and the grab point follows the sag.
+TEST(LiverScene, UnderGravityOnItsBedSettles) {
+  const Scene s = load_scene(std::filesystem::path(HAPSTATE_SOURCE_DIR) / "pipelines" /
+                             "liver-gravity" / "scene.toml");
+  ASSERT_TRUE(s.loads.gravity.has_value());
+  ASSERT_EQ(s.supports.size(), 1u);
+  const Problem p = build_problem(s);
+  ASSERT_EQ(p.rest_m.size(), 3 * p.mesh.num_nodes());
+  double largest = 0;
+  for (int n = 0; n < p.mesh.num_nodes(); ++n)
+    largest = std::max(largest, p.rest_m.segment<3>(3 * n).norm() / p.unit);
+  EXPECT_NEAR(largest, 0.763, 0.001);  // cm
+  EXPECT_NEAR(p.probe_sag.y(), -0.534, 0.001);
+  EXPECT_EQ(p.probe_rest, p.mesh.nodes.col(p.constraints.probe_nodes[0]) + p.probe_sag);
+}
+
 }  // namespace
 }  // namespace hapstate
