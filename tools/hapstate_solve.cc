@@ -138,8 +138,10 @@ int run_rest(const Options& o) {
     write_vtu(std::filesystem::path(o.vtu_dir) / "rest.vtu", problem.mesh, u);
   }
   if (!o.ccx_dir.empty()) {
-    if (problem.contact)
-      throw InputError(o.scene + ": --export-ccx: a contact probe cannot be exported");
+    if (!problem.loads.has_force())
+      throw InputError(o.scene +
+                       ": --rest --export-ccx: no gravity ([loads]), so no rest step "
+                       "to export (the rest state is the mesh as drawn)");
     write_ccx_deck(problem, {}, o.ccx_dir);
   }
   return kExitOk;
@@ -152,6 +154,7 @@ int run(const Options& o) {
   const Problem problem = build_problem(scene, &report);
   for (const auto& w : report.warnings)
     std::fprintf(stderr, "hapstate-solve: mesh: %s\n", w.c_str());
+  if (!o.quiet) std::fprintf(stderr, "hapstate-solve: %s\n", describe_grab(scene, problem).c_str());
   const ProbePath path = make_path(o, scene, problem);
 
   const bool contact = problem.contact.has_value();

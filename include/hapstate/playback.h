@@ -64,8 +64,9 @@ class PlaybackFile {
   std::int32_t num_mesh_nodes() const;
   bool view_is_all_nodes() const;  // view nodes = every mesh node, in mesh order
   bool is_contact() const;         // the scene's probe is a contact sphere
-  // Whether configuration c is a zero configuration: the body at rest (no force, no
-  // displacement); the rest configuration, and with a contact probe every free check-point's.
+  // Whether configuration c is a zero configuration: the body at rest (no force; no
+  // displacement, or under gravity the loaded rest state's); the rest configuration, and with a
+  // contact probe every free check-point's.
   bool is_zero_configuration(std::int32_t c) const;
   std::span<const std::int32_t> view_nodes() const;    // mesh node index per view node
   std::span<const float> reference_positions() const;  // 3 per view node, mesh units

@@ -1,6 +1,7 @@
 #include "eval/eval_report.h"
 
 #include "util/error.h"
+#include "util/text.h"
 
 #include <sys/wait.h>
 
@@ -128,8 +129,10 @@ std::string seeds_table(const std::vector<EvalResult>& runs, std::uint64_t first
                     .path_description.substr(0, runs.front().path_description.find(", seed"))
                     .c_str());
   t << line;
-  t << "scheme      force error (max over a path)           deformation error (max over a path)\n"
-       "            median   90 %     largest (seed)        median   90 %     largest (seed)\n";
+  t << "scheme      force error (max over a path)                deformation error (max over a "
+       "path)\n"
+       "               median        90 %   largest (seed)          median        90 %   largest "
+       "(seed)\n";
   for (std::size_t s = 0; s < runs.front().schemes.size(); ++s) {
     std::vector<double> force, deformation;
     std::size_t worst_force = 0, worst_deformation = 0;
@@ -145,12 +148,11 @@ std::string seeds_table(const std::vector<EvalResult>& runs, std::uint64_t first
     const double fw = force[worst_force], dw = deformation[worst_deformation];
     const double f50 = quantile(&force, 0.5), f90 = quantile(&force, 0.9);
     const double d50 = quantile(&deformation, 0.5), d90 = quantile(&deformation, 0.9);
-    std::snprintf(line, sizeof line,
-                  "%-10s %6.2f %%  %6.2f %%  %6.2f %% (%llu)       %6.2f %%  %6.2f %%  %6.2f %% "
-                  "(%llu)\n",
-                  scheme_name(runs.front().schemes[s]), 100 * f50, 100 * f90, 100 * fw,
-                  static_cast<unsigned long long>(first_seed + worst_force), 100 * d50, 100 * d90,
-                  100 * dw, static_cast<unsigned long long>(first_seed + worst_deformation));
+    std::snprintf(line, sizeof line, "%-10s %11s %11s %10s (%llu)    %11s %11s %10s (%llu)\n",
+                  scheme_name(runs.front().schemes[s]), percent(f50).c_str(), percent(f90).c_str(),
+                  percent(fw).c_str(), static_cast<unsigned long long>(first_seed + worst_force),
+                  percent(d50).c_str(), percent(d90).c_str(), percent(dw).c_str(),
+                  static_cast<unsigned long long>(first_seed + worst_deformation));
     t << line;
     std::snprintf(line, sizeof line,
                   "  %s: %d of %zu paths outside the paper's bounds (force 4 %%, deformation "
@@ -239,8 +241,10 @@ std::string eval_table(const EvalResult& result) {
   t << "force error |f - f*| / max|f*| over the path; deformation error ||u - u*|| / ||u*|| per "
        "step (f*, u*: the precise solve; each scheme interpolates the displacements as it does the "
        "force: trilinear, or cubic Hermite from the stored displacement slopes)\n";
-  t << "scheme      force error          deformation error (all)   deformation error (surface)\n"
-       "            max      mean        max      mean             max      mean\n";
+  t << "scheme      force error               deformation error (all)   deformation error "
+       "(surface)\n"
+       "                    max        mean            max        mean            max        "
+       "mean\n";
   std::string verdicts;
   int onset = 0;  // solved steps left out of the deformation columns
   for (const EvalStep& st : result.steps) onset += st.solved && st.contact_onset;
@@ -250,21 +254,22 @@ std::string eval_table(const EvalResult& result) {
     onset_max = std::max(onset_max, e.onset_deformation_max);
     char all[64];
     if (result.has_all_nodes)
-      std::snprintf(all, sizeof all, "%6.2f %%  %6.2f %%", 100 * e.deformation_all_max,
-                    100 * e.deformation_all_mean);
+      std::snprintf(all, sizeof all, "%11s %11s", percent(e.deformation_all_max).c_str(),
+                    percent(e.deformation_all_mean).c_str());
     else
-      std::snprintf(all, sizeof all, "%-17s", "(surface only)");
-    std::snprintf(line, sizeof line, "%-10s %6.2f %%  %6.2f %%     %s         %6.2f %%  %6.2f %%\n",
-                  scheme_name(result.schemes[s]), 100 * e.force_max, 100 * e.force_mean, all,
-                  100 * e.deformation_surface_max, 100 * e.deformation_surface_mean);
+      std::snprintf(all, sizeof all, "%-23s", "(surface only)");
+    std::snprintf(line, sizeof line, "%-10s %11s %11s    %s    %11s %11s\n",
+                  scheme_name(result.schemes[s]), percent(e.force_max).c_str(),
+                  percent(e.force_mean).c_str(), all, percent(e.deformation_surface_max).c_str(),
+                  percent(e.deformation_surface_mean).c_str());
     t << line;
     const double deformation = e.deformation_max(result);
     const bool good = e.force_max <= kPaperForce && deformation <= kPaperDeformation;
     std::snprintf(line, sizeof line,
-                  "  %s: max force error %.2f %% %s 4 %%, max deformation error "
-                  "%.2f %% %s 14 %%: %s\n",
-                  scheme_name(result.schemes[s]), 100 * e.force_max,
-                  e.force_max <= kPaperForce ? "<=" : ">", 100 * deformation,
+                  "  %s: max force error %s %s 4 %%, max deformation error "
+                  "%s %s 14 %%: %s\n",
+                  scheme_name(result.schemes[s]), percent(e.force_max).c_str(),
+                  e.force_max <= kPaperForce ? "<=" : ">", percent(deformation).c_str(),
                   deformation <= kPaperDeformation ? "<=" : ">",
                   good ? "within the paper's bounds" : "outside the paper's bounds");
     verdicts += line;

@@ -28,6 +28,11 @@ Problem bind_scene(const Scene& scene, Mesh mesh);
 ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role, double radius,
                                   Friction friction);
 
+// What a grab probe holds, for messages: "the probe grabs node N, D mesh units from
+// probe.point" (probe.point alone: the nearest node; D as drawn) or "the probe grabs K node(s)";
+// a contact probe: "the probe is a sphere of radius R".
+std::string describe_grab(const Scene& scene, const Problem& problem);
+
 // load_mesh(scene.mesh.file, report) then bind_scene.
 Problem build_problem(const Scene& scene, MeshReport* report = nullptr);
 

@@ -8,6 +8,7 @@
 #include "solver/triangle_distance.h"
 #include "util/error.h"
 
+#include <algorithm>
 #include <sstream>
 
 namespace hapstate {
@@ -74,6 +75,20 @@ std::vector<int> select_fixed(const FixedSelector& selector, const std::string& 
   return ids;
 }
 
+// How far probe.point may be from the node it grabs (mesh units): 5 % of the mesh's bounding-box
+// diagonal, or the longest edge of a tet at that node if longer (a coarse mesh).
+double grab_snap_tolerance(const Mesh& mesh, int node) {
+  const double diagonal =
+      (mesh.nodes.rowwise().maxCoeff() - mesh.nodes.rowwise().minCoeff()).norm();
+  double edge = 0;
+  for (int e = 0; e < mesh.num_tets(); ++e)
+    for (int a = 0; a < 4; ++a)
+      if (mesh.tets(a, e) == node)
+        for (int b = 0; b < 4; ++b)
+          edge = std::max(edge, (mesh.nodes.col(mesh.tets(b, e)) - mesh.nodes.col(node)).norm());
+  return std::max(0.05 * diagonal, edge);
+}
+
 // The grabbed nodes of a grab probe; problems go to `diagnostics`.
 std::vector<int> select_grabbed(const SceneProbe& probe, const Mesh& mesh,
                                 Diagnostics& diagnostics) {
@@ -96,6 +111,22 @@ std::vector<int> select_grabbed(const SceneProbe& probe, const Mesh& mesh,
     const int node = nearest_node(mesh, *probe.point);
     if (node >= 0) ids.push_back(node);
     what = mesh_name(mesh) + " has no node to grab";
+    // A point far from the body is a mistake (a wrong unit or axis), not a wish to grab the
+    // nearest node wherever it is: refuse it beyond grab_snap_tolerance.
+    if (node >= 0) {
+      const double distance = (mesh.nodes.col(node) - *probe.point).norm();
+      const double tolerance = grab_snap_tolerance(mesh, node);
+      if (distance > tolerance) {
+        std::ostringstream os;
+        os.precision(6);
+        os << "probe: point " << format_point(*probe.point) << " is " << distance
+           << " mesh units from the nearest node of " << mesh_name(mesh) << " (node " << node
+           << " at " << format_point(mesh.nodes.col(node)) << "), more than the " << tolerance
+           << " allowed (5 % of the mesh's bounding-box diagonal, or the longest edge at that "
+              "node if longer): put probe.point on or near the body's surface";
+        diagnostics.add(probe.line, os.str());
+      }
+    }
   }
   if (ids.empty() && diagnostics.count() == problems_before) {
     diagnostics.add(probe.line, "probe: " + what);
@@ -168,6 +199,22 @@ void settle_rest_state(const Scene& scene, Problem* problem, Diagnostics& diagno
 
 }  // namespace
 
+std::string describe_grab(const Scene& scene, const Problem& problem) {
+  std::ostringstream os;
+  os.precision(3);
+  const std::vector<int>& nodes = problem.constraints.probe_nodes;
+  if (problem.contact) {
+    os << "the probe is a sphere of radius " << problem.contact->radius;
+  } else if (nodes.size() == 1 && scene.probe.point && !scene.probe.radius) {
+    const Eigen::Vector3d drawn = problem.probe_rest - problem.probe_sag;
+    os << "the probe grabs node " << nodes.front() << ", " << (drawn - *scene.probe.point).norm()
+       << " mesh units from probe.point";
+  } else {
+    os << "the probe grabs " << nodes.size() << " node(s)";
+  }
+  return os.str();
+}
+
 ContactSphere make_contact_sphere(const Mesh& mesh, const std::vector<DofRole>& role, double radius,
                                   Friction friction) {
   ContactSphere sphere;
@@ -239,6 +286,14 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
   if (!has_probe) {
     // hapstate-solve --rest: no probe; the body must be held by fixed nodes and supports.
   } else if (probe.mode == ProbeMode::kContact) {
+    if (problem.loads.has_force()) {
+      // The contact probe's playback (the cursor's free corners, the onset models) and its
+      // solvers' "nothing touched" state still take the body at rest as the mesh as drawn.
+      diagnostics.add(scene.loads.line,
+                      "loads.gravity: not supported with a contact probe yet (its playback "
+                      "takes the body at rest as the mesh as drawn): use a grab probe, or leave "
+                      "gravity out ([[support]] alone is fine)");
+    }
     problem.contact = bind_contact(probe, mesh, role, diagnostics);
     problem.probe_rest = *probe.point;
     if (!problem.loads.has_force())

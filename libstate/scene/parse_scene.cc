@@ -273,6 +273,10 @@ SceneLoads parse_loads(const TableReader& r) {
   loads.line = r.line();
   if (!r.has("gravity")) r.missing("gravity", "[gx, gy, gz] in m/s^2, in the mesh's axes");
   loads.gravity = r.point("gravity");
+  if (loads.gravity && loads.gravity->norm() == 0.0) {
+    r.bad("gravity", "must be non-zero (leave [loads] out for a body without weight)");
+    loads.gravity.reset();
+  }
   return loads;
 }
 

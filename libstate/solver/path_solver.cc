@@ -140,6 +140,7 @@ MoveResult PathSolver::settle_under_loads() {
   constexpr int kEasyIterations = 8;  // a step that took at most this many: the next one doubles
   const auto start = Clock::now();
   MoveResult result;
+  const long long factorizations_before = timings_.factorizations;
   state_force_valid_ = false;
   double scale = 0, step = kFirstStep;
   Eigen::VectorXd converged = u_;
@@ -171,6 +172,7 @@ MoveResult PathSolver::settle_under_loads() {
       break;
     }
   }
+  result.factorisations = static_cast<int>(timings_.factorizations - factorizations_before);
   result.wall_ms = 1e3 * seconds_since(start);
   return result;
 }

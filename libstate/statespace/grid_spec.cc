@@ -67,6 +67,7 @@ Eigen::Vector3d grid_spacing(const SceneGrid& grid) {
 
 Box grid_workspace(const SceneGrid& grid, const Eigen::Vector3d& probe_rest,
                    const Eigen::Vector3d& sag) {
+  if (grid.box && sag.isZero(0.0)) return *grid.box;  // bit for bit (a written -0.0 stays)
   if (grid.box) return Box{grid.box->min + sag, grid.box->max + sag};
   const Eigen::Vector3d reach = kDefaultWorkspaceSpacings * grid_spacing(grid);
   return Box{probe_rest - reach, probe_rest + reach};
@@ -118,7 +119,7 @@ std::vector<std::string> grid_short_axes(const SceneGrid& grid, const GridSpec& 
   for (int a = 0; a < 3; ++a) {
     const int have = spec.hi[a] - spec.lo[a] + 1, want = (*grid.dims)[a];
     if (have >= want) continue;
-    const double h = spec.spacing[a], rest = spec.origin[a], edge = grid.box->min[a];
+    const double h = spec.spacing[a], rest = spec.origin[a], edge = spec.workspace.min[a];
     const double shift = rest + std::round((edge - rest) / h) * h - edge;
     const char axis = "xyz"[a];
     char buf[512];

@@ -107,7 +107,8 @@ ImportReport run_import(const ImportOptions& options) {
     report.warnings.push_back(std::move(note));
   const std::string summary = std::to_string(problem.mesh.num_nodes()) + " nodes, " +
                               std::to_string(problem.mesh.num_tets()) + " tets, " +
-                              std::to_string(grid.num_checkpoints()) + " check-points";
+                              std::to_string(grid.num_checkpoints()) + " check-points" +
+                              ("; " + describe_grab(scene, problem));
 
   if (fs::exists(dir.root) && !fs::is_directory(dir.root)) {
     throw InputError(dir.root.string() + ": exists and is not a directory");

@@ -69,7 +69,8 @@ NamedHashes scene_identity(const Scene& scene, const Problem& problem,
     parts.emplace_back("max_force", h.value());
   }
   {
-    const Box w = grid_workspace(scene.grid, problem.probe_rest, problem.probe_sag);
+    // As drawn: the sag is the solver's answer, not part of the scene.
+    const Box w = grid_workspace(scene.grid, problem.probe_rest - problem.probe_sag);
     ContentHasher h;
     h.update(std::span<const double>(w.min.data(), 3))
         .update(std::span<const double>(w.max.data(), 3));

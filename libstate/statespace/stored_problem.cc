@@ -21,14 +21,23 @@ std::vector<double> flatten(const Matrix& m) {
 
 ContentHash hash_of(const ProblemVectors& v) {
   ContentHasher h;
+  // The probe's rest position; with a sag (gravity) it is the solver's answer, and the grabbed
+  // nodes hashed here already decide where it was drawn.
+  const std::vector<double> none;
+  const std::vector<double>* rest = v.sag.empty() ? &v.rest : &none;
   for (const auto* part :
-       {&v.nodes, &v.tets, &v.surface, &v.role, &v.probe_nodes, &v.probe_components, &v.rest}) {
+       {&v.nodes, &v.tets, &v.surface, &v.role, &v.probe_nodes, &v.probe_components, rest}) {
     h.update(static_cast<std::int64_t>(part->size()));
     h.update(std::span<const double>(*part));
   }
-  // The loads' parts only where present: a problem without loads hashes as it always did.
-  for (const auto* part : {&v.force, &v.spring, &v.rest_u, &v.sag}) {
+  // The loads' parts only where present (a problem without loads hashes as it always did), named.
+  // The rest state and the sag are not hashed: they are what the solver made of these inputs
+  // (the last bits may differ between machines or BLAS threads, and a re-import must not call
+  // that another scene).
+  for (const auto& [name, part] :
+       {std::pair{"loads/force", &v.force}, {"loads/spring", &v.spring}}) {
     if (part->empty()) continue;
+    h.update(std::string_view(name));
     h.update(static_cast<std::int64_t>(part->size()));
     h.update(std::span<const double>(*part));
   }

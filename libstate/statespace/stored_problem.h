@@ -27,8 +27,10 @@ struct ProblemVectors {
 
 inline constexpr SegmentId kProblemSegment{1};
 
-// Hash of everything the stored problem holds (geometry, constraints, probe rest): equal
-// hashes mean the same stored vectors.
+// Hash of the stored problem's inputs (geometry, constraints, probe rest as drawn... and the
+// loads' force and springs): equal hashes mean the same problem. The loaded rest state (rest/u)
+// and the sag it gives the grab point (probe/sag) are stored with it but not hashed: they are
+// the solver's answer to those inputs.
 ContentHash problem_hash(const Problem& problem);
 
 // Writes the problem segment into dir.problem() (which must not hold one yet), closed and

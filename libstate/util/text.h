@@ -1,7 +1,9 @@
 // Small text helpers shared by the line-oriented readers and the solver's messages.
 #pragma once
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <string_view>
 
@@ -19,6 +21,29 @@ inline std::string trim(std::string_view s) {
 inline std::string sci(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3e", v);
+  return buf;
+}
+
+// A relative error `fraction` as a percentage that never reads 0 for a non-zero value: two
+// decimals from 0.01 % up ("0.43 %"), two significant digits below ("0.0012 %", "0.000045 %"),
+// "< 1e-8 %" below that; "0 %" only for exactly zero (issue 42: "0.00 %" looked like a bug).
+inline std::string percent(double fraction) {
+  const double p = 100 * fraction;
+  char buf[48];
+  if (p == 0) return "0 %";
+  if (!(p == p)) return "nan %";
+  const double a = p < 0 ? -p : p;
+  if (a >= 0.01 || a > 1e300) {
+    std::snprintf(buf, sizeof buf, "%.2f %%", p);
+  } else if (a < 1e-8) {
+    return "< 1e-8 %";
+  } else {
+    // Two significant digits: round to them first, then as many decimals as they need.
+    std::snprintf(buf, sizeof buf, "%.1e", a);
+    const double rounded = std::strtod(buf, nullptr);
+    const int decimals = static_cast<int>(std::floor(-std::log10(rounded) - 1e-9)) + 2;
+    std::snprintf(buf, sizeof buf, "%.*f %%", decimals, p);
+  }
   return buf;
 }
 

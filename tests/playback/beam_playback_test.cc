@@ -9,6 +9,7 @@
 #include "hapstate/playback.h"
 #include "state_suite.h"
 #include "util/error.h"
+#include "util/text.h"
 #include "walk_bound.h"
 
 #include <gtest/gtest.h>
@@ -178,13 +179,35 @@ TEST_F(BeamPlayback, EvalOverSeedsReportsTheDistributionOfThePathMaxima) {
   const auto largest = std::max_element(hermite.begin(), hermite.end());
   std::vector<double> sorted = hermite;
   std::sort(sorted.begin(), sorted.end());
-  char expected[96];
-  std::snprintf(expected, sizeof expected, "hermite    %6.2f %%  %6.2f %%  %6.2f %% (%d)",
-                100 * sorted[1], 100 * sorted[2], 100 * *largest,
+  char expected[128];
+  std::snprintf(expected, sizeof expected, "hermite    %11s %11s %10s (%d)",
+                percent(sorted[1]).c_str(), percent(sorted[2]).c_str(), percent(*largest).c_str(),
                 5 + static_cast<int>(largest - hermite.begin()));
   const std::string table = seeds_table(runs, 5);
   EXPECT_NE(table.find(expected), std::string::npos) << expected << "\n" << table;
+  // A non-zero error never reads as zero (issue 42): Hermite's errors here are far below 0.01 %.
+  EXPECT_EQ(table.find("0.00 %"), std::string::npos) << table;
+  EXPECT_GT(*largest, 0.0);
   EXPECT_NE(table.find("3 random paths (seeds 5-7)"), std::string::npos) << table;
+}
+
+// The error tables' percentages (util/text.h percent): two decimals from 0.01 % up, two
+// significant digits below, zero only for zero.
+TEST(Percent, NeverZeroForANonZeroError) {
+  EXPECT_EQ(percent(0.0), "0 %");
+  EXPECT_EQ(percent(0.0043), "0.43 %");
+  EXPECT_EQ(percent(0.0001), "0.01 %");
+  EXPECT_EQ(percent(0.5), "50.00 %");
+  EXPECT_EQ(percent(1.2e-5), "0.0012 %");
+  EXPECT_EQ(percent(9.94e-5), "0.0099 %");
+  EXPECT_EQ(percent(4.5e-7), "0.000045 %");
+  EXPECT_EQ(percent(1e-7), "0.000010 %");
+  EXPECT_EQ(percent(1e-12), "< 1e-8 %");
+  for (double v = 1e-9; v < 1; v *= 1.37) {
+    const std::string text = percent(v);
+    EXPECT_EQ(text.find_first_of("123456789<"), text.find_first_of("123456789<")) << v;
+    EXPECT_NE(text.find_first_of("123456789<"), std::string::npos) << v << " -> " << text;
+  }
 }
 
 TEST_F(BeamPlayback, EvalRefusesAPlaybackFileOfAnotherScene) {

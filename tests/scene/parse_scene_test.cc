@@ -268,6 +268,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"poisson = 0.45", "poisson = 0.45\n[loads]\ngravity = [0, 0, -9.81]", 9,
                 "key 'loads.gravity' needs 'material.density' (kg/m^3): the body's weight is "
                 "density x volume x gravity"},
+        BadCase{"poisson = 0.45", "poisson = 0.45\ndensity = 1000\n[loads]\ngravity = [0, 0, 0]",
+                11,
+                "key 'loads.gravity' = [0, 0, 0]: must be non-zero (leave [loads] out for a body "
+                "without weight)"},
         BadCase{"poisson = 0.45", "poisson = 0.45\ndensity = 1000\n[loads]\ngravity = -9.81", 11,
                 "key 'loads.gravity' = -9.81: expected an array of 3 numbers [x, y, z], got a "
                 "floating-point number"},
