@@ -4,12 +4,12 @@
 #include "eval/evaluation.h"
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
+#include "util/progress.h"
 
 #include "help_format.h"
 
 #include <CLI/CLI.hpp>
 
-#include <chrono>
 #include <cstdio>
 #include <vector>
 
@@ -21,14 +21,14 @@ using namespace hapstate;
 int run_seeds(EvalOptions o, int seeds, const std::string& csv) {
   std::vector<EvalResult> runs;
   const std::uint64_t first = o.seed;
-  const auto start = std::chrono::steady_clock::now();
+  // One progress line over the paths (a log gets one line per 10 s, not two per path).
+  Progress progress("hapstate-eval: paths", seeds);
+  o.progress = nullptr;
   for (int k = 0; k < seeds; ++k, ++o.seed) {
     runs.push_back(run_eval(o));
-    const double s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "hapstate-eval: path %d of %d, %.2f paths/s, ETA %.0f s\n", k + 1, seeds,
-                 (k + 1) / s, s / (k + 1) * (seeds - k - 1));
+    progress.update(k + 1);
   }
+  progress.finish();
   const std::filesystem::path csv_file =
       csv.empty() ? o.state / "eval_seeds.csv" : std::filesystem::path(csv);
   write_seeds_csv(runs, first, csv_file);

@@ -123,7 +123,8 @@ EvalResult run_eval(const EvalOptions& options) {
   // Per scheme, per step.
   std::vector<std::vector<SquaredNorms>> norms_all(cursors.size()), norms_surface(cursors.size());
 
-  Progress progress("hapstate-eval: precise solves", static_cast<long long>(path.size()));
+  Progress progress("hapstate-eval: precise solves", static_cast<long long>(path.size()),
+                    options.progress);
   long long failures = 0;
   // Path length since the last step with the probe clear of the body (none yet: infinite).
   double travel_in_contact = std::numeric_limits<double>::infinity();

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -22,7 +23,8 @@ struct EvalOptions {
   std::filesystem::path path_file;  // a probe path CSV instead of the random path
   int steps = 20;
   std::uint64_t seed = 1;
-  double step_length = 0;  // mesh units; 0 = half the smallest grid spacing
+  double step_length = 0;        // mesh units; 0 = half the smallest grid spacing
+  std::FILE* progress = stderr;  // the precise solves' progress line (nullptr: none)
 };
 
 struct SchemeResult {

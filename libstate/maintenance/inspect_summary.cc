@@ -86,6 +86,11 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
   // is outside the workspace).
   configs["open_not_expandable"] =
       query_int(cat, "SELECT count(*) FROM configuration WHERE status = 0 AND expandable = 0");
+  // The two reasons apart: the check-point outside the workspace, or the force too strong.
+  configs["open_outside_workspace"] = query_int(
+      cat,
+      "SELECT count(*) FROM configuration c JOIN checkpoint p ON p.id = c.checkpoint WHERE "
+      "c.status = 0 AND c.expandable = 0 AND p.classification = 2");
   const auto max_wave = cat.max_wave();
   configs["max_wave"] = max_wave ? Json(*max_wave) : Json(nullptr);
   j["configurations"] = configs;
@@ -160,7 +165,9 @@ std::string summary_text(const Json& j) {
     s << "  " << st["stage"].get<std::string>() << ": " << st["runs"] << " runs, last #"
       << st["last"]["id"] << " " << st["last"]["outcome"].get<std::string>();
     const std::string message = st["last"]["message"].get<std::string>();
-    if (!message.empty()) s << ": " << message;
+    // "unchanged: unchanged" said nothing twice.
+    if (!message.empty() && message != st["last"]["outcome"].get<std::string>())
+      s << ": " << message;
     s << "\n";
   }
   s << "check-points: " << j["checkpoints"]["total"];
@@ -169,11 +176,12 @@ std::string summary_text(const Json& j) {
   }
   const Json& c = j["configurations"];
   const std::int64_t not_expandable = c["open_not_expandable"].get<std::int64_t>();
+  const std::int64_t outside = c["open_outside_workspace"].get<std::int64_t>();
   s << "\nconfigurations: " << c["total"] << " (" << c["expanded"] << " expanded, "
-    << c["open"].get<std::int64_t>() - not_expandable << " still to expand, " << not_expandable
-    << " not expanded: force above probe.max_force or outside the workspace; " << c["merged"]
-    << " merged; max wave " << (c["max_wave"].is_null() ? std::string("-") : c["max_wave"].dump())
-    << ")\n";
+    << c["open"].get<std::int64_t>() - not_expandable << " still to expand, "
+    << not_expandable - outside << " not expanded: force above probe.max_force, " << outside
+    << " not expanded: outside the workspace; " << c["merged"] << " merged; max wave "
+    << (c["max_wave"].is_null() ? std::string("-") : c["max_wave"].dump()) << ")\n";
   s << "levels per check-point:";
   for (const auto& h : j["levels_per_checkpoint"])
     s << "  " << h["levels"] << ": " << h["checkpoints"];

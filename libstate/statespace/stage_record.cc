@@ -21,22 +21,38 @@ StageRun make_stage_run(const std::string& stage, NamedHashes inputs,
   return run;
 }
 
-void record_unchanged(Catalogue& catalogue, StageRun run, const std::string& message) {
-  run.outcome = StageOutcome::kUnchanged;
-  run.ended = now_ms();
-  run.message = message;
-  catalogue.insert_stage_run(run);
-}
+namespace {
 
-StageRunId start_stage_run(Catalogue& catalogue, const StageRun& run, int* interrupted) {
-  Transaction tx(catalogue);
-  for (const StageRun& old : catalogue.read_stage_runs(run.stage)) {
+// Marks the runs of `stage` a crash left "running" failed (the caller holds the directory's
+// lock, so none is running); returns how many.
+int close_interrupted_runs(Catalogue& catalogue, const std::string& stage) {
+  int closed = 0;
+  for (const StageRun& old : catalogue.read_stage_runs(stage)) {
     if (old.outcome != StageOutcome::kRunning) continue;
     catalogue.update_stage_run_end(old.id, StageOutcome::kFailed, now_ms(),
                                    "interrupted: the process ended before finishing (killed?); "
                                    "resumed by a later run");
-    if (interrupted) ++*interrupted;
+    ++closed;
   }
+  return closed;
+}
+
+}  // namespace
+
+void record_unchanged(Catalogue& catalogue, StageRun run, const std::string& message) {
+  Transaction tx(catalogue);
+  close_interrupted_runs(catalogue, run.stage);
+  run.outcome = StageOutcome::kUnchanged;
+  run.ended = now_ms();
+  run.message = message;
+  catalogue.insert_stage_run(run);
+  tx.commit();
+}
+
+StageRunId start_stage_run(Catalogue& catalogue, const StageRun& run, int* interrupted) {
+  Transaction tx(catalogue);
+  const int closed = close_interrupted_runs(catalogue, run.stage);
+  if (interrupted) *interrupted += closed;
   const StageRunId id = catalogue.insert_stage_run(run);
   tx.commit();
   return id;

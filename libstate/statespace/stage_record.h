@@ -19,7 +19,9 @@ StageRun make_stage_run(const std::string& stage, NamedHashes inputs,
                         const std::string& parameters);
 
 // The one way a stage records that it had nothing to do: `run` inserted as ended now with
-// outcome kUnchanged and `message`.
+// outcome kUnchanged and `message`, in one transaction with closing the runs of the same stage
+// a crash left "running" (as start_stage_run: a run killed after it had done all its work
+// leaves nothing to do, and its row must not stay "running").
 void record_unchanged(Catalogue& catalogue, StageRun run, const std::string& message);
 
 // Starts recording `run` (inserted as running) in one transaction with closing the runs of the

@@ -42,7 +42,10 @@ void Progress::set_total(long long total, bool estimate) {
 void Progress::update(long long done, long long failures) {
   done_ = done;
   failures_ = failures;
+  if (out_ == nullptr) return;
   const auto now = std::chrono::steady_clock::now();
+  samples_.emplace_back(std::chrono::duration<double>(now - start_).count(), done);
+  if (samples_.size() > 4096) recent_rate(now);  // drops the samples older than the window
   if (done_ < total_ && std::chrono::duration<double>(now - last_print_).count() >= interval_s_) {
     last_print_ = now;
     print(false);
@@ -51,13 +54,30 @@ void Progress::update(long long done, long long failures) {
 
 void Progress::finish() { print(true); }
 
+double Progress::recent_rate(std::chrono::steady_clock::time_point now) {
+  constexpr double kWindowFraction = 0.25, kShortestWindow = 5.0;
+  const double t = std::chrono::duration<double>(now - start_).count();
+  const double window = std::max(kShortestWindow, kWindowFraction * t);
+  // Keep the newest sample at or before the window's start, drop the older ones.
+  while (samples_.size() > 1 && samples_[1].first <= t - window) samples_.pop_front();
+  if (samples_.empty() || t - samples_.front().first < kShortestWindow ||
+      samples_.front().second < done_before_)
+    return t > 0 ? (done_ - done_before_) / t : 0;
+  const double span = t - samples_.front().first;
+  return span > 0 ? (done_ - samples_.front().second) / span : 0;
+}
+
 void Progress::print(bool final) {
   if (out_ == nullptr) return;
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double rate = elapsed > 0 ? (done_ - done_before_) / elapsed : 0;
+  const auto now = std::chrono::steady_clock::now();
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double rate =
+      final ? (elapsed > 0 ? (done_ - done_before_) / elapsed : 0) : recent_rate(now);
   const long long total = std::max(total_, done_);
-  const double pct = total > 0 ? 100.0 * done_ / total : 100.0;
+  // Never backwards: a grown estimate holds the percentage; 100 % only when done.
+  double pct = total > 0 ? 100.0 * done_ / total : 100.0;
+  if (!final && done_ < total) pct = std::min(99.0, std::max(pct, shown_pct_));
+  shown_pct_ = std::max(shown_pct_, pct);
   const char* approx = estimate_ && done_ < total ? "~" : "";
   const std::string tail = final ? "elapsed " + format_duration(elapsed)
                                  : std::string("ETA ") + approx +

@@ -2,11 +2,17 @@
 // Printed to a stream at most once per `interval_s` (and at finish()); on a terminal the line
 // is rewritten in place, otherwise one line per update and at most one per 10 s (a log). Not
 // thread-safe.
+// The rate and the ETA are those of the recent work (the last quarter of the elapsed time, at
+// least 5 s), not of the whole run: work whose items get slower (the later waves of a contact
+// expansion) is not promised at its early speed. The percentage never goes down: when a new
+// estimate of the total grows, it holds until the work catches up (issue 42).
 #pragma once
 
 #include <chrono>
 #include <cstdio>
+#include <deque>
 #include <string>
+#include <utility>
 
 namespace hapstate {
 
@@ -28,6 +34,8 @@ class Progress {
 
  private:
   void print(bool final);
+  // Items per second over the recent window (the whole run until it is long enough).
+  double recent_rate(std::chrono::steady_clock::time_point now);
 
   std::string label_, note_;
   long long total_, done_ = 0, done_before_ = 0, failures_ = 0;
@@ -36,6 +44,9 @@ class Progress {
   bool tty_;
   double interval_s_;
   std::chrono::steady_clock::time_point start_, last_print_;
+  double shown_pct_ = 0;  // the largest percentage printed so far
+  // (seconds since start, done) at each update, oldest first; older than the window dropped.
+  std::deque<std::pair<double, long long>> samples_;
 };
 
 // "1h02m", "3m05s", "12.3s".
