@@ -69,6 +69,12 @@ double Progress::recent_rate(std::chrono::steady_clock::time_point now) {
 
 void Progress::print(bool final) {
   if (out_ == nullptr) return;
+  std::fprintf(out_, "%s%s%s", tty_ ? "\r" : "", line(final).c_str(),
+               tty_ && !final ? "   " : "\n");
+  std::fflush(out_);
+}
+
+std::string Progress::line(bool final) {
   const auto now = std::chrono::steady_clock::now();
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double rate =
@@ -83,10 +89,11 @@ void Progress::print(bool final) {
                                  : std::string("ETA ") + approx +
                                        format_duration(rate > 0 ? (total - done_) / rate : -1);
   std::string failures = failures_ > 0 ? ", failures " + std::to_string(failures_) : "";
-  std::fprintf(out_, "%s%s: %lld/%s%lld (%.0f%%), %.2f/s, %s%s%s%s%s", tty_ ? "\r" : "",
-               label_.c_str(), done_, approx, total, pct, rate, tail.c_str(), failures.c_str(),
-               note_.empty() ? "" : ", ", note_.c_str(), tty_ && !final ? "   " : "\n");
-  std::fflush(out_);
+  char text[512];
+  std::snprintf(text, sizeof text, "%s: %lld/%s%lld (%.0f%%), %.2f/s, %s%s%s%s", label_.c_str(),
+                done_, approx, total, pct, rate, tail.c_str(), failures.c_str(),
+                note_.empty() ? "" : ", ", note_.c_str());
+  return text;
 }
 
 }  // namespace hapstate

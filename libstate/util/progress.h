@@ -31,6 +31,9 @@ class Progress {
   void update(long long done, long long failures = 0);
   // Prints the final line (always) with the total elapsed time.
   void finish();
+  // The line as it would be printed now (what print writes; it counts as shown for the
+  // never-backwards percentage).
+  std::string line(bool final = false);
 
  private:
   void print(bool final);

@@ -1,0 +1,49 @@
+// The progress line (util/progress.h): its percentage never goes backwards when a new estimate
+// of the total grows (issue 42: "2288/~2574 (89%)" then "2404/~2808 (86%)"), stays below 100 %
+// until the work is done, and follows the work up again once it catches up.
+#include "util/progress.h"
+
+#include <gtest/gtest.h>
+
+#include <regex>
+#include <string>
+
+namespace hapstate {
+namespace {
+
+int percent_of(const std::string& line) {
+  std::smatch m;
+  EXPECT_TRUE(std::regex_search(line, m, std::regex("\\((\\d+)%\\)"))) << line;
+  return std::stoi(m[1]);
+}
+
+TEST(Progress, PercentageNeverGoesBackwards) {
+  Progress p("work", 2574, nullptr);
+  p.set_total(2574, true);
+  p.update(2288);
+  EXPECT_EQ(percent_of(p.line()), 89);
+  p.set_total(2808, true);  // the estimate grew: 2404 / 2808 would be 86 %
+  p.update(2404);
+  EXPECT_EQ(percent_of(p.line()), 89);
+  EXPECT_NE(p.line().find("2404/~2808"), std::string::npos) << p.line();
+  p.update(2600);  // caught up: 93 %
+  EXPECT_EQ(percent_of(p.line()), 93);
+  p.set_total(100000, true);  // a huge re-estimate still holds it
+  EXPECT_EQ(percent_of(p.line()), 93);
+  p.set_total(2601, true);  // almost done: never 100 % before the end
+  EXPECT_EQ(percent_of(p.line()), 99);
+  p.set_total(2600, false);
+  EXPECT_EQ(percent_of(p.line(/*final=*/true)), 100);
+  int last = 0;
+  Progress q("grow", 10, nullptr);
+  for (int done = 0; done <= 1000; done += 7) {
+    q.set_total(10 + 2 * done, true);  // the total keeps growing ahead of the work
+    q.update(done);
+    const int shown = percent_of(q.line());
+    EXPECT_GE(shown, last) << done;
+    last = shown;
+  }
+}
+
+}  // namespace
+}  // namespace hapstate
