@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 build_dir=${BUILD_DIR:-build}
 start=$(date +%s)
-echo "== Building the executables into $build_dir/ (Release; about 3.5 minutes on 2 cores the first time)"
+echo "== Building the executables into $build_dir/ (Release; the first time takes minutes: its time is printed)"
 bash scripts/build.sh apps
 echo "build: $(( $(date +%s) - start )) s"
 state=pipelines/liver/state
@@ -50,9 +50,11 @@ echo "frames for ParaView: out/liver/frames/frames.pvd"
 section "5. Contact: a frictionless sphere on the paper's clamped plate (pipelines/plate), a 3-D
    workspace on both sides of it. Where the sphere can reach the plate from below and from
    above, a check-point keeps two levels (pushed up or pushed down): genuine history. The
-   expansion takes about 6 minutes on 2 cores (882 nodes: every contact move is a non-linear
-   solve with the sphere's gaps closed to 1e-6 of its radius)."
+   expansion is the longest part of this job (882 nodes: every contact move is a non-linear
+   solve with the sphere's gaps closed to 1e-6 of its radius); its progress line estimates it."
+plate_start=$(date +%s)
 "$build_dir"/tools/hapstate run pipelines/plate/scene.toml --threads "$threads"
+echo "plate precomputation: $(( $(date +%s) - plate_start )) s"
 "$build_dir"/tools/hapstate-inspect --state pipelines/plate/state summary | grep "levels per"
 mkdir -p out/plate
 for side in below above; do
@@ -68,5 +70,12 @@ echo
 echo "-- a random 3-D path pulled toward the plate: pressing, sliding over it, backing off."
 "$build_dir"/tools/hapstate-eval --state pipelines/plate/state --steps 20 --seed 1 \
   --csv out/plate/eval-random.csv --plot out/plate/eval-random.png
+echo
+echo "== What this job wrote"
+echo "   pipelines/liver/state/        the liver's state directory: catalogue.sqlite, blobs/,"
+echo "                                 playback.bin (the haptic file), eval.csv and eval.png"
+echo "   out/liver/frames/frames.pvd   the 1 kHz run's surface frames, for ParaView"
+echo "   pipelines/plate/state/        the plate's state directory (as the liver's)"
+echo "   out/plate/                    the plate's three paths: eval-*.csv and eval-*.png"
 echo
 echo "total: $(( $(date +%s) - start )) s (build included)"

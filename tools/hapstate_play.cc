@@ -112,12 +112,42 @@ int run(const Options& o) {
               o.realtime ? "realtime" : "fast", o.scheme.c_str(), o.rate, play::kFrameRate,
               r.wall_seconds);
   std::printf("force calls: %lld\n", static_cast<long long>(r.force_calls));
-  print_distribution("force latency us", summarize(r.latency_us), true);
+  const Distribution latency = summarize(r.latency_us);
+  print_distribution("force latency us", latency, true);
+  const double tick_us = 1e6 / o.rate, frame_budget_us = 1e6 / play::kFrameRate;
+  std::printf(
+      "  (one force query per haptic tick, the time the device loop waits for it; the "
+      "tick is %.0f us)\n",
+      tick_us);
   std::printf("frames: %zu (%d written)\n", r.frame_us.size(), r.frames_written);
-  print_distribution("frame time us", summarize(r.frame_us), false);
+  std::printf("  (visual frames at %g Hz; --frames writes one in every %d, none without it)\n",
+              play::kFrameRate, o.frame_every);
+  const Distribution frame = summarize(r.frame_us);
+  print_distribution("frame time us", frame, false);
+  std::printf(
+      "  (one frame: the snapshot and the deformed surface interpolated for it; the "
+      "frame is %.0f us)\n",
+      frame_budget_us);
   if (o.realtime)
     std::printf("missed deadlines: %lld haptic ticks, %lld frames\n",
                 static_cast<long long>(r.missed_ticks), static_cast<long long>(r.missed_frames));
+  // The verdict (issue 42): the query against the tick, and what late ticks mean.
+  const bool fast = latency.p999 < 0.1 * tick_us;
+  std::printf("verdict: force query p99.9 %.3g us = %.2g %% of the tick: %s", latency.p999,
+              100 * latency.p999 / tick_us,
+              fast ? "fast enough for a 1 kHz loop"
+                   : (latency.p999 < tick_us ? "within the tick, with little to spare"
+                                             : "TOO SLOW for this rate"));
+  if (o.realtime && r.force_calls > 0) {
+    const double late =
+        100.0 * static_cast<double>(r.missed_ticks) / static_cast<double>(r.force_calls);
+    std::printf("; %lld of %lld ticks started late (%.2g %%)%s",
+                static_cast<long long>(r.missed_ticks), static_cast<long long>(r.force_calls), late,
+                late < 1 ? ": the operating system's scheduling, not the query; each holds the "
+                           "last force one more tick, which a hand does not feel"
+                         : ": many; run on an idle core (or a real-time kernel) for a device");
+  }
+  std::printf("\n");
   std::printf("max |force| N: %.6g\n", r.max_force);
   std::printf("outside grid ticks: %lld; cells walked: %llu\n",
               static_cast<long long>(r.outside_grid),
