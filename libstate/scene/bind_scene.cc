@@ -134,10 +134,9 @@ std::vector<int> select_grabbed(const SceneProbe& probe, const Mesh& mesh,
   return ids;
 }
 
-// The contact sphere at rest must not overlap the body's surface, `positions` (mesh units: as
-// drawn, or in the loaded rest state, `sagged`).
+// The contact sphere at rest must not overlap the body's surface, `positions` (mesh units).
 void check_sphere_clear(const SceneProbe& probe, const Eigen::Matrix3Xd& positions,
-                        const Triangles& surface, bool sagged, Diagnostics& diagnostics) {
+                        const Triangles& surface, Diagnostics& diagnostics) {
   for (int t = 0; t < surface.cols(); ++t) {
     const TrianglePoint tp =
         closest_point(positions.col(surface(0, t)), positions.col(surface(1, t)),
@@ -146,8 +145,7 @@ void check_sphere_clear(const SceneProbe& probe, const Eigen::Matrix3Xd& positio
       std::ostringstream os;
       os.precision(6);
       os << "probe: contact: the sphere at rest (centre " << format_point(*probe.point)
-         << ", radius " << *probe.radius << ") overlaps the body"
-         << (sagged ? " as it hangs in its loaded rest state" : "") << ": the surface point "
+         << ", radius " << *probe.radius << ") overlaps the body: the surface point "
          << format_point(tp.closest) << " is at distance " << tp.distance
          << "; put probe.point at least probe.radius away from the body";
       diagnostics.add(probe.line, os.str());
@@ -169,8 +167,8 @@ ContactSphere bind_contact(const SceneProbe& probe, const Mesh& mesh,
 }
 
 // Solves the loaded rest state into problem->rest_m; a grab point follows its nodes there
-// (probe_rest, probe_sag); a contact sphere at rest must be clear of the sagged body.
-void settle_rest_state(const Scene& scene, Problem* problem, Diagnostics& diagnostics) {
+// (probe_rest, probe_sag). (A contact probe with gravity is refused before.)
+void settle_rest_state(const Scene& scene, Problem* problem) {
   const RestState rest = solve_rest_state(*problem);
   if (!rest.result.ok) {
     throw InputError(scene.path.string() + ":" + std::to_string(scene.loads.line) +
@@ -186,14 +184,6 @@ void settle_rest_state(const Scene& scene, Problem* problem, Diagnostics& diagno
     for (int n : grabbed) sag += rest.u_m.segment<3>(3 * n);
     problem->probe_sag = sag / (static_cast<double>(grabbed.size()) * problem->unit);
     problem->probe_rest += problem->probe_sag;
-  }
-  if (problem->contact && scene.has_probe) {
-    const Eigen::Matrix3Xd sagged =
-        problem->mesh.nodes +
-        Eigen::Map<const Eigen::Matrix3Xd>(rest.u_m.data(), 3, problem->mesh.num_nodes()) /
-            problem->unit;
-    check_sphere_clear(scene.probe, sagged, problem->mesh.surface, true, diagnostics);
-    diagnostics.throw_if_any();
   }
 }
 
@@ -296,8 +286,7 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
     }
     problem.contact = bind_contact(probe, mesh, role, diagnostics);
     problem.probe_rest = *probe.point;
-    if (!problem.loads.has_force())
-      check_sphere_clear(probe, mesh.nodes, mesh.surface, false, diagnostics);
+    check_sphere_clear(probe, mesh.nodes, mesh.surface, diagnostics);
   } else {
     const std::vector<int> grabbed = select_grabbed(probe, mesh, diagnostics);
     int conflicts = 0;
@@ -360,7 +349,7 @@ Problem bind_scene(const Scene& scene, Mesh mesh) {
 
   problem.constraints.role = std::move(role);
   problem.mesh = std::move(mesh);
-  if (problem.loads.has_force()) settle_rest_state(scene, &problem, diagnostics);
+  if (problem.loads.has_force()) settle_rest_state(scene, &problem);
   return problem;
 }
 
