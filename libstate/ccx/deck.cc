@@ -133,11 +133,12 @@ std::string step_cards(const CcxDeckOptions& o, bool nlgeom) {
 }
 
 void write_meta(const Problem& p, int num_points, const std::filesystem::path& file) {
+  const Eigen::Vector3d weight = probe_body_force(p);
   std::ofstream out(file);
   out << "{\n  \"format\": 1,\n  \"law\": \"" << law_name(p.material.law) << "\",\n"
       << "  \"first_point_time\": " << ccx_first_point_time(p) << ",\n"
-      << "  \"probe_body_force\": [" << num(probe_body_force(p).x()) << ", "
-      << num(probe_body_force(p).y()) << ", " << num(probe_body_force(p).z()) << "],\n"
+      << "  \"probe_body_force\": [" << num(weight.x()) << ", " << num(weight.y()) << ", "
+      << num(weight.z()) << "],\n"
       << "  \"unit\": " << num(p.unit) << ",\n  \"num_nodes\": " << p.mesh.num_nodes() << ",\n"
       << "  \"num_points\": " << num_points << ",\n  \"probe_rest\": [" << num(p.probe_rest.x())
       << ", " << num(p.probe_rest.y()) << ", " << num(p.probe_rest.z()) << "],\n"
@@ -275,6 +276,14 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
   }
 
   const std::string step = step_cards(options, nlgeom);
+  // With gravity the probe DOFs are prescribed node by node: their rest displacement + t.
+  const auto probe_boundary = [&](const Eigen::Vector3d& t) {
+    out << "*BOUNDARY\n";
+    for (int c = 0; c < 3; ++c)
+      for (int node : sets.probe[c])
+        out << node + 1 << ", " << c + 1 << ", " << c + 1 << ", "
+            << num(p.rest_m[3 * node + c] + t[c]) << "\n";
+  };
   const std::string prints =
       "*NODE PRINT, NSET=NALL, FREQUENCY=" + std::to_string(kPrintOnlyStepEnd) + "\nU\n" +
       (probe_nodes.empty() ? "" : "*NODE PRINT, NSET=PROBE, TOTALS=YES\nRF\n") +
@@ -296,13 +305,7 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
         << (hold ? "held at hapstate's rest displacement" : "free") << "; step time ends at 1\n"
         << step_cards(rest, nlgeom) << "*DLOAD\nEALL, GRAV, " << num(g) << ", " << num(dir_g.x())
         << ", " << num(dir_g.y()) << ", " << num(dir_g.z()) << "\n";
-    if (hold) {
-      out << "*BOUNDARY\n";
-      for (int c = 0; c < 3; ++c)
-        for (int node : sets.probe[c])
-          out << node + 1 << ", " << c + 1 << ", " << c + 1 << ", " << num(p.rest_m[3 * node + c])
-              << "\n";
-    }
+    if (hold) probe_boundary(Eigen::Vector3d::Zero());
     out << prints << "*END STEP\n";
   }
   const int first_time = ccx_first_point_time(p);
@@ -322,12 +325,8 @@ void write_ccx_deck(const Problem& p, const std::vector<Eigen::Vector3d>& probe_
         if (sets.probe[c].empty()) continue;
         out << set_name("PROBE", c) << ", " << c + 1 << ", " << c + 1 << ", " << num(t[c]) << "\n";
       }
-    } else if (any_probe) {  // per node: its rest displacement + t
-      out << "*BOUNDARY\n";
-      for (int c = 0; c < 3; ++c)
-        for (int node : sets.probe[c])
-          out << node + 1 << ", " << c + 1 << ", " << c + 1 << ", "
-              << num(p.rest_m[3 * node + c] + t[c]) << "\n";
+    } else if (any_probe) {
+      probe_boundary(t);
     }
     out << prints << "*END STEP\n";
   }
