@@ -44,29 +44,34 @@ for i, (label, values, style, colour) in enumerate(curves):
             label += " (same as " + earlier[0] + ", drawn over it)"
             break
     curves[i] = (label, values, style, colour)
-# One spike (the first contact of a probe) must not flatten the rest: values above 5x the 90th
-# percentile are spikes; the axis ends just above the rest and the spikes' values are written.
-every = sorted(v for _, values, _, _ in curves for v in values)
-p90 = every[int(0.9 * (len(every) - 1))] if every else 0.0
-rest = [v for v in every if v <= 5 * p90]
-clip = 1.1 * rest[-1] if p90 > 0 and rest and rest[-1] < every[-1] else None
+# A logarithmic axis: the Hermite errors (often 1e-5 %) and a contact spike of several per cent
+# are read on the same figure without clipping. An error of exactly zero has no place on it: it is
+# drawn on the axis's floor with an open marker and said in the legend.
+positive = [v for _, values, _, _ in curves for v in values if v > 0]
+top = max(positive) if positive else 1.0
+floor = max(min(positive) if positive else 1e-6, top * 1e-7) / 2
 for label, values, style, colour in curves:
-    ax.plot(steps, [min(v, clip) if clip else v for v in values], style, color=colour, label=label,
-            markersize=4)
-    if clip:
-        for x, v in zip(steps, values):
-            if v > clip:
-                ax.annotate("%.3g %%" % v, (x, clip), textcoords="offset points", xytext=(0, -10),
-                            ha="center", fontsize=7, color=colour)
+    zeros = sum(1 for v in values if v <= 0)
+    if zeros:
+        label += " (%d step%s exactly 0: on the floor)" % (zeros, "" if zeros == 1 else "s")
+    line, = ax.plot(steps, [max(v, floor) for v in values], style, color=colour, label=label,
+                    markersize=4)
+    if zeros:
+        ax.plot([x for x, v in zip(steps, values) if v <= 0], [floor] * zeros, "o",
+                markerfacecolor="white", markeredgecolor=line.get_color(), markersize=5)
+ax.axhline(4.0, color="grey", linewidth=0.8, linestyle=":")
+ax.annotate("the paper's 4 % (force)", (0.01, 4.0), xycoords=("axes fraction", "data"),
+            textcoords="offset points", xytext=(2, 3), fontsize=7, color="grey")
+ax.set_yscale("log")
+ax.set_ylim(bottom=floor / 1.5, top=max(top, 4.0) * 3)
+ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: "%g %%" % v))
 ax.set_xlabel("step of the probe path")
-ax.set_ylabel("relative error (%)")
+ax.set_ylabel("relative error (log scale)")
 ax.set_xlim(min(steps) - 0.5, max(steps) + 0.5)
 ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
-ax.set_ylim(bottom=0, top=clip * 1.05 if clip else None)
-ax.grid(True, alpha=0.3)
-ax.legend(fontsize=7)
-ax.set_title(sys.argv[3] + ("\n(axis clipped at %.3g %%: larger values written at the top)" % clip
-                           if clip else ""), fontsize=9)
+ax.grid(True, which="major", alpha=0.3)
+ax.legend(fontsize=7, loc="best")
+ax.set_title(sys.argv[3], fontsize=9)
 fig.tight_layout()
 fig.savefig(sys.argv[2], dpi=120)
 )PY";
