@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <tuple>
 
 namespace hapstate {
 
@@ -13,13 +14,17 @@ void Diagnostics::add_in(const std::string& file, int line, std::string message)
   entries_.push_back({file, line, std::move(message), count()});
 }
 
+void Diagnostics::add_cause(int line, std::string message) {
+  entries_.push_back({file_, line, std::move(message), count(), true});
+}
+
 std::string Diagnostics::message() const {
   std::vector<const Entry*> sorted;
   for (const Entry& e : entries_) sorted.push_back(&e);
   auto key = [this](const Entry* e) {
     const bool own = e->file == file_;
     const int line = own ? (e->line > 0 ? e->line : INT_MAX - 1) : INT_MAX;
-    return std::pair{line, e->order};
+    return std::tuple{!e->cause, line, e->order};
   };
   std::sort(sorted.begin(), sorted.end(),
             [&](const Entry* a, const Entry* b) { return key(a) < key(b); });

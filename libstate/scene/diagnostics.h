@@ -16,13 +16,16 @@ class Diagnostics {
   void add(int line, std::string message);
   // Records a problem in another file (e.g. a node list read on the scene's behalf).
   void add_in(const std::string& file, int line, std::string message);
+  // Records a problem that likely causes others (a misspelt key, whose correct spelling is then
+  // reported missing): listed before every other problem, so that the first line names the cause.
+  void add_cause(int line, std::string message);
 
   bool empty() const { return entries_.empty(); }
   int count() const { return static_cast<int>(entries_.size()); }
   const std::string& file() const { return file_; }
 
-  // One line per problem, scene-file problems first ordered by line (whole-file ones last),
-  // then other files in the order they were added.
+  // One line per problem: causes first, then scene-file problems ordered by line (whole-file
+  // ones last), then other files in the order they were added.
   std::string message() const;
   // Throws InputError(message()) if any problem was recorded.
   void throw_if_any() const;
@@ -33,6 +36,7 @@ class Diagnostics {
     int line;
     std::string text;
     int order;
+    bool cause = false;
   };
   std::string file_;
   std::vector<Entry> entries_;

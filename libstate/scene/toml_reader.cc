@@ -196,7 +196,12 @@ void TableReader::allow_only(std::initializer_list<std::string_view> allowed) co
     message += "; allowed: " + list;
     int line = static_cast<int>(key.source().begin.line);
     if (line == 0) line = line_of(node);
-    diagnostics_.add(line, message);
+    // A close match is most likely a misspelling, and the cause of a "missing key" reported for
+    // its correct spelling: it comes first.
+    if (best.empty())
+      diagnostics_.add(line, message);
+    else
+      diagnostics_.add_cause(line, message);
   }
 }
 

@@ -294,6 +294,16 @@ TEST_F(ParseScene, UnknownKeyIsNamedWithSuggestion) {
             at(11, "unknown key 'fixed[0].plane.tol'; allowed: point, normal, tolerance"));
 }
 
+TEST_F(ParseScene, AMisspeltKeyIsNamedBeforeTheKeyItLeavesMissing) {
+  // The misspelling (line 7) is the cause; the correct spelling's absence (reported at the
+  // table's header, line 5) follows from it.
+  EXPECT_EQ(error(replace_once(kBase, "young = 5000.0", "yung = 5000.0")),
+            at(7,
+               "unknown key 'material.yung' (did you mean 'young'?); allowed: law, young, "
+               "poisson, mu, lambda, c10, c01, d1, density") +
+                "\n" + at(5, "missing key 'material.young' (young and poisson go together)"));
+}
+
 TEST_F(ParseScene, UnknownTableIsNamed) {
   EXPECT_EQ(error(kBase + "[solvr]\nsubsteps = 2\n"),
             at(24,
