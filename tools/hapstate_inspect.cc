@@ -91,7 +91,11 @@ int main(int argc, char** argv) {
   transitions->add_option("id", o.config_id, "configuration id")->required()->check(non_negative());
   auto* exporter = app.add_subcommand("export", "a configuration's deformed mesh as VTU");
   exporter->add_option("id", o.config_id, "configuration id")->required()->check(non_negative());
-  exporter->add_option("--vtu", o.vtu, "output .vtu file (point data 'displacement')")->required();
+  exporter
+      ->add_option("--vtu", o.vtu,
+                   "output .vtu file: the mesh as drawn with point data 'displacement' "
+                   "(ParaView: Warp By Vector, scale 1)")
+      ->required();
   exporter->add_option("--mesh", o.mesh,
                        "mesh file (default: the scene's mesh, relative to the state directory "
                        "or its parent; checked against the stored mesh hash)");

@@ -312,8 +312,8 @@ int main(int argc, char** argv) {
                  "also write every node's displacement per step: CSV step,node,ux,uy,uz "
                  "(default: not written)");
   app.add_option("--vtu", o.vtu_dir,
-                 "also write the deformed mesh per step as VTU + path.pvd (default: not "
-                 "written)");
+                 "also write the mesh per step as VTU + path.pvd: the mesh as drawn with "
+                 "its 'displacement' (ParaView: Warp By Vector, scale 1) (default: not written)");
   app.add_option("--export-ccx", o.ccx_dir,
                  "write the same problem as a CalculiX deck (DIR/problem.inp, see "
                  "tools/ccx_compare.py; default: not written)");

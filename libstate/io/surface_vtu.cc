@@ -44,9 +44,9 @@ void write_surface_vtu(const std::filesystem::path& file, std::span<const float>
       "<UnstructuredGrid>\n<Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n<Points>\n"
       "<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">\n",
       n, m);
+  const std::span<const float> points = reference.empty() ? positions : reference;
   for (std::size_t i = 0; i < n; ++i)
-    std::fprintf(f, "%.9g %.9g %.9g\n", positions[3 * i], positions[3 * i + 1],
-                 positions[3 * i + 2]);
+    std::fprintf(f, "%.9g %.9g %.9g\n", points[3 * i], points[3 * i + 1], points[3 * i + 2]);
   std::fprintf(f,
                "</DataArray>\n</Points>\n<Cells>\n"
                "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");

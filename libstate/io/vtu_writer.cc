@@ -7,8 +7,7 @@
 
 namespace hapstate {
 
-void write_vtu(const std::filesystem::path& file, const Mesh& mesh, const Eigen::Matrix3Xd& u,
-               bool deformed) {
+void write_vtu(const std::filesystem::path& file, const Mesh& mesh, const Eigen::Matrix3Xd& u) {
   std::ofstream out(file);
   if (!out) throw InputError(file.string() + ": cannot write VTU file");
   out << std::setprecision(9);
@@ -18,11 +17,8 @@ void write_vtu(const std::filesystem::path& file, const Mesh& mesh, const Eigen:
       << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << m
       << "\">\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d x = deformed ? Eigen::Vector3d(mesh.nodes.col(i) + u.col(i))
-                                       : Eigen::Vector3d(mesh.nodes.col(i));
-    out << x.x() << ' ' << x.y() << ' ' << x.z() << '\n';
-  }
+  for (int i = 0; i < n; ++i)
+    out << mesh.nodes(0, i) << ' ' << mesh.nodes(1, i) << ' ' << mesh.nodes(2, i) << '\n';
   out << "</DataArray>\n</Points>\n<Cells>\n"
       << "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
   for (int e = 0; e < m; ++e)

@@ -13,10 +13,10 @@
 
 namespace hapstate {
 
-// Writes `mesh` with point data "displacement" = u (3 x num_nodes, mesh units) and the
-// deformed positions as points when `deformed` is true (reference positions otherwise).
-void write_vtu(const std::filesystem::path& file, const Mesh& mesh, const Eigen::Matrix3Xd& u,
-               bool deformed = true);
+// Writes `mesh` as drawn (the points are its node positions) with the point data
+// "displacement" = u (3 x num_nodes, mesh units) as the active vectors: ParaView's Warp By
+// Vector (scale 1) shows the deformed body, and the displacement is never counted twice.
+void write_vtu(const std::filesystem::path& file, const Mesh& mesh, const Eigen::Matrix3Xd& u);
 
 // Writes a ParaView collection listing (time, file) pairs; files relative to the .pvd.
 void write_pvd(const std::filesystem::path& file,
