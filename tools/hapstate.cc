@@ -78,11 +78,7 @@ int run_pipeline(const RunOptions& o) {
   if (refined.stopped_by_signal) return stopped();
   if (stop_requested()) return stopped();
   if (!o.no_compact) {
-    std::string text = compact_state(state, CompactOptions{}).text();
-    for (std::size_t at = text.find('\n'); at != std::string::npos && at + 1 < text.size();
-         at = text.find('\n', at + 1))
-      text.insert(at + 1, "           ");
-    std::printf("  compact: %s", text.c_str());
+    std::printf("  compact: %s\n", compact_state(state, CompactOptions{}).headline().c_str());
   }
   if (stop_requested()) return stopped();
   IndexOptions index;

@@ -11,6 +11,7 @@
 #include "statespace/stage_record.h"
 #include "util/error.h"
 #include "util/progress.h"
+#include "util/text.h"
 
 #include <algorithm>
 #include <chrono>
@@ -385,9 +386,9 @@ IndexReport run_index(const IndexOptions& options) {
     report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
     run.outcome = StageOutcome::kOk;
     char text[512];
-    std::snprintf(text, sizeof text, "%lld configurations, %lld view nodes, %.1f MB%s",
+    std::snprintf(text, sizeof text, "%lld configurations, %lld view nodes, %s%s",
                   static_cast<long long>(report.configurations),
-                  static_cast<long long>(report.view_nodes), report.bytes / 1e6,
+                  static_cast<long long>(report.view_nodes), size_text(report.bytes).c_str(),
                   report.slopes ? ""
                                 : "; no displacement slopes (a state expanded before they "
                                   "were stored): Hermite deformation falls back to trilinear");

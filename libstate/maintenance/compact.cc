@@ -8,6 +8,7 @@
 #include "statespace/stage_record.h"
 #include "statespace/stored_problem.h"
 #include "util/error.h"
+#include "util/text.h"
 
 #include <algorithm>
 #include <set>
@@ -36,30 +37,36 @@ std::int64_t freelist_pages(Catalogue& catalogue) {
   return r.rows.empty() ? 0 : std::get<std::int64_t>(r.rows.front().front());
 }
 
+// The exact bytes and, from 1 KiB, the readable size: "1273856 (1.2 MiB)".
 std::string bytes_text(std::int64_t bytes) {
-  char text[64];
-  if (bytes >= (1 << 20)) {
-    std::snprintf(text, sizeof text, "%lld (%.1f MiB)", static_cast<long long>(bytes),
-                  bytes / 1048576.0);
-  } else if (bytes >= 1024) {
-    std::snprintf(text, sizeof text, "%lld (%.1f KiB)", static_cast<long long>(bytes),
-                  bytes / 1024.0);
-  } else {
-    std::snprintf(text, sizeof text, "%lld", static_cast<long long>(bytes));
-  }
-  return text;
+  return bytes >= 1024 ? std::to_string(bytes) + " (" + size_text(bytes) + ")"
+                       : std::to_string(bytes);
+}
+
+std::string plural(std::int64_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
 std::string counts_text(const CompactReport& r) {
   std::ostringstream s;
-  s << r.merged_levels << " levels merged, " << r.retargeted_transitions
-    << " transitions rewritten, " << r.moved_transitions << " moved, " << r.repacked_configurations
-    << " configurations repacked into " << r.new_segments << " segments, " << r.garbage_segments
-    << " garbage segments dropped";
+  s << plural(r.merged_levels, "duplicate level", "duplicate levels") << " merged";
+  if (r.merged_levels > 0)
+    s << " (" << plural(r.retargeted_transitions, "transition", "transitions")
+      << " redirected to the kept level, " << r.moved_transitions << " moved)";
+  s << ", " << plural(r.repacked_configurations, "configuration", "configurations")
+    << " repacked into " << plural(r.new_segments, "segment file", "segment files") << ", "
+    << plural(r.garbage_segments, "unreferenced segment file", "unreferenced segment files")
+    << " removed";
   return s.str();
 }
 
 }  // namespace
+
+std::string CompactReport::headline() const {
+  if (nothing_to_do) return "nothing to do (" + size_text(before.total()) + " on disk)";
+  return "disk " + size_text(before.total()) + " -> " + size_text(after.total()) + ": " +
+         counts_text(*this);
+}
 
 std::string CompactReport::text() const {
   std::ostringstream s;
@@ -70,8 +77,9 @@ std::string CompactReport::text() const {
     return s.str();
   }
   s << (dry_run ? "would do: " : "") << counts_text(*this) << "\n";
-  s << "levels compared: " << compared_pairs << " pairs by vectors, " << bound_rejections
-    << " told apart by summary and force\n";
+  s << "duplicate search (two levels of one check-point that are the same state): "
+    << plural(compared_pairs, "pair", "pairs") << " compared vector by vector, " << bound_rejections
+    << " told apart by their stored force alone\n";
   s << "segments: " << before.segments << " -> " << after.segments << "\n";
   if (dry_run) {
     s << "bytes now: catalogue " << bytes_text(before.catalogue_bytes) << ", blobs "

@@ -44,6 +44,8 @@ struct CompactReport {
 
   // Human-readable lines: counts, then bytes before -> after.
   std::string text() const;
+  // One line for `hapstate run`: the disk use before -> after and what was done.
+  std::string headline() const;
 };
 
 // Compacts the state directory `state_dir`. Throws InputError for a missing state directory,

@@ -1,5 +1,6 @@
 // hapstate-inspect summary.
 #include "maintenance/inspect_common.hpp"
+#include "util/text.h"
 
 #include <cstdio>
 #include <sstream>
@@ -170,29 +171,39 @@ std::string summary_text(const Json& j) {
       s << ": " << message;
     s << "\n";
   }
-  s << "check-points: " << j["checkpoints"]["total"];
+  s << "check-points: " << j["checkpoints"]["total"] << " (grid points where states are stored";
+  const char* by = ": ";
   for (const auto& [name, n] : j["checkpoints"]["by_class"].items()) {
-    if (n.get<std::int64_t>() > 0) s << ", " << n << " " << name;
+    if (n.get<std::int64_t>() > 0) s << by << n << " " << name;
+    if (n.get<std::int64_t>() > 0) by = ", ";
   }
+  s << ")";
   const Json& c = j["configurations"];
   const std::int64_t not_expandable = c["open_not_expandable"].get<std::int64_t>();
   const std::int64_t outside = c["open_outside_workspace"].get<std::int64_t>();
-  s << "\nconfigurations: " << c["total"] << " (" << c["expanded"] << " expanded, "
-    << c["open"].get<std::int64_t>() - not_expandable << " still to expand, "
+  s << "\nconfigurations: " << c["total"] << " stored equilibrium states (" << c["expanded"]
+    << " expanded, " << c["open"].get<std::int64_t>() - not_expandable << " still to expand, "
     << not_expandable - outside << " not expanded: force above probe.max_force, " << outside
-    << " not expanded: outside the workspace; " << c["merged"] << " merged; max wave "
-    << (c["max_wave"].is_null() ? std::string("-") : c["max_wave"].dump()) << ")\n";
-  s << "levels per check-point:";
-  for (const auto& h : j["levels_per_checkpoint"])
-    s << "  " << h["levels"] << ": " << h["checkpoints"];
+    << " not expanded: outside the workspace; " << c["merged"] << " merged as duplicates)";
+  if (!c["max_wave"].is_null())
+    s << "; the farthest lies " << c["max_wave"] << " moves (waves) from rest";
+  s << "\nlevels per check-point (a level: the same probe position reached by another history):";
+  const char* sep = " ";
+  for (const auto& h : j["levels_per_checkpoint"]) {
+    const std::int64_t levels = h["levels"].get<std::int64_t>();
+    const std::int64_t points = h["checkpoints"].get<std::int64_t>();
+    s << sep << points << (points == 1 ? " check-point with " : " check-points with ") << levels
+      << (levels == 1 ? " level" : " levels");
+    sep = ", ";
+  }
   const Json& t = j["transitions"];
-  s << "\ntransitions: " << t["total"] << " (" << t["reached"] << " reached, " << t["outside_grid"]
-    << " outside the grid, " << t["failed"] << " failed)";
+  s << "\ntransitions: " << t["total"] << " moves to a neighbouring check-point (" << t["reached"]
+    << " solved, " << t["outside_grid"] << " outside the grid, " << t["failed"] << " failed)";
   if (!t["mean_factorisations"].is_null()) {
-    char cost[128];
+    char cost[200];
     std::snprintf(cost, sizeof cost,
-                  "; per solved transition %.3g Newton iterations, %.3g "
-                  "factorisations of its own",
+                  "; a solved move took %.3g Newton iterations and %.3g new factorisations "
+                  "of the stiffness matrix on average (the others reuse one)",
                   t["mean_newton_iterations"].get<double>(),
                   t["mean_factorisations"].get<double>());
     s << cost;
@@ -205,9 +216,12 @@ std::string summary_text(const Json& j) {
   s << "refined cells: " << r["cells"] << " (" << r["points"] << " points at quarter spacings, "
     << r["failed"] << " failed)\n";
   const Json& d = j["disk"];
-  s << "disk: catalogue " << d["catalogue_bytes"] << " B, blobs " << d["blob_bytes"] << " B in "
-    << d["segments"] << " segments, problem " << d["problem_bytes"] << " B, total "
-    << d["total_bytes"] << " B\n";
+  const std::int64_t segments = d["segments"].get<std::int64_t>();
+  s << "disk: " << size_text(d["total_bytes"].get<std::int64_t>()) << " (catalogue "
+    << size_text(d["catalogue_bytes"].get<std::int64_t>()) << ", vectors "
+    << size_text(d["blob_bytes"].get<std::int64_t>()) << " in " << segments
+    << (segments == 1 ? " segment file" : " segment files") << ", problem "
+    << size_text(d["problem_bytes"].get<std::int64_t>()) << ")\n";
   return s.str();
 }
 

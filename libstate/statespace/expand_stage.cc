@@ -460,17 +460,17 @@ ExpandReport run_expand(const ExpandOptions& options) {
     report.solver = solver.timings();
     report.engine_summary = solver.summary();
     char buf[400];
-    std::snprintf(buf, sizeof buf,
-                  "%s: %lld transitions decided (%lld solved, %lld failed, %lld outside the "
-                  "grid), %lld new configurations, %lld reached an existing level; now %lld "
-                  "configurations, %lld transitions",
-                  report.stopped_by_signal ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
-                  : stopped                ? "partial (a limit was reached; run again to continue)"
-                                           : "complete",
-                  report.decided, report.solved, report.failed, report.outside,
-                  report.new_configurations, report.reused_levels,
-                  static_cast<long long>(cat.num_configurations()),
-                  static_cast<long long>(cat.num_transitions()));
+    std::snprintf(
+        buf, sizeof buf,
+        "%s: %lld transitions decided (%lld solved, %lld failed, %lld outside the "
+        "grid), %lld new configurations, %lld arrived at a state already stored; now %lld "
+        "configurations, %lld transitions",
+        report.stopped_by_signal ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
+        : stopped                ? "partial (a limit was reached; run again to continue)"
+                                 : "complete",
+        report.decided, report.solved, report.failed, report.outside, report.new_configurations,
+        report.reused_levels, static_cast<long long>(cat.num_configurations()),
+        static_cast<long long>(cat.num_transitions()));
     report.message = buf;
     cat.update_stage_run_end(run_id, report.outcome, now_ms(), report.message);
   });

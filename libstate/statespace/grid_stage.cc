@@ -193,8 +193,9 @@ GridReport run_grid(const GridOptions& options) {
   report.message =
       std::to_string(report.checkpoints_added) + " check-points added (" +
       std::to_string(report.checkpoints_total) + " in all)" +
-      (free_ids.empty()
-           ? (report.zero_configuration_added ? ", zero configuration at (0, 0, 0)" : "")
+      (free_ids.empty() ? (report.zero_configuration_added
+                               ? ", the body at rest stored at the rest check-point (0, 0, 0)"
+                               : "")
        : report.zero_configurations > 0
            ? ", " + std::to_string(report.zero_configurations) +
                  " free check-points (sphere clear of the body) with the zero configuration"

@@ -252,8 +252,9 @@ RefineReport run_refine(const RefineOptions& options) {
   }
   char summary[300];
   std::snprintf(summary, sizeof summary,
-                "%lld cells, %lld above the tolerance %.3g (largest estimate %.3g)", report.cells,
-                report.flagged, report.tolerance, report.largest_error);
+                "%lld cells, %lld above the tolerance %.3g (estimated interpolation error / "
+                "the cell's largest force; largest %.3g)",
+                report.cells, report.flagged, report.tolerance, report.largest_error);
   if (pending.empty()) {
     report.outcome = StageOutcome::kUnchanged;
     report.message = std::string("nothing to do: ") + summary + ", " +

@@ -47,4 +47,16 @@ inline std::string percent(double fraction) {
   return buf;
 }
 
+// A size in bytes for a reader: "17.3 MiB", "35.2 KiB", "512 B" (binary units).
+inline std::string size_text(long long bytes) {
+  char buf[32];
+  if (bytes >= (1 << 20))
+    std::snprintf(buf, sizeof buf, "%.1f MiB", static_cast<double>(bytes) / 1048576.0);
+  else if (bytes >= 1024)
+    std::snprintf(buf, sizeof buf, "%.1f KiB", static_cast<double>(bytes) / 1024.0);
+  else
+    std::snprintf(buf, sizeof buf, "%lld B", bytes);
+  return buf;
+}
+
 }  // namespace hapstate

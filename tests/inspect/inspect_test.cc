@@ -101,8 +101,9 @@ TEST_F(Inspect, SummaryJson) {
 TEST_F(Inspect, SummaryText) {
   const ToolRun r = inspect("summary");
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("configurations: 8 (0 expanded, 8 still to expand, 0 not expanded: force "
-                       "above probe.max_force, 0 not expanded: outside the workspace; 0 merged"),
+  EXPECT_NE(r.out.find("configurations: 8 stored equilibrium states (0 expanded, 8 still to "
+                       "expand, 0 not expanded: force above probe.max_force, 0 not expanded: "
+                       "outside the workspace; 0 merged as duplicates"),
             std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("failed 2x: newton diverged"), std::string::npos) << r.out;
@@ -244,7 +245,9 @@ TEST_F(Inspect, CompactStageThenInspect) {
   const ToolRun first =
       run_tool(HAPSTATE_COMPACT_EXE, "--state " + quote(state().string()), dir_.path());
   EXPECT_EQ(first.exit_code, 0) << first.err;
-  EXPECT_NE(first.out.find("2 levels merged, 3 transitions rewritten"), std::string::npos)
+  EXPECT_NE(first.out.find(
+                "2 duplicate levels merged (3 transitions redirected to the kept level, 1 moved)"),
+            std::string::npos)
       << first.out;
   EXPECT_NE(first.out.find("segments: 3 -> 1"), std::string::npos) << first.out;
   const ToolRun second =
