@@ -13,7 +13,6 @@ build_dir=${BUILD_DIR:-build}
 start=$(date +%s)
 echo "== Building the executables into $build_dir/ (Release; the first time takes minutes: its time is printed)"
 bash scripts/build.sh apps
-echo "build: $(( $(date +%s) - start )) s"
 state=pipelines/liver/state
 threads=$(nproc)  # before the export below: nproc honours OMP_NUM_THREADS
 # One BLAS thread per worker: the expansion runs one solver per core (docs/state-space.md).
@@ -45,7 +44,7 @@ section "4. Playback at 1 kHz (real-time paced) with a 60 Hz visual thread, 5 s 
    is one the operating system started late."
 "$build_dir"/tools/hapstate-play --playback "$state/playback.bin" --random 40 --seed 1 --speed 2 \
   --realtime --frames out/liver/frames --frame-every 30
-echo "frames for ParaView: out/liver/frames/frames.pvd"
+echo "frames for ParaView: out/liver/frames/frames.pvd (apply Warp By Vector, scale 1, to see them move)"
 
 section "5. Contact: a frictionless sphere on the paper's clamped plate (pipelines/plate), a 3-D
    workspace on both sides of it. Where the sphere can reach the plate from below and from
@@ -74,7 +73,7 @@ echo
 echo "== What this job wrote"
 echo "   pipelines/liver/state/        the liver's state directory: catalogue.sqlite, blobs/,"
 echo "                                 playback.bin (the haptic file), eval.csv and eval.png"
-echo "   out/liver/frames/frames.pvd   the 1 kHz run's surface frames, for ParaView"
+echo "   out/liver/frames/frames.pvd   the 1 kHz run's surface frames, for ParaView (Warp By Vector)"
 echo "   pipelines/plate/state/        the plate's state directory (as the liver's)"
 echo "   out/plate/                    the plate's three paths: eval-*.csv and eval-*.png"
 echo
