@@ -4,7 +4,7 @@
 //   hapstate::PlaybackFile file("state/playback.bin");      // mmap + O(1) checks
 //   hapstate::HapticCursor cursor(file, hapstate::Scheme::kHermite);
 //   haptic thread, 1 kHz:  Force f = cursor.force(p);       // no allocation, lock or syscall
-//   visual thread, 60 Hz:  cursor.snapshot(&s); file.deform(s, positions);
+//   visual thread, 60 Hz:  cursor.snapshot(&s); hapstate::deform(file, s, positions);
 //
 // Positions are in mesh units (the scene's), forces in N, stiffness in N per mesh unit.
 #pragma once
