@@ -5,6 +5,7 @@
 #include "catalogue/transaction.h"
 #include "statespace/batch_decision.h"
 #include "statespace/expand_batch.h"
+#include "statespace/expansion_eta.h"
 #include "statespace/level_match.h"
 #include "statespace/probe_model.h"
 #include "statespace/stage_context.h"
@@ -127,12 +128,11 @@ class Expander {
     return std::nullopt;
   }
 
-  // An estimate of the transitions still to decide, for the progress line: `open_tasks` of the
-  // current wave `w`, 26 for each open configuration of a later wave, and for each workspace
-  // check-point no configuration has reached yet, 26 x the expandable configurations per
-  // reached check-point so far. It assumes every check-point will be reached (an over-estimate
-  // where probe.max_force ends the expansion first) with as many levels as so far.
-  long long estimate_remaining(int w, long long open_tasks) {
+  // An estimate of the transitions still to decide after wave `w`, for the progress line:
+  // 26 x later_configurations (expansion_eta.h) from the open configurations of later waves,
+  // the workspace check-points no configuration has reached yet, the expandable configurations
+  // per reached check-point so far, and the current wave's size.
+  long long estimate_later(int w, long long current_wave_configurations) {
     std::set<CheckpointId> reached;
     long long expandable = 0, later = 0;
     for (const Configuration& c : ctx_.catalogue.read_all_configurations()) {
@@ -146,8 +146,8 @@ class Expander {
     for (const auto& [ijk, c] : grid_.by_ijk)
       if (is_workspace(c.classification) && !reached.count(c.id)) ++unreached;
     const double per_checkpoint = reached.empty() ? 1.0 : double(expandable) / reached.size();
-    return open_tasks + Direction::kCount * later +
-           std::llround(Direction::kCount * per_checkpoint * unreached);
+    return Direction::kCount *
+           later_configurations(later, unreached, per_checkpoint, current_wave_configurations);
   }
 
   // Undecided (source, direction) pairs of wave w, canonical order; sources with nothing left
@@ -407,8 +407,10 @@ ExpandReport run_expand(const ExpandOptions& options) {
                    decided_before);
     // One line for the whole expansion; its total is re-estimated at each wave.
     Progress progress("hapstate-expand: transitions", 0, options.progress);
+    ExpansionEta eta;
     progress.set_resumed(decided_before);
     while (!stopped) {
+      auto eta_mark = SteadyClock::now();
       const std::optional<int> wave = expander.next_wave();
       if (!wave) break;
       std::vector<ConfigId> complete;
@@ -419,11 +421,22 @@ ExpandReport run_expand(const ExpandOptions& options) {
         for (ConfigId id : complete) cat.update_configuration_status(id, ConfigStatus::kExpanded);
         tx.commit();
       }
+      // The wave's configurations: its tasks' sources (a resumed wave has fewer tasks).
+      std::set<ConfigId> sources;
+      for (const TransitionTask& t : tasks) sources.insert(t.source.id);
+      const long long wave_tasks = static_cast<long long>(tasks.size());
+      const long long later_tasks =
+          options.progress ? expander.estimate_later(*wave, static_cast<long long>(sources.size()))
+                           : 0;
+      const auto update_eta = [&](long long current_left) {
+        progress.set_eta(
+            eta.seconds_left(*wave, current_left, later_tasks,
+                             Direction::kCount * std::max<long long>(1, sources.size())));
+      };
       if (options.progress) {
-        const long long remaining =
-            expander.estimate_remaining(*wave, static_cast<long long>(tasks.size()));
-        progress.set_total(decided_before + report.decided + remaining, true);
+        progress.set_total(decided_before + report.decided + wave_tasks + later_tasks, true);
         progress.set_note("expanding wave " + std::to_string(*wave));
+        update_eta(wave_tasks);
       }
       for (std::size_t b = 0; b < tasks.size(); b += options.batch_size) {
         if (limit_reached()) {
@@ -447,6 +460,12 @@ ExpandReport run_expand(const ExpandOptions& options) {
         report.solve_wall_s += std::chrono::duration<double>(store_start - solve_start).count();
         report.store_wall_s +=
             std::chrono::duration<double>(SteadyClock::now() - store_start).count();
+        // The wall time since the last batch (or the wave's start): the wave's set-up counted.
+        const auto batch_end = SteadyClock::now();
+        eta.record(*wave, static_cast<long long>(batch.size()),
+                   std::chrono::duration<double>(batch_end - eta_mark).count());
+        eta_mark = batch_end;
+        if (options.progress) update_eta(wave_tasks - static_cast<long long>(e));
         progress.update(decided_before + report.decided, report.failed);
       }
     }

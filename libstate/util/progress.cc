@@ -39,6 +39,11 @@ void Progress::set_total(long long total, bool estimate) {
   estimate_ = estimate;
 }
 
+void Progress::set_eta(double seconds) {
+  eta_ = std::isfinite(seconds) ? seconds : -1;
+  eta_set_ = std::chrono::steady_clock::now();
+}
+
 void Progress::update(long long done, long long failures) {
   done_ = done;
   failures_ = failures;
@@ -85,9 +90,10 @@ std::string Progress::line(bool final) {
   if (!final && done_ < total) pct = std::min(99.0, std::max(pct, shown_pct_));
   shown_pct_ = std::max(shown_pct_, pct);
   const char* approx = estimate_ && done_ < total ? "~" : "";
+  double left = rate > 0 ? (total - done_) / rate : -1;
+  if (eta_ >= 0) left = std::max(0.0, eta_ - std::chrono::duration<double>(now - eta_set_).count());
   const std::string tail = final ? "elapsed " + format_duration(elapsed)
-                                 : std::string("ETA ") + approx +
-                                       format_duration(rate > 0 ? (total - done_) / rate : -1);
+                                 : std::string("ETA ") + approx + format_duration(left);
   std::string failures = failures_ > 0 ? ", failures " + std::to_string(failures_) : "";
   char text[512];
   std::snprintf(text, sizeof text, "%s: %lld/%s%lld (%.0f%%), %.2f/s, %s%s%s%s", label_.c_str(),

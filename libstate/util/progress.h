@@ -24,6 +24,10 @@ class Progress {
   void set_resumed(long long done_before);
   // A new estimate of the whole job; `estimate` prints it as "~total" and the ETA as "ETA ~".
   void set_total(long long total, bool estimate);
+  // The seconds left as a model of the work estimates them (the expansion's per-wave costs):
+  // replaces the rate's ETA until the next call; it counts down with the clock in between. A
+  // negative value returns to the rate's ETA.
+  void set_eta(double seconds);
   // Text printed after the numbers (for example the current wave).
   void set_note(std::string note) { note_ = std::move(note); }
   // Records that `done` items are finished (cumulative, resumed ones included) and `failures`
@@ -48,6 +52,8 @@ class Progress {
   double interval_s_;
   std::chrono::steady_clock::time_point start_, last_print_;
   double shown_pct_ = 0;  // the largest percentage printed so far
+  double eta_ = -1;       // set_eta's seconds (negative: none), at eta_set_
+  std::chrono::steady_clock::time_point eta_set_;
   // (seconds since start, done) at each update, oldest first; older than the window dropped.
   std::deque<std::pair<double, long long>> samples_;
 };

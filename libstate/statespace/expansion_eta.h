@@ -1,0 +1,60 @@
+// The expansion's progress estimate: how many transitions are left and how long they will take.
+// Pure functions of what the expand loop knows (counts from the catalogue, the wall time of its
+// batches), so that the model is tested on a measured expansion (tests/statespace/
+// expansion_eta_test) without running one.
+//
+// Why a model and not the run's rate: on a contact scene every wave pushes the sphere deeper,
+// and its transitions cost more than the last wave's (the bundled plate, 2 threads: 0.02, 0.08,
+// 0.15, 0.22, 0.27, 0.35 thread-seconds per transition in waves 0-5), and check-points reached from both
+// sides of a body keep two levels, so the last waves are larger than the unreached check-points
+// say. The run's recent rate for a count of unreached check-points promised the plate's second
+// half in about 60 % of its time (issue 42).
+#pragma once
+
+#include <map>
+
+namespace hapstate {
+
+// Transitions still to decide after the current wave, as configurations to expand (26
+// transitions each): the open configurations of later waves, plus, while workspace check-points
+// are unreached, whole waves as large as the current one until they hold as many configurations
+// as the unreached check-points need at the levels per check-point seen so far; nothing once
+// every check-point is reached. Whole waves, because the expansion advances in waves and a
+// contact scene's fronts keep their size until the force limit stops them: the plate's last
+// wave fills check-points already reached from the other side with second levels, which a count
+// of unreached check-points misses. A grab scene's later waves are shells of varying size: there
+// the estimate errs long (by less than a wave).
+long long later_configurations(long long later_open, long long unreached, double per_checkpoint,
+                               long long current_wave_configurations);
+
+class ExpansionEta {
+ public:
+  // Each later wave costs this factor more per transition than the one before, at most: the
+  // growth measured between the last two waves, clamped to [1, kMaxGrowth].
+  static constexpr double kMaxGrowth = 1.25;
+
+  // A batch of `decided` transitions of wave `wave` took `seconds` of wall time.
+  void record(int wave, long long decided, double seconds);
+
+  // Seconds left: `current_left` undecided transitions of wave `wave` (of `wave_size` in all),
+  // then `later` transitions in waves of `wave_size`, each costing the growth factor more per
+  // transition than the one before. The current wave's cost blends the earlier waves'
+  // prediction (the latest one's cost, grown) with this wave's own cost so far, weighted by the
+  // fraction of the wave done. Negative when nothing has been measured yet (no estimate).
+  double seconds_left(int wave, long long current_left, long long later,
+                      long long wave_size) const;
+
+  // Seconds per transition measured in `wave` (negative if none).
+  double cost(int wave) const;
+  // The per-wave growth of the cost used for the waves after `wave`.
+  double growth(int wave) const;
+
+ private:
+  struct Work {
+    long long decided = 0;
+    double seconds = 0;
+  };
+  std::map<int, Work> waves_;
+};
+
+}  // namespace hapstate
