@@ -5,10 +5,10 @@
 //
 // Why a model and not the run's rate: on a contact scene every wave pushes the sphere deeper,
 // and its transitions cost more than the last wave's (the bundled plate, 2 threads: 0.02, 0.08,
-// 0.15, 0.22, 0.27, 0.35 thread-seconds per transition in waves 0-5), and check-points reached from both
-// sides of a body keep two levels, so the last waves are larger than the unreached check-points
-// say. The run's recent rate for a count of unreached check-points promised the plate's second
-// half in about 60 % of its time (issue 42).
+// 0.15, 0.22, 0.27, 0.35 thread-seconds per transition in waves 0-5), and check-points reached from
+// both sides of a body keep two levels, so the last waves are larger than the unreached
+// check-points say. The run's recent rate for a count of unreached check-points promised the
+// plate's second half in about 60 % of its time (issue 42).
 #pragma once
 
 #include <map>
@@ -41,8 +41,7 @@ class ExpansionEta {
   // transition than the one before. The current wave's cost blends the earlier waves'
   // prediction (the latest one's cost, grown) with this wave's own cost so far, weighted by the
   // fraction of the wave done. Negative when nothing has been measured yet (no estimate).
-  double seconds_left(int wave, long long current_left, long long later,
-                      long long wave_size) const;
+  double seconds_left(int wave, long long current_left, long long later, long long wave_size) const;
 
   // Seconds per transition measured in `wave` (negative if none).
   double cost(int wave) const;

@@ -115,13 +115,13 @@ TEST(ExpansionEta, TheFormerEstimateWasFarShortOnTheSameReplay) {
 }
 
 TEST(ExpansionEta, LaterConfigurationsComeInWholeWaves) {
-  EXPECT_EQ(later_configurations(0, 0, 1.0, 18), 0);        // all reached: nothing after
-  EXPECT_EQ(later_configurations(5, 0, 1.0, 18), 5);        // only the open later ones
-  EXPECT_EQ(later_configurations(0, 27, 1.0, 18), 36);      // 27 needed: two waves of 18
-  EXPECT_EQ(later_configurations(0, 9, 1.0, 18), 18);       // the plate's last wave
-  EXPECT_EQ(later_configurations(0, 218, 1.0, 218), 218);   // a grab's last shell: exact
-  EXPECT_EQ(later_configurations(0, 100, 2.0, 50), 200);    // two levels per check-point
-  EXPECT_EQ(later_configurations(3, 10, 1.0, 0), 13);       // an empty wave counts as one
+  EXPECT_EQ(later_configurations(0, 0, 1.0, 18), 0);       // all reached: nothing after
+  EXPECT_EQ(later_configurations(5, 0, 1.0, 18), 5);       // only the open later ones
+  EXPECT_EQ(later_configurations(0, 27, 1.0, 18), 36);     // 27 needed: two waves of 18
+  EXPECT_EQ(later_configurations(0, 9, 1.0, 18), 18);      // the plate's last wave
+  EXPECT_EQ(later_configurations(0, 218, 1.0, 218), 218);  // a grab's last shell: exact
+  EXPECT_EQ(later_configurations(0, 100, 2.0, 50), 200);   // two levels per check-point
+  EXPECT_EQ(later_configurations(3, 10, 1.0, 0), 13);      // an empty wave counts as one
 }
 
 TEST(ExpansionEta, GrowthIsMeasuredBetweenTheLastTwoWavesAndBounded) {

@@ -45,5 +45,17 @@ TEST(Progress, PercentageNeverGoesBackwards) {
   }
 }
 
+TEST(Progress, AModelsEtaReplacesTheRatesUntilWithdrawn) {
+  Progress p("work", 1000, nullptr);
+  p.set_total(1000, true);
+  p.update(500);
+  p.set_eta(3725);  // a model's estimate: 1 h 02 min
+  EXPECT_NE(p.line().find("ETA ~1h02m"), std::string::npos) << p.line();
+  p.set_eta(42.0);
+  EXPECT_NE(p.line().find("ETA ~4"), std::string::npos) << p.line();  // 42 s, counting down
+  p.set_eta(-1);  // withdrawn: the rate's ETA again (no rate measured yet here: "?")
+  EXPECT_EQ(p.line().find("ETA ~4"), std::string::npos) << p.line();
+}
+
 }  // namespace
 }  // namespace hapstate
