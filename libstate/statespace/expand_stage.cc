@@ -129,7 +129,7 @@ class Expander {
   }
 
   // An estimate of the transitions still to decide after wave `w`, for the progress line:
-  // 26 x later_configurations (expansion_eta.h) from the open configurations of later waves,
+  // 26 x later_configurations (expansion_eta.h) of the open configurations of later waves,
   // the workspace check-points no configuration has reached yet, the expandable configurations
   // per reached check-point so far, and the current wave's size.
   long long estimate_later(int w, long long current_wave_configurations) {
@@ -147,7 +147,7 @@ class Expander {
       if (is_workspace(c.classification) && !reached.count(c.id)) ++unreached;
     const double per_checkpoint = reached.empty() ? 1.0 : double(expandable) / reached.size();
     return Direction::kCount *
-           later_configurations(later, unreached, per_checkpoint, current_wave_configurations);
+           later_configurations(w, later, unreached, per_checkpoint, current_wave_configurations);
   }
 
   // Undecided (source, direction) pairs of wave w, canonical order; sources with nothing left

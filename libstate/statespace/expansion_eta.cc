@@ -6,12 +6,14 @@
 
 namespace hapstate {
 
-long long later_configurations(long long later_open, long long unreached, double per_checkpoint,
-                               long long current_wave_configurations) {
+long long later_configurations(int wave, long long later_open, long long unreached,
+                               double per_checkpoint, long long current_wave_configurations) {
   if (unreached <= 0) return later_open;
   const long long needed = std::llround(per_checkpoint * static_cast<double>(unreached));
-  const long long wave = std::max(1LL, current_wave_configurations);
-  return later_open + (needed + wave - 1) / wave * wave;
+  if (wave == 0 || current_wave_configurations <= 0) return later_open + needed;
+  const long long size = current_wave_configurations;
+  const long long waves = std::max(1LL, (2 * needed + size) / (2 * size));  // nearest, >= 1
+  return later_open + waves * size;
 }
 
 void ExpansionEta::record(int wave, long long decided, double seconds) {
@@ -28,9 +30,11 @@ double ExpansionEta::cost(int wave) const {
 
 double ExpansionEta::growth(int wave) const {
   // The two latest waves measured before `wave` (complete ones: the loop finishes a wave before
-  // the next starts); with fewer, no growth is known.
+  // the next starts), wave 0 left out: its moves start from the zero configurations (free space
+  // or the rest state) and say nothing of how the fronts' cost grows. With fewer, none known.
   auto it = waves_.lower_bound(wave);
-  if (std::distance(waves_.begin(), it) < 2) return 1.0;
+  const auto first = waves_.upper_bound(0);
+  if (it == waves_.begin() || std::distance(first, it) < 2) return 1.0;
   const auto last = std::prev(it), before = std::prev(last);
   const double a = before->second.seconds / static_cast<double>(before->second.decided);
   const double b = last->second.seconds / static_cast<double>(last->second.decided);
@@ -41,7 +45,7 @@ double ExpansionEta::growth(int wave) const {
 double ExpansionEta::seconds_left(int wave, long long current_left, long long later,
                                   long long wave_size) const {
   wave_size = std::max(1LL, wave_size);
-  current_left = std::clamp(current_left, 0LL, wave_size);
+  current_left = std::max(0LL, current_left);
   const double g = growth(wave);
   // The cost the earlier waves predict for this one: the latest one's, grown once.
   double predicted = -1;
@@ -49,14 +53,17 @@ double ExpansionEta::seconds_left(int wave, long long current_left, long long la
     const Work& last = std::prev(it)->second;
     predicted = last.seconds / static_cast<double>(last.decided) * g;
   }
-  // This wave's own cost so far, trusted as it covers more of the wave: its batches differ
-  // (moves into the body cost many times moves away from it or out of the grid).
+  // This wave's own cost so far, weighted n / (n + kPriorTransitions) after n of its
+  // transitions: a few batches outweigh the prediction (a contact scene's first fronts cost
+  // many times the moves between its free check-points), one batch does not (its moves differ:
+  // into the body, away from it, out of the grid).
   double c = cost(wave);
   if (c < 0) {
     c = predicted;
   } else if (predicted > 0) {
-    const double covered = static_cast<double>(wave_size - current_left) / wave_size;
-    c = covered * c + (1 - covered) * predicted;
+    const double n = static_cast<double>(waves_.at(wave).decided);
+    const double weight = n / (n + kPriorTransitions);
+    c = weight * c + (1 - weight) * predicted;
   }
   if (c < 0) return -1.0;
   double seconds = c * static_cast<double>(current_left);

@@ -15,32 +15,35 @@
 
 namespace hapstate {
 
-// Transitions still to decide after the current wave, as configurations to expand (26
-// transitions each): the open configurations of later waves, plus, while workspace check-points
-// are unreached, whole waves as large as the current one until they hold as many configurations
-// as the unreached check-points need at the levels per check-point seen so far; nothing once
-// every check-point is reached. Whole waves, because the expansion advances in waves and a
-// contact scene's fronts keep their size until the force limit stops them: the plate's last
-// wave fills check-points already reached from the other side with second levels, which a count
-// of unreached check-points misses. A grab scene's later waves are shells of varying size: there
-// the estimate errs long (by less than a wave).
-long long later_configurations(long long later_open, long long unreached, double per_checkpoint,
-                               long long current_wave_configurations);
+// Configurations still to expand after the current wave `wave` (26 transitions each): the open
+// configurations of later waves, plus, while workspace check-points are unreached, the
+// configurations these need at the levels per check-point seen so far, counted from wave 1 on
+// in whole waves as large as the current one (the nearest number of them, at least one). Whole
+// waves, because a contact scene's fronts keep their size until the force limit stops them:
+// the plate's last wave fills check-points already reached from the other side with second
+// levels, which a count of unreached check-points misses; a shrinking front (the outer shells
+// of liver-contact) is over- or under-counted by less than half a wave. Wave 0 (the zero
+// configurations: the rest state, or every free check-point of a contact scene) is no front:
+// there the count of unreached check-points alone. Nothing once every check-point is reached.
+long long later_configurations(int wave, long long later_open, long long unreached,
+                               double per_checkpoint, long long current_wave_configurations);
 
 class ExpansionEta {
  public:
   // Each later wave costs this factor more per transition than the one before, at most: the
-  // growth measured between the last two waves, clamped to [1, kMaxGrowth].
+  // growth measured between the last two waves after wave 0, clamped to [1, kMaxGrowth].
   static constexpr double kMaxGrowth = 1.25;
+  // The prediction's weight against a wave's own cost, in transitions of that wave.
+  static constexpr double kPriorTransitions = 128;
 
   // A batch of `decided` transitions of wave `wave` took `seconds` of wall time.
   void record(int wave, long long decided, double seconds);
 
-  // Seconds left: `current_left` undecided transitions of wave `wave` (of `wave_size` in all),
-  // then `later` transitions in waves of `wave_size`, each costing the growth factor more per
-  // transition than the one before. The current wave's cost blends the earlier waves'
-  // prediction (the latest one's cost, grown) with this wave's own cost so far, weighted by the
-  // fraction of the wave done. Negative when nothing has been measured yet (no estimate).
+  // Seconds left: `current_left` undecided transitions of wave `wave`, then `later`
+  // transitions in waves of `wave_size`, each costing the growth factor more per transition
+  // than the one before. The current wave's cost blends the earlier waves' prediction (the
+  // latest one's cost, grown) with this wave's own cost so far (weight n / (n + 128) after n
+  // transitions). Negative when nothing has been measured yet (no estimate).
   double seconds_left(int wave, long long current_left, long long later, long long wave_size) const;
 
   // Seconds per transition measured in `wave` (negative if none).
