@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
           cpu > 0 ? 100 * t.assembly / cpu : 0, cpu > 0 ? 100 * t.factorize / cpu : 0,
           cpu > 0 ? 100 * t.solve / cpu : 0, cpu, r.decided / r.wall_s,
           r.solved ? 1e3 * r.wall_s / r.solved : 0.0,
-          r.solved ? double(t.factorizations) / r.solved : 0.0,
+          r.solved ? double(t.factorisations) / r.solved : 0.0,
           r.solved ? double(r.factorisations) / r.solved : 0.0,
           r.solved ? double(t.inner_iterations) / r.solved : 0.0);
       if (r.solved && t.factor_bytes > 0) {
@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
         // bus also carries are smaller on these meshes.
         const double per = double(t.back_substitutions) / r.solved;
         const double single = double(t.single_back_substitutions) / r.solved;
-        const double factorisations = double(t.factorizations) / r.solved;
+        const double factorisations = double(t.factorisations) / r.solved;
         const double bytes = 2 * (per - single) * t.factor_bytes +
                              2 * single * t.single_factor_bytes + factorisations * t.factor_bytes;
         std::printf(

@@ -235,7 +235,7 @@ int run(const Options& o) {
                  "factorisation %.3f ms x %lld (%lld PSD fallbacks); solve %.3f ms total (%lld "
                  "conjugate-gradient iterations)\n",
                  1e3 * t.analyze, 1e3 * t.assembly / std::max(1LL, t.assemblies), t.assemblies,
-                 1e3 * t.factorize / std::max(1LL, t.factorizations), t.factorizations,
+                 1e3 * t.factorize / std::max(1LL, t.factorisations), t.factorisations,
                  t.psd_fallbacks, 1e3 * t.solve, t.inner_iterations);
     const SparseCholesky& c = solver.linear_solver();
     std::fprintf(

@@ -81,7 +81,10 @@ enum class ConfigStatus {
 };
 
 // Where a configuration's vectors live: blobs/seg-NNNNNN.h5, group `name` holding the
-// datasets `name`/u (displacements), `name`/t (probe displacement), `name`/h (reactions).
+// datasets `name`/u (displacements), `name`/t (probe displacement), `name`/h (reactions),
+// `name`/du_dp (displacement slopes), and for contact probes `name`/touched (sticking) or
+// `name`/multipliers (frictionless); a transition's midpoint group holds u and du_dp. The
+// full table of datasets: docs/storage.md, "Blob segments".
 struct BlobRef {
   SegmentId segment;
   std::string name;  // e.g. "c42"

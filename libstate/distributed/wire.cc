@@ -241,7 +241,7 @@ void put(Writer& w, const SolverTimings& t) {
   for (double v : {t.assembly, t.factorize, t.solve, t.analyze, t.contact_detection, t.factor_bytes,
                    t.single_factor_bytes})
     w.pod(v);
-  for (long long v : {t.assemblies, t.factorizations, t.psd_fallbacks, t.inner_iterations,
+  for (long long v : {t.assemblies, t.factorisations, t.psd_fallbacks, t.inner_iterations,
                       t.contact_queries, t.back_substitutions, t.single_back_substitutions})
     w.pod(v);
 }
@@ -251,7 +251,7 @@ SolverTimings get_timings(Reader& r) {
   for (double* v : {&t.assembly, &t.factorize, &t.solve, &t.analyze, &t.contact_detection,
                     &t.factor_bytes, &t.single_factor_bytes})
     *v = r.pod<double>();
-  for (long long* v : {&t.assemblies, &t.factorizations, &t.psd_fallbacks, &t.inner_iterations,
+  for (long long* v : {&t.assemblies, &t.factorisations, &t.psd_fallbacks, &t.inner_iterations,
                        &t.contact_queries, &t.back_substitutions, &t.single_back_substitutions})
     *v = r.pod<long long>();
   return t;

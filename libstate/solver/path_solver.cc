@@ -140,7 +140,7 @@ MoveResult PathSolver::settle_under_loads() {
   constexpr int kEasyIterations = 8;  // a step that took at most this many: the next one doubles
   const auto start = Clock::now();
   MoveResult result;
-  const long long factorizations_before = timings_.factorizations;
+  const long long factorisations_before = timings_.factorisations;
   state_force_valid_ = false;
   double scale = 0, step = kFirstStep;
   Eigen::VectorXd converged = u_;
@@ -172,7 +172,7 @@ MoveResult PathSolver::settle_under_loads() {
       break;
     }
   }
-  result.factorisations = static_cast<int>(timings_.factorizations - factorizations_before);
+  result.factorisations = static_cast<int>(timings_.factorisations - factorisations_before);
   result.wall_ms = 1e3 * seconds_since(start);
   return result;
 }
@@ -338,7 +338,7 @@ bool PathSolver::factorize_with_fallback(const Eigen::VectorXd& u, SparseCholesk
     const auto start = Clock::now();
     const bool ok = target->factorize(k_values_);
     timings_.factorize += seconds_since(start);
-    ++timings_.factorizations;
+    ++timings_.factorisations;
     return ok;
   };
   constrain_values();
@@ -604,9 +604,9 @@ bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::Ve
   }
   StartFactor* slot = keep ? &start_factor_to_fill(t_from) : nullptr;
   symmetric_multiply(assembler_->pattern(), k_values_, dt, k_dt);
-  const long long before = timings_.factorizations;
+  const long long before = timings_.factorisations;
   const bool ok = factorize_with_fallback(u_, keep ? slot->cholesky.get() : cholesky_.get());
-  if (keep) result->start_factorisations += static_cast<int>(timings_.factorizations - before);
+  if (keep) result->start_factorisations += static_cast<int>(timings_.factorisations - before);
   if (!ok) {
     result->failure = SolveFailure::kNotFinite;
     result->reason = "tangent factorisation failed in the predictor";
@@ -732,7 +732,7 @@ MoveResult PathSolver::move_once(const Eigen::Vector3d& t_target) {
   MoveResult result;
   const StartState at_start = start_state();
   const Eigen::Vector3d t_start = t_;
-  const long long factorisations_start = timings_.factorizations;
+  const long long factorisations_start = timings_.factorisations;
   state_force_valid_ = false;
   // kFast (grab, frictionless contact): one sub-step for the whole move (at most the boundary's
   // longest_step_m), halved only where it fails.
@@ -777,7 +777,7 @@ MoveResult PathSolver::move_once(const Eigen::Vector3d& t_target) {
       result.reason = "sub-step cut back " + std::to_string(result.cutbacks) +
                       " times and still failing at " + std::to_string(s * 100) +
                       "% of the move; last: " + last;
-      result.factorisations = static_cast<int>(timings_.factorizations - factorisations_start);
+      result.factorisations = static_cast<int>(timings_.factorisations - factorisations_start);
       restore(at_start);
       result.wall_ms = 1e3 * seconds_since(start);
       return result;
@@ -790,7 +790,7 @@ MoveResult PathSolver::move_once(const Eigen::Vector3d& t_target) {
     state_force_ = f_;
     state_force_valid_ = true;
   }
-  result.factorisations = static_cast<int>(timings_.factorizations - factorisations_start);
+  result.factorisations = static_cast<int>(timings_.factorisations - factorisations_start);
   result.wall_ms = 1e3 * seconds_since(start);
   return result;
 }

@@ -32,7 +32,7 @@ namespace hapstate {
 // Cumulative time spent in each phase (seconds) and counts, for benchmarks.
 struct SolverTimings {
   double assembly = 0, factorize = 0, solve = 0, analyze = 0;
-  long long assemblies = 0, factorizations = 0;
+  long long assemblies = 0, factorisations = 0;
   long long psd_fallbacks = 0;     // PSD-projected tangents factorised or solved with by CG
   long long inner_iterations = 0;  // conjugate-gradient iterations of the inexact Newton
   // Solves with a factor (forward and backward substitution: each reads the whole factor), and
@@ -51,7 +51,7 @@ struct SolverTimings {
     solve += other.solve;
     analyze += other.analyze;
     assemblies += other.assemblies;
-    factorizations += other.factorizations;
+    factorisations += other.factorisations;
     psd_fallbacks += other.psd_fallbacks;
     inner_iterations += other.inner_iterations;
     back_substitutions += other.back_substitutions;

@@ -294,10 +294,10 @@ TransitionSolve TransitionSolver::solve_one(int worker, const TransitionTask& ta
       out.midpoint_u.resize(static_cast<std::size_t>(u_m.size()));
       for (Eigen::Index d = 0; d < u_m.size(); ++d)
         out.midpoint_u[d] = static_cast<float>(u_m[d] / problem_.unit);
-      const long long before = solver.timings().factorizations;
+      const long long before = solver.timings().factorisations;
       Eigen::MatrixX3d du_dp;
       const Eigen::Matrix3d k = solver.haptic_stiffness(&du_dp, /*keep_factor=*/true);
-      half.factorisations += static_cast<int>(solver.timings().factorizations - before);
+      half.factorisations += static_cast<int>(solver.timings().factorisations - before);
       if (k.allFinite()) {
         std::array<double, 9> row_major{};
         for (int r = 0; r < 3; ++r)
@@ -358,11 +358,11 @@ StiffnessResult rest_stiffness(const Problem& problem) {
 StiffnessResult TransitionSolver::stiffness_one(int worker, const StiffnessTask& task) {
   PathSolver& solver = *solvers_[worker];
   probe_.set_state(solver, *task.vectors, task.position);
-  const long long before = solver.timings().factorizations;
+  const long long before = solver.timings().factorisations;
   Eigen::MatrixX3d du_dp;
   const Eigen::Matrix3d stiffness = solver.haptic_stiffness(&du_dp);
   StiffnessResult result = stiffness_result(stiffness, du_dp);
-  result.factorisations = static_cast<int>(solver.timings().factorizations - before);
+  result.factorisations = static_cast<int>(solver.timings().factorisations - before);
   return result;
 }
 

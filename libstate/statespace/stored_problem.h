@@ -1,8 +1,8 @@
 // The imported mesh and constraints, kept in the state directory (problem/seg-000001.h5) so
 // that later stages and playback never need the original mesh or node files again.
-// Vectors (float64, zstd): mesh/nodes (3 per node, mesh units), mesh/tets (4 per tet),
-// mesh/surface (3 per triangle), constraints/role (one DofRole per DOF),
-// constraints/probe_nodes, constraints/probe_components (3 flags), probe/rest (3, mesh units);
+// Vectors (zstd): float64 mesh/nodes (3 per node, mesh units) and probe/rest (3, mesh units);
+// int32 mesh/tets (4 per tet), mesh/surface (3 per triangle), constraints/role (one DofRole per
+// DOF), constraints/probe_nodes and constraints/probe_components (3 flags);
 // with gravity or supports (fem/loads.h) also loads/force (N per DOF), loads/spring (N/m per
 // DOF), rest/u (the loaded rest state, metres per DOF) and probe/sag (3, mesh units), each only
 // where it is not empty (a scene without loads stores and hashes what it always did).
@@ -19,7 +19,7 @@
 
 namespace hapstate {
 
-// The stored problem's vectors, as in the segment (integers as float64).
+// The stored problem's vectors, in memory as float64 (the int32 datasets widened on reading).
 struct ProblemVectors {
   std::vector<double> nodes, tets, surface, role, probe_nodes, probe_components, rest;
   std::vector<double> force, spring, rest_u, sag;  // empty without loads

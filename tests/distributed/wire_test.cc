@@ -127,7 +127,7 @@ TEST(Wire, SetupStiffnessAndTimingsRoundTrip) {
   SolverTimings t;
   t.assembly = 1.5;
   t.contact_detection = 0.25;
-  t.factorizations = 17;
+  t.factorisations = 17;
   t.contact_queries = 99;
   t.factor_bytes = 4e7;
   t.single_factor_bytes = 2e7;
@@ -155,7 +155,7 @@ TEST(Wire, SetupStiffnessAndTimingsRoundTrip) {
   EXPECT_EQ(k2.factorisations, 2);
   EXPECT_EQ(t2.assembly, 1.5);
   EXPECT_EQ(t2.contact_detection, 0.25);
-  EXPECT_EQ(t2.factorizations, 17);
+  EXPECT_EQ(t2.factorisations, 17);
   EXPECT_EQ(t2.contact_queries, 99);
   EXPECT_EQ(t2.factor_bytes, 4e7);
   EXPECT_EQ(t2.single_factor_bytes, 2e7);
