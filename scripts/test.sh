@@ -11,7 +11,7 @@ build_dir=${BUILD_DIR:-build}
 tests=$(ctest --test-dir "$build_dir" -N "$@" | sed -n 's/^Total Tests: //p')
 echo
 echo "== Running the $tests tests on $(nproc) cores (each line: its number, name, verdict and seconds;"
-echo "   the longest, stages/algorithm_test, takes a few minutes)"
+echo "   the longest, stages/algorithm_test and stages/mpi_test, take a few minutes each)"
 tests_start=$(date +%s)
 status=0
 ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" "$@" || status=$?
