@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
   config->add_option("id", o.config_id, "configuration id")->required()->check(non_negative());
   auto* transitions = app.add_subcommand("transitions", "the 26 directions of a configuration");
   transitions->add_option("id", o.config_id, "configuration id")->required()->check(non_negative());
-  auto* exporter = app.add_subcommand("export", "a configuration's deformed mesh as VTU");
+  auto* exporter = app.add_subcommand("export", "a configuration's mesh and displacement as VTU");
   exporter->add_option("id", o.config_id, "configuration id")->required()->check(non_negative());
   exporter
       ->add_option("--vtu", o.vtu,

@@ -45,19 +45,21 @@ for i, (label, values, style, colour) in enumerate(curves):
             break
     curves[i] = (label, values, style, colour)
 # A logarithmic axis: the Hermite errors (often 1e-5 %) and a contact spike of several per cent
-# are read on the same figure without clipping. An error of exactly zero has no place on it: it is
-# drawn on the axis's floor with an open marker and said in the legend.
+# are read on the same figure without clipping. An error of exactly zero (or below 1e-7 of the
+# largest) has no place on it: it is drawn on the axis's floor with an open marker and said in
+# the legend.
 positive = [v for _, values, _, _ in curves for v in values if v > 0]
 top = max(positive) if positive else 1.0
 floor = max(min(positive) if positive else 1e-6, top * 1e-7) / 2
 for label, values, style, colour in curves:
-    zeros = sum(1 for v in values if v <= 0)
-    if zeros:
-        label += " (%d step%s exactly 0: on the floor)" % (zeros, "" if zeros == 1 else "s")
+    under = sum(1 for v in values if v <= floor)
+    if under:
+        label += " (%d step%s 0 or below %.2g %%: open, on the floor)" % (
+            under, "" if under == 1 else "s", floor)
     line, = ax.plot(steps, [max(v, floor) for v in values], style, color=colour, label=label,
                     markersize=4)
-    if zeros:
-        ax.plot([x for x, v in zip(steps, values) if v <= 0], [floor] * zeros, "o",
+    if under:
+        ax.plot([x for x, v in zip(steps, values) if v <= floor], [floor] * under, "o",
                 markerfacecolor="white", markeredgecolor=line.get_color(), markersize=5)
 ax.axhline(4.0, color="grey", linewidth=0.8, linestyle=":")
 ax.annotate("the paper's 4 % (force)", (0.01, 4.0), xycoords=("axes fraction", "data"),

@@ -197,7 +197,7 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
           std::count_if(repacked.new_refs.begin(), repacked.new_refs.end(),
                         [](const RepackResult::NewRef& r) { return r.direction < 0; });
       report.new_segments = static_cast<std::int64_t>(repacked.new_segments.size());
-      say(log, "wrote " + std::to_string(report.new_segments) + " new segments");
+      say(log, "wrote " + plural(report.new_segments, "new segment file", "new segment files"));
     }
     hook("segments-written");
 

@@ -40,7 +40,7 @@ InspectOutput inspect_transitions(const StateDir& dir, ConfigId id);
 // Throws InputError for anything that is not a read.
 InspectOutput inspect_sql(const StateDir& dir, std::string_view sql);
 
-// Writes the deformed mesh of configuration `id` to `vtu` (point data "displacement").
+// Writes the mesh as drawn with configuration `id`'s point data "displacement" to `vtu`.
 // The mesh: `mesh_file` if given (its content hash must match the scene record's), else the
 // mesh stored by hapstate-import (problem/seg-000001.h5: mesh/nodes, mesh/tets), else the
 // scene's mesh file (absolute, or relative to the state directory or its parent; hash checked).

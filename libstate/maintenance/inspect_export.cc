@@ -1,4 +1,4 @@
-// hapstate-inspect export: a configuration's deformed mesh as VTU.
+// hapstate-inspect export: a configuration's mesh (as drawn) and displacement as VTU.
 #include "blobs/blob_store.h"
 #include "io/vtu_writer.h"
 #include "maintenance/inspect_common.hpp"

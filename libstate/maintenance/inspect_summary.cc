@@ -181,12 +181,13 @@ std::string summary_text(const Json& j) {
   const Json& c = j["configurations"];
   const std::int64_t not_expandable = c["open_not_expandable"].get<std::int64_t>();
   const std::int64_t outside = c["open_outside_workspace"].get<std::int64_t>();
-  s << "\nconfigurations: " << c["total"] << " stored equilibrium states (" << c["expanded"]
+  s << "\nconfigurations (stored equilibrium states): " << c["total"] << " (" << c["expanded"]
     << " expanded, " << c["open"].get<std::int64_t>() - not_expandable << " still to expand, "
     << not_expandable - outside << " not expanded: force above probe.max_force, " << outside
     << " not expanded: outside the workspace; " << c["merged"] << " merged as duplicates)";
   if (!c["max_wave"].is_null())
-    s << "; the farthest lies " << c["max_wave"] << " moves (waves) from rest";
+    s << "; the farthest is " << c["max_wave"]
+      << " waves (moves) from a zero configuration (the rest state, or a free check-point)";
   s << "\nlevels per check-point (a level: the same probe position reached by another history):";
   const char* sep = " ";
   for (const auto& h : j["levels_per_checkpoint"]) {
@@ -197,13 +198,14 @@ std::string summary_text(const Json& j) {
     sep = ", ";
   }
   const Json& t = j["transitions"];
-  s << "\ntransitions: " << t["total"] << " moves to a neighbouring check-point (" << t["reached"]
+  s << "\ntransitions (moves to a neighbouring check-point): " << t["total"] << " (" << t["reached"]
     << " solved, " << t["outside_grid"] << " outside the grid, " << t["failed"] << " failed)";
   if (!t["mean_factorisations"].is_null()) {
     char cost[200];
     std::snprintf(cost, sizeof cost,
-                  "; a solved move took %.3g Newton iterations and %.3g new factorisations "
-                  "of the stiffness matrix on average (the others reuse one)",
+                  "; per move solved or tried, on average %.3g Newton iterations and %.3g "
+                  "factorisations of the stiffness matrix of its own (otherwise it reuses its "
+                  "start state's)",
                   t["mean_newton_iterations"].get<double>(),
                   t["mean_factorisations"].get<double>());
     s << cost;

@@ -433,6 +433,11 @@ ExpandReport run_expand(const ExpandOptions& options) {
             eta.seconds_left(*wave, current_left, later_tasks,
                              Direction::kCount * std::max<long long>(1, sources.size())));
       };
+      // A wave some of whose directions earlier runs decided (a resumed run's first): its cost
+      // per transition, set-up included, is not one of a whole wave.
+      if (!complete.empty() ||
+          wave_tasks < Direction::kCount * static_cast<long long>(sources.size()))
+        eta.mark_partial(*wave);
       if (options.progress) {
         progress.set_total(decided_before + report.decided + wave_tasks + later_tasks, true);
         progress.set_note("expanding wave " + std::to_string(*wave));

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
+#include <vector>
 
 namespace hapstate {
 
@@ -20,39 +20,47 @@ void ExpansionEta::record(int wave, long long decided, double seconds) {
   if (decided <= 0) return;
   Work& w = waves_[wave];
   w.decided += decided;
-  w.seconds += std::max(0.0, seconds);
+  w.seconds += std::isfinite(seconds) ? std::max(0.0, seconds) : 0.0;
 }
+
+void ExpansionEta::mark_partial(int wave) { waves_[wave].partial = true; }
 
 double ExpansionEta::cost(int wave) const {
   const auto it = waves_.find(wave);
-  return it == waves_.end() ? -1.0 : it->second.seconds / static_cast<double>(it->second.decided);
+  return it == waves_.end() || it->second.decided == 0
+             ? -1.0
+             : it->second.seconds / static_cast<double>(it->second.decided);
 }
 
-double ExpansionEta::growth(int wave) const {
-  // The two latest waves measured before `wave` (complete ones: the loop finishes a wave before
-  // the next starts), wave 0 left out: its moves start from the zero configurations (free space
-  // or the rest state) and say nothing of how the fronts' cost grows. With fewer, none known.
-  auto it = waves_.lower_bound(wave);
-  const auto first = waves_.upper_bound(0);
-  if (it == waves_.begin() || std::distance(first, it) < 2) return 1.0;
-  const auto last = std::prev(it), before = std::prev(last);
-  const double a = before->second.seconds / static_cast<double>(before->second.decided);
-  const double b = last->second.seconds / static_cast<double>(last->second.decided);
-  if (!(a > 0) || !(b > 0)) return 1.0;
-  return std::clamp(b / a, 1.0, kMaxGrowth);
+std::vector<double> ExpansionEta::earlier_costs(int wave) const {
+  std::vector<double> costs;  // oldest first
+  for (const auto& [w, work] : waves_)
+    if (w < wave && !work.partial && work.decided > 0)
+      costs.push_back(work.seconds / static_cast<double>(work.decided));
+  return costs;
+}
+
+double ExpansionEta::step(int wave) const {
+  // The two latest waves measured whole before `wave`, wave 0 left out: its moves start from the
+  // zero configurations (free space or the rest state) and say nothing of how the fronts' cost
+  // grows. With fewer, none known.
+  std::vector<double> costs;
+  for (const auto& [w, work] : waves_)
+    if (w > 0 && w < wave && !work.partial && work.decided > 0)
+      costs.push_back(work.seconds / static_cast<double>(work.decided));
+  if (costs.size() < 2) return 0.0;
+  const double a = costs[costs.size() - 2], b = costs.back();
+  return std::clamp(b - a, 0.0, kMaxStep * b);
 }
 
 double ExpansionEta::seconds_left(int wave, long long current_left, long long later,
                                   long long wave_size) const {
   wave_size = std::max(1LL, wave_size);
   current_left = std::max(0LL, current_left);
-  const double g = growth(wave);
-  // The cost the earlier waves predict for this one: the latest one's, grown once.
-  double predicted = -1;
-  if (const auto it = waves_.lower_bound(wave); it != waves_.begin()) {
-    const Work& last = std::prev(it)->second;
-    predicted = last.seconds / static_cast<double>(last.decided) * g;
-  }
+  const double d = step(wave);
+  // The cost the earlier waves predict for this one: the latest whole one's, one step more.
+  const std::vector<double> earlier = earlier_costs(wave);
+  const double predicted = earlier.empty() ? -1.0 : earlier.back() + d;
   // This wave's own cost so far, weighted n / (n + kPriorTransitions) after n of its
   // transitions: a few batches outweigh the prediction (a contact scene's first fronts cost
   // many times the moves between its free check-points), one batch does not (its moves differ:
@@ -68,7 +76,7 @@ double ExpansionEta::seconds_left(int wave, long long current_left, long long la
   if (c < 0) return -1.0;
   double seconds = c * static_cast<double>(current_left);
   for (long long left = std::max(0LL, later); left > 0; left -= wave_size) {
-    c *= g;
+    c += d;
     seconds += c * static_cast<double>(std::min(left, wave_size));
   }
   return seconds;

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <map>
+#include <vector>
 
 namespace hapstate {
 
@@ -22,7 +23,9 @@ namespace hapstate {
 // waves, because a contact scene's fronts keep their size until the force limit stops them:
 // the plate's last wave fills check-points already reached from the other side with second
 // levels, which a count of unreached check-points misses; a shrinking front (the outer shells
-// of liver-contact) is over- or under-counted by less than half a wave. Wave 0 (the zero
+// of liver-contact) is over-counted by up to one wave near the end (at least one is counted),
+// and where probe.max_force ends the expansion before every check-point is reached the count
+// is too high. Wave 0 (the zero
 // configurations: the rest state, or every free check-point of a contact scene) is no front:
 // there the count of unreached check-points alone. Nothing once every check-point is reached.
 long long later_configurations(int wave, long long later_open, long long unreached,
@@ -30,32 +33,41 @@ long long later_configurations(int wave, long long later_open, long long unreach
 
 class ExpansionEta {
  public:
-  // Each later wave costs this factor more per transition than the one before, at most: the
-  // growth measured between the last two waves after wave 0, clamped to [1, kMaxGrowth].
-  static constexpr double kMaxGrowth = 1.25;
+  // Each later wave costs more per transition than the one before by a step: the difference
+  // measured between the last two whole waves after wave 0, at least 0 and at most this
+  // fraction of the later one's cost. Additive, not a factor: the plate's costs rise by a
+  // near-constant 0.06-0.07 thread-s per wave, and a factor compounded over the many waves a
+  // large grab grid counts would run away.
+  static constexpr double kMaxStep = 0.25;
   // The prediction's weight against a wave's own cost, in transitions of that wave.
   static constexpr double kPriorTransitions = 128;
 
   // A batch of `decided` transitions of wave `wave` took `seconds` of wall time.
   void record(int wave, long long decided, double seconds);
+  // Wave `wave` was not measured from its start (a resumed run's first wave): its cost serves
+  // its own rest, not the prediction of later waves or their step.
+  void mark_partial(int wave);
 
   // Seconds left: `current_left` undecided transitions of wave `wave`, then `later`
-  // transitions in waves of `wave_size`, each costing the growth factor more per transition
-  // than the one before. The current wave's cost blends the earlier waves' prediction (the
-  // latest one's cost, grown) with this wave's own cost so far (weight n / (n + 128) after n
+  // transitions in waves of `wave_size`, each costing the step more per transition than the
+  // one before. The current wave's cost blends the earlier waves' prediction (the latest whole
+  // one's cost, one step more) with this wave's own cost so far (weight n / (n + 128) after n
   // transitions). Negative when nothing has been measured yet (no estimate).
   double seconds_left(int wave, long long current_left, long long later, long long wave_size) const;
 
   // Seconds per transition measured in `wave` (negative if none).
   double cost(int wave) const;
-  // The per-wave growth of the cost used for the waves after `wave`.
-  double growth(int wave) const;
+  // The per-wave step of the cost used for the waves after `wave`'s predecessors.
+  double step(int wave) const;
 
  private:
   struct Work {
     long long decided = 0;
     double seconds = 0;
+    bool partial = false;
   };
+  // The costs of the whole waves before `wave`, oldest first.
+  std::vector<double> earlier_costs(int wave) const;
   std::map<int, Work> waves_;
 };
 

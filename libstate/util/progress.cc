@@ -10,6 +10,7 @@ namespace hapstate {
 std::string format_duration(double seconds) {
   char buf[64];
   if (!std::isfinite(seconds) || seconds < 0) return "?";
+  if (seconds >= 1000 * 3600.0) return ">1000h";  // an estimate that long says nothing more
   if (seconds < 60) {
     std::snprintf(buf, sizeof buf, "%.1fs", seconds);
   } else if (seconds < 3600) {

@@ -58,7 +58,7 @@ class Progress {
   std::deque<std::pair<double, long long>> samples_;
 };
 
-// "1h02m", "3m05s", "12.3s".
+// "1h02m", "3m05s", "12.3s"; ">1000h" from 1000 hours on; "?" for a negative or non-finite time.
 std::string format_duration(double seconds);
 
 }  // namespace hapstate

@@ -101,7 +101,7 @@ TEST_F(Inspect, SummaryJson) {
 TEST_F(Inspect, SummaryText) {
   const ToolRun r = inspect("summary");
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("configurations: 8 stored equilibrium states (0 expanded, 8 still to "
+  EXPECT_NE(r.out.find("configurations (stored equilibrium states): 8 (0 expanded, 8 still to "
                        "expand, 0 not expanded: force above probe.max_force, 0 not expanded: "
                        "outside the workspace; 0 merged as duplicates"),
             std::string::npos)

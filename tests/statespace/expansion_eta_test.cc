@@ -168,28 +168,55 @@ TEST(ExpansionEta, LaterConfigurationsComeInWholeWaves) {
   EXPECT_EQ(later_configurations(2, 3, 10, 1.0, 0), 13);         // no size known: the count
 }
 
-TEST(ExpansionEta, GrowthIsMeasuredBetweenTheLastTwoWavesAndBounded) {
+TEST(ExpansionEta, TheStepIsMeasuredBetweenTheLastTwoWholeWavesAndBounded) {
   ExpansionEta eta;
   EXPECT_LT(eta.seconds_left(0, 100, 0, 100), 0);  // nothing measured: no estimate
   eta.record(0, 100, 1.0);                         // wave 0: 0.01 s per transition
   EXPECT_DOUBLE_EQ(eta.cost(0), 0.01);
   // Wave 1 not started: its cost is wave 0's; 100 now and 200 later in waves of 100.
   EXPECT_NEAR(eta.seconds_left(1, 100, 200, 100), 3.0, 1e-9);
-  eta.record(1, 100, 10.0);              // 0.1: ten times wave 0's, which is left out
-  EXPECT_DOUBLE_EQ(eta.growth(2), 1.0);  // one wave after wave 0: no growth known
+  eta.record(1, 100, 10.0);            // 0.1: ten times wave 0's, which is left out
+  EXPECT_DOUBLE_EQ(eta.step(2), 0.0);  // one wave after wave 0: no step known
   eta.record(2, 100, 11.0);
-  EXPECT_NEAR(eta.growth(3), 1.1, 1e-12);
-  eta.record(3, 100, 40.0);  // a jump of 3.6x is bounded at kMaxGrowth
-  EXPECT_DOUBLE_EQ(eta.growth(4), ExpansionEta::kMaxGrowth);
+  EXPECT_NEAR(eta.step(3), 0.01, 1e-12);  // 0.11 - 0.1
+  eta.record(3, 100, 40.0);               // a jump of 0.29 is bounded at 0.25 x 0.4
+  EXPECT_NEAR(eta.step(4), ExpansionEta::kMaxStep * 0.4, 1e-12);
   eta.record(4, 64, 12.8);  // a cheaper wave (0.2 per transition): costs are not assumed to fall
-  EXPECT_DOUBLE_EQ(eta.growth(5), 1.0);
+  EXPECT_DOUBLE_EQ(eta.step(5), 0.0);
   // Wave 4 after 64 of its transitions, 36 left, then 150 later in waves of 100. Its cost blends
-  // the prediction (wave 3's 0.4, grown by the growth before wave 4: bounded at 1.25) with its
-  // own 0.2, the latter weighted 64 / (64 + 128); each later wave costs the growth more.
-  const double g = ExpansionEta::kMaxGrowth;
+  // the prediction (wave 3's 0.4 plus the step before wave 4: 0.1) with its own 0.2, the latter
+  // weighted 64 / (64 + 128); each later wave costs one step more.
+  const double d = ExpansionEta::kMaxStep * 0.4;
   const double weight = 64.0 / (64.0 + ExpansionEta::kPriorTransitions);
-  const double c = weight * 0.2 + (1 - weight) * 0.4 * g;
-  EXPECT_NEAR(eta.seconds_left(4, 36, 150, 100), 36 * c + 100 * c * g + 50 * c * g * g, 1e-9);
+  const double c = weight * 0.2 + (1 - weight) * (0.4 + d);
+  EXPECT_NEAR(eta.seconds_left(4, 36, 150, 100), 36 * c + 100 * (c + d) + 50 * (c + 2 * d), 1e-9);
+}
+
+TEST(ExpansionEta, APartlyDecidedWaveDoesNotPredictTheNext) {
+  // A resumed run's first wave: five transitions left, its set-up counted in them.
+  ExpansionEta eta;
+  eta.record(2, 5, 3.0);  // 0.6 s per transition, of which most is set-up
+  eta.mark_partial(2);
+  EXPECT_NEAR(eta.seconds_left(2, 0, 0, 26), 0.0, 1e-12);
+  EXPECT_LT(eta.seconds_left(3, 100, 0, 100), 0);  // no whole wave measured: no estimate
+  eta.record(3, 100, 10.0);
+  EXPECT_NEAR(eta.seconds_left(3, 0, 100, 100), 10.0, 1e-9);  // its own 0.1, no step
+}
+
+TEST(ExpansionEta, AGrowingGrabGridStaysBounded) {
+  // A 17^3 grab box at its wave 3: 4 570 check-points unreached, 218 configurations in the wave
+  // (21 waves of that size counted against 5 real shells). With the plate's growth the
+  // estimate is long, but by a few times, not by the hundreds a compounded factor gave.
+  ExpansionEta eta;
+  eta.record(0, 26, 0.26);
+  eta.record(1, 26 * 26, 6.76);              // 0.01
+  eta.record(2, 26 * 98, 26 * 98 * 0.0125);  // 0.0125: a step of 0.0025
+  const long long later = 26 * later_configurations(3, 0, 4570, 1.0, 218);
+  EXPECT_EQ(later, 26 * 21 * 218);
+  const double left = eta.seconds_left(3, 26 * 218, later, 26 * 218);
+  const double flat = 0.0125 * (26 * 218 + later);  // every wave at wave 2's cost
+  EXPECT_GT(left, flat);
+  EXPECT_LT(left, 5 * flat);
 }
 
 }  // namespace

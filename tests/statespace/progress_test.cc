@@ -53,8 +53,16 @@ TEST(Progress, AModelsEtaReplacesTheRatesUntilWithdrawn) {
   EXPECT_NE(p.line().find("ETA ~1h02m"), std::string::npos) << p.line();
   p.set_eta(42.0);
   EXPECT_NE(p.line().find("ETA ~4"), std::string::npos) << p.line();  // 42 s, counting down
-  p.set_eta(-1);  // withdrawn: the rate's ETA again (no rate measured yet here: "?")
+  p.set_eta(-1);  // withdrawn: the rate's ETA again (500 done over a few microseconds: ~0 s)
   EXPECT_EQ(p.line().find("ETA ~4"), std::string::npos) << p.line();
+}
+
+TEST(Progress, DurationsReadable) {
+  EXPECT_EQ(format_duration(12.34), "12.3s");
+  EXPECT_EQ(format_duration(185), "3m05s");
+  EXPECT_EQ(format_duration(3725), "1h02m");
+  EXPECT_EQ(format_duration(-1), "?");
+  EXPECT_EQ(format_duration(1e300), ">1000h");  // never an int overflow
 }
 
 }  // namespace

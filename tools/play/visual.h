@@ -1,5 +1,5 @@
 // hapstate-play's visual side: one frame = cursor snapshot + deform into a preallocated buffer
-// (timed), then, every K-th frame, the deformed surface as a VTU file (not timed).
+// (timed), then, every K-th frame, the surface and its displacement as a VTU file (not timed).
 #pragma once
 
 #include <hapstate/playback.h>
