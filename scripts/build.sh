@@ -15,7 +15,7 @@ if [[ -n ${VERBOSE:-} ]]; then
   cmake --build "$build_dir" -j "$(nproc)" ${1:+--target "$@"}
 else
   tty=0; [[ -t 1 ]] && tty=1
-  cmake --build "$build_dir" -j "$(nproc)" ${1:+--target "$@"} 2>&1 | awk -v tty="$tty" -v start="$start" '
+  cmake --build "$build_dir" -j "$(nproc)" ${1:+--target "$@"} 2>&1 | awk -v tty="$tty" '
     function show(pct, what) {
       if (tty) { printf "\r  [%3d%%] %-60.60s", pct, what; fflush(); shown = 1 }
       else if (pct >= next_mark) { printf "  [%3d%%] %s\n", pct, what; fflush(); next_mark = int(pct / 25) * 25 + 25 }

@@ -43,10 +43,6 @@ std::string bytes_text(std::int64_t bytes) {
                        : std::to_string(bytes);
 }
 
-std::string plural(std::int64_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
-
 std::string counts_text(const CompactReport& r) {
   std::ostringstream s;
   s << plural(r.merged_levels, "duplicate level", "duplicate levels") << " merged";
@@ -79,7 +75,7 @@ std::string CompactReport::text() const {
   s << (dry_run ? "would do: " : "") << counts_text(*this) << "\n";
   s << "duplicate search (two levels of one check-point that are the same state): "
     << plural(compared_pairs, "pair", "pairs") << " compared vector by vector, " << bound_rejections
-    << " told apart by their stored force alone\n";
+    << " told apart at once by their stored summaries and forces\n";
   s << "segments: " << before.segments << " -> " << after.segments << "\n";
   if (dry_run) {
     s << "bytes now: catalogue " << bytes_text(before.catalogue_bytes) << ", blobs "

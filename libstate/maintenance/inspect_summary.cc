@@ -174,8 +174,9 @@ std::string summary_text(const Json& j) {
   s << "check-points: " << j["checkpoints"]["total"] << " (grid points where states are stored";
   const char* by = ": ";
   for (const auto& [name, n] : j["checkpoints"]["by_class"].items()) {
-    if (n.get<std::int64_t>() > 0) s << by << n << " " << name;
-    if (n.get<std::int64_t>() > 0) by = ", ";
+    if (n.get<std::int64_t>() == 0) continue;
+    s << by << n << " " << name;
+    by = ", ";
   }
   s << ")";
   const Json& c = j["configurations"];
@@ -191,10 +192,8 @@ std::string summary_text(const Json& j) {
   s << "\nlevels per check-point (a level: the same probe position reached by another history):";
   const char* sep = " ";
   for (const auto& h : j["levels_per_checkpoint"]) {
-    const std::int64_t levels = h["levels"].get<std::int64_t>();
-    const std::int64_t points = h["checkpoints"].get<std::int64_t>();
-    s << sep << points << (points == 1 ? " check-point with " : " check-points with ") << levels
-      << (levels == 1 ? " level" : " levels");
+    s << sep << plural(h["checkpoints"].get<std::int64_t>(), "check-point", "check-points")
+      << " with " << plural(h["levels"].get<std::int64_t>(), "level", "levels");
     sep = ", ";
   }
   const Json& t = j["transitions"];
@@ -218,11 +217,10 @@ std::string summary_text(const Json& j) {
   s << "refined cells: " << r["cells"] << " (" << r["points"] << " points at quarter spacings, "
     << r["failed"] << " failed)\n";
   const Json& d = j["disk"];
-  const std::int64_t segments = d["segments"].get<std::int64_t>();
   s << "disk: " << size_text(d["total_bytes"].get<std::int64_t>()) << " (catalogue "
     << size_text(d["catalogue_bytes"].get<std::int64_t>()) << ", vectors "
-    << size_text(d["blob_bytes"].get<std::int64_t>()) << " in " << segments
-    << (segments == 1 ? " segment file" : " segment files") << ", problem "
+    << size_text(d["blob_bytes"].get<std::int64_t>()) << " in "
+    << plural(d["segments"].get<std::int64_t>(), "segment file", "segment files") << ", problem "
     << size_text(d["problem_bytes"].get<std::int64_t>()) << ")\n";
   return s.str();
 }

@@ -47,6 +47,11 @@ inline std::string percent(double fraction) {
   return buf;
 }
 
+// "1 segment file", "3 segment files": `n` and the noun in the number it needs.
+inline std::string plural(long long n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
 // A size in bytes for a reader: "17.3 MiB", "35.2 KiB", "512 B" (binary units).
 inline std::string size_text(long long bytes) {
   char buf[32];
