@@ -15,7 +15,8 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Fuzz \
   -DCMAKE_C_FLAGS_FUZZ="$flags" -DCMAKE_CXX_FLAGS_FUZZ="$flags" \
   -DCMAKE_EXE_LINKER_FLAGS_FUZZ="-fsanitize=address,undefined" \
   -DCMAKE_SHARED_LINKER_FLAGS_FUZZ="-fsanitize=address,undefined" \
-  -DHAPSTATE_BUILD_TESTS=OFF -DHAPSTATE_BUILD_BENCHMARKS=OFF -DHAPSTATE_BUILD_FUZZERS=ON >/dev/null
+  -DHAPSTATE_BUILD_TESTS=OFF -DHAPSTATE_BUILD_BENCHMARKS=OFF -DHAPSTATE_BUILD_PYTHON=OFF \
+  -DHAPSTATE_BUILD_FUZZERS=ON >/dev/null
 cmake --build "$build" -j "$(nproc)" --target fuzzers hapstate
 
 work="$build/work"

@@ -23,6 +23,9 @@ packages=(
   calculix-ccx               # the independent reference solver used by the tests
   python3 python3-matplotlib # plots and comparison scripts
   python3-h5py               # the test that a foreign HDF5 reader decodes our blobs
+  pybind11-dev python3-pybind11 python3-numpy python3-pytest  # the Python package and its tests
+  libjs-three                # three.js for hapstate-view's page, served locally
+  chromium                   # the viewer's test in a real (headless) browser
   "$@"
 )
 

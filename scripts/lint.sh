@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Static checks: clang-format (the layout in .clang-format) on every C/C++ file the repository
 # tracks, then clang-tidy (the checks in .clang-tidy) on every source of the library, the tools,
-# the stages and the command-line helpers. Exits non-zero on a format difference or a finding.
+# the stages, the command-line helpers and the Python bindings. Exits non-zero on a format difference or a finding.
 #   bash scripts/lint.sh            # both (clang-tidy takes ~15 min on 2 cores)
 #   bash scripts/lint.sh format     # clang-format only (seconds)
 #   bash scripts/lint.sh fix        # rewrite the files in the project's layout
@@ -22,8 +22,8 @@ clang-format --dry-run --Werror --style=file "${files[@]}"
 build_dir=${LINT_BUILD_DIR:-build-lint}
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DCMAKE_EXPORT_COMPILE_COMMANDS=ON \
   -DHAPSTATE_BUILD_TESTS=OFF -DHAPSTATE_BUILD_BENCHMARKS=OFF >/dev/null
-echo "lint: clang-tidy (.clang-tidy) on libstate/, tools/, stages/, cli/"
-run-clang-tidy -p "$build_dir" -j "$(nproc)" -quiet 'libstate/|tools/|stages/|cli/' \
+echo "lint: clang-tidy (.clang-tidy) on libstate/, tools/, stages/, cli/, python/src/"
+run-clang-tidy -p "$build_dir" -j "$(nproc)" -quiet 'libstate/|tools/|stages/|cli/|python/src/' \
   > "$build_dir/clang-tidy.log" 2>&1 || {
   grep -E "(warning|error): " "$build_dir/clang-tidy.log" | sort -u
   echo "lint: clang-tidy found the above (full log: $build_dir/clang-tidy.log)"

@@ -2,7 +2,8 @@
 # AddressSanitizer + UndefinedBehaviorSanitizer: builds the library, the stage programs and the
 # tests into ${BUILD_DIR:-build-asan} (-O1 -g, -fsanitize=address,undefined, every finding fatal)
 # and runs the test suite except the long studies and the tests that load our libraries into a
-# process without the sanitizer runtime (h5py, an external CMake consumer). Part of `.ci/run`.
+# process without the sanitizer runtime (h5py, an external CMake consumer, the Python package:
+# not built here). Part of `.ci/run`.
 # Extra arguments go to ctest (e.g. -R mesh/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,7 +16,7 @@ flags+=" -Wno-maybe-uninitialized"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="$flags" \
   -DCMAKE_C_FLAGS_SANITIZE="$flags" -DCMAKE_EXE_LINKER_FLAGS_SANITIZE="-fsanitize=address,undefined" \
   -DCMAKE_SHARED_LINKER_FLAGS_SANITIZE="-fsanitize=address,undefined" \
-  -DHAPSTATE_BUILD_BENCHMARKS=OFF >/dev/null
+  -DHAPSTATE_BUILD_BENCHMARKS=OFF -DHAPSTATE_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$build_dir" -j "$(nproc)"
 # Long studies (minutes even without the sanitizers) and foreign processes loading our code.
 excluded="stages/algorithm_test|stages/contact_state_test|playback/liver_accuracy_test"

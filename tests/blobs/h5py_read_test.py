@@ -14,27 +14,13 @@ import sys
 import h5py
 import numpy as np
 
+from h5py_vectors import vector
+
 state = sys.argv[1]
 db = sqlite3.connect("file:%s?mode=ro" % os.path.join(state, "catalogue.sqlite"), uri=True)
 rows = db.execute("SELECT id, force_x, force_y, force_z, blob_segment, blob_name FROM configuration "
                   "WHERE blob_segment IS NOT NULL ORDER BY id").fetchall()
 assert len(rows) >= 40, "expected the beam's configurations, got %d" % len(rows)
-
-
-def vector(f, group, leaf):
-    """The vector group/leaf of an open segment, through its index."""
-    groups = bytes(f["hapstate_index/groups"][()]).decode().split("\n")[:-1]
-    for table in f["hapstate_index"]:
-        if table == "groups":
-            continue
-        name = f[table].attrs.get("hapstate_leaf", table)
-        if (name.decode() if isinstance(name, bytes) else name) != leaf:
-            continue
-        assert f[table].ndim == 2 and "32015" in f[table]._filters, f[table]._filters  # zstd, by the plugin
-        for row, (g, length) in enumerate(f["hapstate_index/" + table][()]):
-            if groups[g] == group:
-                return np.asarray(f[table][row, :length])
-    raise KeyError(group + "/" + leaf)
 
 
 checked = 0

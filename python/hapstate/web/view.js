@@ -4,7 +4,7 @@
 "use strict";
 
 const el = (id) => document.getElementById(id);
-const fmt = (x) => (Math.abs(x) < 1e-12 ? "0" : x.toPrecision(4));
+const fmt = (x, digits = 4) => (x === 0 ? "0" : x.toPrecision(digits));
 
 async function getJson(url) {
   const r = await fetch(url);
@@ -146,9 +146,9 @@ async function main() {
       arrow.setLength(length, 0.2 * length, 0.1 * length);
     }
     arrow.visible = norm > 0;
-    el("force").textContent = state.force.map(fmt).join(" ");
+    el("force").textContent = state.force.map((x) => fmt(x, 6)).join(" ");
     el("force-norm").textContent = fmt(norm);
-    el("probe").textContent = state.probe.map(fmt).join(", ");
+    el("probe").textContent = state.probe.map((x) => fmt(x)).join(", ");
     el("error").textContent = "";
     render();
   }
