@@ -48,7 +48,13 @@ section "4. Playback at 1 kHz (real-time paced) with a 60 Hz visual thread, 5 s 
   --realtime --frames out/liver/frames --frame-every 30
 echo "frames for ParaView: out/liver/frames/frames.pvd (apply Warp By Vector, scale 1, to see them move)"
 
-section "5. Contact: a frictionless sphere on the paper's clamped plate (pipelines/plate), a 3-D
+section "5. The same state from Python (docs/python.md): python/examples/liver_tour.py pulls the
+   grabbed point up and back with the C++ cursor, compares with the precise solver and plots the
+   force. Good: the Hermite error well under the paper's 4 %."
+PYTHONPATH="$build_dir/python" /usr/bin/python3 python/examples/liver_tour.py out/python
+echo "to look at the liver in a browser: $build_dir/tools/hapstate-view --state $state"
+
+section "6. Contact: a frictionless sphere on the paper's clamped plate (pipelines/plate), a 3-D
    workspace on both sides of it. Where the sphere can reach the plate from below and from
    above, a check-point keeps two levels (pushed up or pushed down): genuine history. The
    expansion is the longest part of this job (882 nodes: every contact move is a non-linear
@@ -80,6 +86,7 @@ echo "   pipelines/liver/state/        the liver's state directory: catalogue.sq
 echo "                                 playback.bin (the file a haptic loop opens)"
 echo "   out/liver/eval.csv, eval.png  the accuracy experiment of section 3 (per step, and its plot)"
 echo "   out/liver/frames/frames.pvd   the 1 kHz run's surface frames, for ParaView (Warp By Vector)"
+echo "   out/python/liver_force.png    the Python tutorial's plot of section 5"
 echo "   pipelines/plate/state/        the plate's state directory (as the liver's)"
 echo "   out/plate/                    the plate's three paths: eval-*.csv and eval-*.png"
 echo

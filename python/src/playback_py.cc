@@ -168,6 +168,7 @@ class PyCursor {
     cursor_.set_scheme(scheme_from(name));
   }
   std::int32_t anchor_configuration() const { return cursor_.anchor_configuration(); }
+  py::array_t<std::int32_t> anchor_checkpoint() const { return ivec3(cursor_.anchor_checkpoint()); }
   std::uint64_t cells_walked() const { return cursor_.cells_walked(); }
 
  private:
@@ -268,6 +269,18 @@ void bind_playback(py::module_& m) {
           },
           py::arg("configuration"), "(3,) the stored force of a configuration (file index), N.")
       .def(
+          "displacements",
+          [](const PlaybackFile& f, std::int32_t c) {
+            if (c < 0 || c >= f.num_configurations())
+              throw InputError("configuration " + std::to_string(c) + ": out of range");
+            const auto u = f.displacements(c);
+            py::array_t<double> out({static_cast<py::ssize_t>(u.size() / 3), py::ssize_t{3}});
+            std::copy(u.begin(), u.end(), out.mutable_data());
+            return out;
+          },
+          py::arg("configuration"),
+          "(m, 3) the stored displacements of a configuration's view nodes, mesh units.")
+      .def(
           "cursor",
           [](std::shared_ptr<PlaybackFile> f, const std::string& scheme) {
             return std::make_unique<PyCursor>(std::move(f), scheme_from(scheme));
@@ -305,6 +318,8 @@ void bind_playback(py::module_& m) {
       .def_property_readonly("anchor_configuration", &PyCursor::anchor_configuration,
                              "The configuration at the check-point nearest to the last position "
                              "(-1 if that corner is extended).")
+      .def_property_readonly("anchor_checkpoint", &PyCursor::anchor_checkpoint,
+                             "(3,) grid index of the check-point nearest to the last position.")
       .def_property_readonly("cells_walked", &PyCursor::cells_walked,
                              "Cells entered since the cursor was made.");
 }

@@ -51,25 +51,27 @@ def test_stiffness_is_the_force_slope(state):
     assert c.stiffness(state.eval.path[:4]).shape == (4, 3, 3)
 
 
-def test_deform_matches_stored_displacements_at_a_checkpoint(state):
-    """At a check-point the displacements are the stored configuration's (catalogue u)."""
+def test_deform_at_a_checkpoint_is_the_stored_configuration(state):
+    """Walked exactly onto a check-point, the cursor shows the configuration stored there; the
+    file's displacements are the catalogue's vectors (float32) of the configuration with the
+    same force."""
     pb = hapstate.Playback(state.dir)
-    cat = hapstate.Catalogue(state.dir)
     c = pb.cursor("trilinear")
     assert np.all(c.deform() == 0) and c.probe is None
-    c.force(state.eval.path)
-    u = c.deform()
-    assert u.shape == (pb.num_view_nodes, 3)
+    path = state.eval.path
+    c.force(path[: int(np.argmax(np.linalg.norm(state.eval.exact, axis=1))) + 1])
+    ijk = c.anchor_checkpoint
+    c.force(pb.grid_origin + ijk * pb.grid_spacing)
     config = c.anchor_configuration
-    # The anchor is the check-point nearest to the last position; go there and compare.
-    rows = cat.configurations()
-    forces = rows["force"]
-    target = np.argmin(np.linalg.norm(forces - pb.force(config), axis=1))
-    point = rows["position"][target]
-    c.force(point)
-    if c.anchor_configuration == config:
-        stored = cat.vectors(int(rows["id"][target]))["u"][pb.view_nodes]
-        assert np.abs(c.deform() - stored).max() <= 1e-6 * max(1e-12, np.abs(stored).max())
+    assert config >= 0 and np.any(pb.force(config) != 0)
+    shown = c.deform()
+    assert shown.shape == (pb.num_view_nodes, 3)
+    assert np.abs(shown - pb.displacements(config)).max() <= 1e-6 * np.abs(shown).max()
+    rows = hapstate.Catalogue(state.dir).configurations()
+    same = np.flatnonzero(np.all(rows["force"] == pb.force(config), axis=1))
+    assert len(same) == 1
+    u = hapstate.Catalogue(state.dir).vectors(int(rows["id"][same[0]]))["u"][pb.view_nodes]
+    assert np.abs(u - pb.displacements(config)).max() <= 1e-6 * np.abs(u).max()
 
 
 def test_file_arrays(state):
