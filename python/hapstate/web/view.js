@@ -96,6 +96,7 @@ async function main() {
   probe.position.set(...scene.probe_rest);
   world.add(probe);
   const radius = geometry.boundingSphere.radius;
+  const forceScale = Math.max(1e-30, ...cp.force);
   const arrow = new THREE.ArrowHelper(new THREE.Vector3(1, 0, 0), probe.position, radius, 0xff4040);
   arrow.visible = false;
   for (const part of [arrow.line, arrow.cone]) part.material.depthTest = false;  // drawn on top
@@ -142,7 +143,8 @@ async function main() {
     arrow.position.copy(probe.position);
     if (norm > 0) {
       arrow.setDirection(f.clone().normalize());
-      const length = Math.max(0.05, Math.min(1, norm / scene.max_force)) * radius;
+      // 0.15 of the body's radius for a small force, 0.5 for the largest stored one.
+      const length = (0.15 + 0.35 * Math.min(1, norm / forceScale)) * radius;
       arrow.setLength(length, 0.2 * length, 0.1 * length);
     }
     arrow.visible = norm > 0;
