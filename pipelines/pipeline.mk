@@ -1,5 +1,6 @@
 # Make-style staged runs, shared by every bundled scene (include it from pipelines/<scene>/Makefile).
-#   make -C pipelines/<scene>                 import, grid, expand, refine, compact, index what is out of date
+#   make -C pipelines/<scene>                 import, grid, expand, refine, compact, index, certify
+#                                             what is out of date
 #   make -C pipelines/<scene> eval            the accuracy experiment on the playback file
 #   make -C pipelines/<scene> expand THREADS=2 MAX_SECONDS=600
 #   make -C pipelines/<scene> inspect         summary of the state directory
@@ -12,9 +13,9 @@ THREADS ?= 1
 MAX_SECONDS ?=
 STAGES := $(BUILD)/stages
 
-.PHONY: all import grid expand refine compact index eval inspect clean
+.PHONY: all import grid expand refine compact index certify eval inspect clean
 NODES ?= all
-all: index
+all: certify
 
 import:
 	$(STAGES)/hapstate-import $(SCENE) --state $(STATE)
@@ -28,6 +29,8 @@ compact: refine
 	$(STAGES)/hapstate-compact --state $(STATE)
 index: compact
 	$(STAGES)/hapstate-index --state $(STATE) --nodes $(NODES)
+certify: index
+	$(STAGES)/hapstate-certify --state $(STATE) --threads $(THREADS)
 eval: index
 	$(BUILD)/tools/hapstate-eval --state $(STATE)
 inspect:

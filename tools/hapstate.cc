@@ -1,6 +1,8 @@
 // hapstate: the one-command driver. `hapstate run SCENE` runs the precomputation stages in order
-// (import -> grid -> expand -> refine -> compact -> index) on the scene's state directory; every
+// (import -> grid -> expand -> refine -> compact -> index -> certify) on the scene's state
+// directory; every
 // stage skips the work whose inputs have not changed, so re-running does only what is out of date.
+#include "certify/certify_stage.h"
 #include "index/index_stage.h"
 #include "maintenance/compact.h"
 #include "statespace/expand_stage.h"
@@ -32,6 +34,7 @@ struct RunOptions {
   std::optional<double> max_seconds;
   bool fresh = false;
   bool no_compact = false;
+  bool no_certify = false;
   ViewNodes view = ViewNodes::kAll;
   bool quiet = false;
 };
@@ -86,6 +89,16 @@ int run_pipeline(const RunOptions& o) {
   index.view = o.view;
   index.progress = o.quiet ? nullptr : stderr;
   std::printf("  index:   %s\n", run_index(index).message.c_str());
+  if (o.no_certify) return kExitOk;
+  if (stop_requested()) return stopped();
+  CertifyOptions certify;
+  certify.state = state;
+  certify.threads = o.threads;
+  certify.progress = o.quiet ? nullptr : stderr;
+  const CertifyReport certified = run_certify(certify);
+  std::printf("  certify: %s\n", certified.message.c_str());
+  if (certified.interrupted) return stopped();
+  if (!o.quiet) std::printf("%s", certificate_text(certified.certificate).text.c_str());
   return kExitOk;
 }
 
@@ -105,13 +118,14 @@ int main(int argc, char** argv) {
   use_hapstate_help(app, true);
   app.require_subcommand(1);
   CLI::App* run = app.add_subcommand("run",
-                                     "import -> grid -> expand -> refine -> compact -> index; each "
-                                     "stage skips what is up to date");
+                                     "import -> grid -> expand -> refine -> compact -> index -> "
+                                     "certify; each stage skips what is up to date");
   run->add_option("scene", o.scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   run->add_option("--state", o.state, "state directory (default: 'state' beside the scene)");
   o.threads = default_threads();
   run->add_option("--threads", o.threads,
-                  "expansion and refinement worker threads (default: the cores this process may "
+                  "expansion, refinement and certificate worker threads (default: the cores this "
+                  "process may "
                   "use, here " +
                       std::to_string(o.threads) + ")")
       ->check(CLI::Range(1, 1024));
@@ -121,6 +135,9 @@ int main(int argc, char** argv) {
       ->check(positive());
   run->add_flag("--fresh", o.fresh, "start the state directory anew (after validating the scene)");
   run->add_flag("--no-compact", o.no_compact, "skip the compaction stage");
+  run->add_flag("--no-certify", o.no_certify,
+                "skip the certificate (hapstate-certify: the accuracy experiment on the scene's "
+                "certify.paths random paths)");
   run->add_option("--nodes", o.view,
                   "index: store the displacements of all nodes (default; hapstate-eval's "
                   "deformation error needs them) or of the surface nodes only (a smaller file "

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -39,6 +40,18 @@ enum class CornerSource : std::int8_t {
   kStored = 0,    // a stored configuration
   kExtended = 1,  // none stored or reachable: extended from the neighbouring corner's force
                   // and stiffness (first-order Taylor), carried while the cursor stays near
+};
+
+// What hapstate-certify measured on a playback file (docs/certificate.md): the paper's
+// experiment on `paths` seeded random paths over the workspace. Arrays are indexed by Scheme
+// ([0] trilinear, [1] Hermite); force errors are |f - f*| over the path's largest |f*|.
+struct PlaybackCertificate {
+  int paths = 0, steps_per_path = 0, steps = 0, failed_steps = 0;
+  std::array<double, 2> force_error_worst{}, force_error_p99{};
+  std::array<double, 2> force_error_worst_n{};  // N
+  std::array<double, 2> deformation_error_worst{};
+  double stiffness_n_per_mm = 0;                  // the largest stored stiffness (|eigenvalue|)
+  double query_median_ns = 0, query_p999_ns = 0;  // the Hermite force() call where it was measured
 };
 
 // A read-only, memory-mapped playback file written by hapstate-index.
@@ -97,6 +110,9 @@ class PlaybackFile {
   std::int32_t transition_entry(std::int32_t c, int d) const;
   std::uint64_t scene_hash() const;   // XXH64 of the scene text the file was built from
   std::uint64_t source_hash() const;  // of what hapstate-index built it from
+  // The certificate's headline numbers, once hapstate-certify has measured this file (a file
+  // hapstate-index writes anew has none until then).
+  std::optional<PlaybackCertificate> certificate() const;
 
   struct Impl;  // the mapping's typed sections (playback/file_impl.h)
 

@@ -59,6 +59,19 @@ const float* hs_playback_reference_positions(const hs_playback* file); /* 3 per 
 const int32_t* hs_playback_triangles(const hs_playback* file);         /* 3 per triangle */
 void hs_playback_rest_position(const hs_playback* file, double out[3]);
 
+/* What hapstate-certify measured on the file (PlaybackFile::certificate, docs/certificate.md);
+ * arrays indexed by scheme (HS_SCHEME_TRILINEAR, HS_SCHEME_HERMITE). */
+typedef struct hs_certificate {
+  int32_t paths, steps_per_path, steps, failed_steps;
+  double force_error_worst[2], force_error_p99[2]; /* of the path's largest force */
+  double force_error_worst_n[2];                   /* N */
+  double deformation_error_worst[2];
+  double stiffness_n_per_mm;
+  double query_median_ns, query_p999_ns;
+} hs_certificate;
+/* 1 and *out filled when the file holds a certificate, 0 when hapstate-certify has not run. */
+int hs_playback_certificate(const hs_playback* file, hs_certificate* out);
+
 hs_cursor* hs_cursor_create(const hs_playback* file, int scheme); /* NULL on a bad scheme */
 void hs_cursor_destroy(hs_cursor* cursor);
 void hs_cursor_reset(hs_cursor* cursor);

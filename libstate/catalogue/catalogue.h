@@ -129,6 +129,17 @@ class Catalogue {
   std::set<ConfigId> refined_cells();
   std::int64_t num_refinement_points();
 
+  // --- certificate (hapstate-certify; certificate_table.cc) ---
+  // Inserts a path with its steps (one savepoint). Throws if the seed exists.
+  void insert_certificate_path(const CertificatePath& path);
+  std::vector<CertificatePath> read_all_certificate_paths();  // by seed, with their steps
+  // Deletes the paths measured on a playback file other than `playback_hash` or with another
+  // number of steps, and the certificate row if it is of another file or step count. Returns
+  // the paths deleted.
+  std::int64_t delete_stale_certificate(const ContentHash& playback_hash, int steps);
+  void write_certificate(const CertificateRun& run);  // inserts or replaces the one row
+  std::optional<CertificateRun> read_certificate();
+
   // --- maintenance (hapstate-compact; maintenance_verbs.cc) ---
   // Points configuration `id` at `blob` (nullopt: no vectors stored). Throws InputError if
   // there is no such configuration.

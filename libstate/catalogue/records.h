@@ -156,4 +156,46 @@ struct RefinementPoint {
   bool operator==(const RefinementPoint&) const = default;
 };
 
+// Table certificate_path and its certificate_step rows: one seeded random path of the
+// certificate (docs/certificate.md), measured on the playback file of `playback_hash`.
+struct CertificateStep {
+  int step = 0;                     // 1..steps
+  std::array<double, 3> probe{};    // mesh units
+  std::array<int, 3> cell{};        // grid index of the cell's lowest corner
+  std::array<int, 3> checkpoint{};  // grid index of the nearest check-point
+  double force = 0.0;               // |f*|, N
+  bool solved = false;
+  bool onset = false;                   // contact onset (out of the deformation statistics)
+  std::array<double, 2> error{};        // |f - f*| in N: trilinear, Hermite
+  std::array<double, 2> deformation{};  // ||u - u*|| / ||u*||, surface: trilinear, Hermite
+
+  bool operator==(const CertificateStep&) const = default;
+};
+
+struct CertificatePath {
+  int seed = 0;
+  ContentHash playback_hash;
+  int steps = 0;
+  double max_force = 0.0;  // N
+  int failures = 0;
+  double wall_ms = 0.0;
+  std::vector<CertificateStep> rows;  // by step
+
+  bool operator==(const CertificatePath&) const = default;
+};
+
+// Table certificate (one row): what a complete certify run measured besides the paths.
+struct CertificateRun {
+  ContentHash playback_hash;
+  int paths = 0;
+  int steps = 0;
+  std::int64_t queries = 0;
+  double query_median_ns = 0.0;
+  double query_p999_ns = 0.0;
+  double stiffness = 0.0;  // N/m, the largest |eigenvalue| of a stored stiffness
+  TimeMs ended{};
+
+  bool operator==(const CertificateRun&) const = default;
+};
+
 }  // namespace hapstate

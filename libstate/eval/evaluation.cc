@@ -7,6 +7,7 @@
 #include "util/error.h"
 #include "util/progress.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -57,22 +58,19 @@ const char* scheme_name(Scheme scheme) {
 
 EvalResult run_eval(const EvalOptions& options) {
   StageContext ctx = open_stage_context(options.state);
-  EvalResult result;
-  result.playback = options.playback.empty() ? ctx.dir.root / "playback.bin" : options.playback;
-  if (!std::filesystem::exists(result.playback))
-    throw InputError(result.playback.string() + ": no playback file: run hapstate-index --state " +
+  const std::filesystem::path playback =
+      options.playback.empty() ? ctx.dir.root / "playback.bin" : options.playback;
+  if (!std::filesystem::exists(playback))
+    throw InputError(playback.string() + ": no playback file: run hapstate-index --state " +
                      ctx.dir.root.string() + " first (or give --playback)");
-  const PlaybackFile file(result.playback);
+  const PlaybackFile file(playback);
   if (file.scene_hash() != ctx.scene_record.hash.value)
-    throw InputError(
-        result.playback.string() + ": built from another scene than the state directory " +
-        ctx.dir.root.string() + ": run hapstate-index --state " + ctx.dir.root.string());
-  result.has_all_nodes = file.view_is_all_nodes();
+    throw InputError(playback.string() + ": built from another scene than the state directory " +
+                     ctx.dir.root.string() + ": run hapstate-index --state " +
+                     ctx.dir.root.string());
   const auto h = file.grid_spacing();
-  result.spacing = Eigen::Vector3d(h[0], h[1], h[2]);
-
   const double step_length =
-      options.step_length > 0 ? options.step_length : 0.5 * result.spacing.minCoeff();
+      options.step_length > 0 ? options.step_length : 0.5 * std::min({h[0], h[1], h[2]});
   const ProbePath path =
       options.path_file.empty()
           ? precomputed_random_path(file, options.steps, step_length, options.seed)
@@ -86,7 +84,18 @@ EvalResult run_eval(const EvalOptions& options) {
   } else {
     std::snprintf(description, sizeof description, "path %s", options.path_file.c_str());
   }
+  EvalResult result = evaluate_path(ctx.problem, file, path, options.progress);
+  result.playback = playback;
   result.path_description = description;
+  return result;
+}
+
+EvalResult evaluate_path(const Problem& problem, const PlaybackFile& file, const ProbePath& path,
+                         std::FILE* progress_out) {
+  EvalResult result;
+  result.has_all_nodes = file.view_is_all_nodes();
+  const auto h = file.grid_spacing();
+  result.spacing = Eigen::Vector3d(h[0], h[1], h[2]);
   // Grid index 0 at the origin, lo .. lo + dims - 1 along each axis.
   const auto origin = file.grid_origin(), spacing = file.grid_spacing();
   const auto lo = file.grid_lo(), dims = file.grid_dims();
@@ -105,8 +114,8 @@ EvalResult run_eval(const EvalOptions& options) {
   for (std::int32_t v : file.triangles()) surface[v] = 1;
   if (!result.has_all_nodes) std::fill(surface.begin(), surface.end(), 1);
 
-  const std::unique_ptr<ProbeModel> probe = make_probe_model(ctx.problem);
-  PathSolver solver(ctx.problem);
+  const std::unique_ptr<ProbeModel> probe = make_probe_model(problem);
+  PathSolver solver(problem);
   std::vector<std::unique_ptr<HapticCursor>> cursors;
   for (Scheme s : result.schemes) cursors.push_back(std::make_unique<HapticCursor>(file, s));
   // A contact path may start anywhere the sphere is clear of the body: the body at rest, the
@@ -118,13 +127,13 @@ EvalResult run_eval(const EvalOptions& options) {
   std::vector<float> u(3 * view_nodes.size());
   // With gravity both displacements include the sag; the errors are measured on what the probe
   // adds to it (u - u_rest), not flattered by the sag in the denominator.
-  const bool sagged = ctx.problem.loads.has_force();
-  const std::vector<double> rest_u = rest_displacements(ctx.problem);
+  const bool sagged = problem.loads.has_force();
+  const std::vector<double> rest_u = rest_displacements(problem);
   // Per scheme, per step.
   std::vector<std::vector<SquaredNorms>> norms_all(cursors.size()), norms_surface(cursors.size());
 
   Progress progress("hapstate-eval: precise solves", static_cast<long long>(path.size()),
-                    options.progress);
+                    progress_out);
   long long failures = 0;
   // Path length since the last step with the probe clear of the body (none yet: infinite).
   double travel_in_contact = std::numeric_limits<double>::infinity();

@@ -6,6 +6,7 @@
 
 #include "hapstate/playback.h"
 #include "io/probe_path.h"
+#include "problem/problem.h"
 
 #include <Eigen/Core>
 
@@ -68,6 +69,12 @@ inline int failed_steps(const EvalResult& r) {
 // Runs the experiment. Throws InputError naming the file if the state directory or the
 // playback file is unusable or they do not belong together (different scene).
 EvalResult run_eval(const EvalOptions& options);
+
+// The experiment on one path, with the problem loaded and the playback file open (run_eval
+// without the state directory: several may run at once on the same problem and file, each with
+// its own solver and cursors). `progress`: the precise solves' progress line (nullptr: none).
+EvalResult evaluate_path(const Problem& problem, const PlaybackFile& file, const ProbePath& path,
+                         std::FILE* progress);
 
 const char* scheme_name(Scheme scheme);
 

@@ -1,4 +1,6 @@
 // hapstate-inspect summary.
+#include "hapstate/playback.h"
+#include "maintenance/certificate_report.h"
 #include "maintenance/inspect_common.hpp"
 #include "util/text.h"
 
@@ -229,8 +231,22 @@ std::string summary_text(const Json& j) {
 
 InspectOutput inspect_summary(const StateDir& dir) {
   Catalogue cat = open_read_only(dir);
-  const Json j = summary_json(dir, cat);
-  return {dump(j), summary_text(j)};
+  Json j = summary_json(dir, cat);
+  // The certificate, stale unless measured on the playback file the directory holds now.
+  std::optional<ContentHash> current;
+  bool contact = false;
+  try {
+    if (std::filesystem::exists(dir.root / "playback.bin")) {
+      const PlaybackFile file(dir.root / "playback.bin");
+      current = ContentHash{file.source_hash()};
+      contact = file.is_contact();
+    }
+  } catch (const std::exception&) {  // unreadable or older: no current file to match
+  }
+  const CertificateText certificate = certificate_text(summarise_certificate(
+      cat.read_all_certificate_paths(), cat.read_certificate(), current, contact));
+  j["certificate"] = Json::parse(certificate.json);
+  return {dump(j), summary_text(j) + certificate.text};
 }
 
 }  // namespace hapstate

@@ -91,6 +91,25 @@ void hs_playback_rest_position(const hs_playback* f, double out[3]) {
   for (int a = 0; a < 3; ++a) out[a] = r[a];
 }
 
+int hs_playback_certificate(const hs_playback* f, hs_certificate* out) {
+  const auto c = f->file.certificate();
+  if (!c) return 0;
+  out->paths = c->paths;
+  out->steps_per_path = c->steps_per_path;
+  out->steps = c->steps;
+  out->failed_steps = c->failed_steps;
+  for (int s = 0; s < 2; ++s) {
+    out->force_error_worst[s] = c->force_error_worst[s];
+    out->force_error_p99[s] = c->force_error_p99[s];
+    out->force_error_worst_n[s] = c->force_error_worst_n[s];
+    out->deformation_error_worst[s] = c->deformation_error_worst[s];
+  }
+  out->stiffness_n_per_mm = c->stiffness_n_per_mm;
+  out->query_median_ns = c->query_median_ns;
+  out->query_p999_ns = c->query_p999_ns;
+  return 1;
+}
+
 hs_cursor* hs_cursor_create(const hs_playback* file, int scheme) {
   if (scheme != HS_SCHEME_TRILINEAR && scheme != HS_SCHEME_HERMITE) return nullptr;
   return new (std::nothrow) hs_cursor(file->file, static_cast<hapstate::Scheme>(scheme));

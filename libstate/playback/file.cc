@@ -64,6 +64,8 @@ std::string section_name(SectionId id) {
       return "refined cells";
     case SectionId::kRefinedPoints:
       return "refined points";
+    case SectionId::kCertificate:
+      return "certificate";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -218,6 +220,10 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     fail("section 'refined points' has " + std::to_string(refined_bytes) +
          " bytes, not a multiple of " + std::to_string(cell_bytes) +
          (refined_cell_bytes == 0 ? " with section 'refined cells'" : ""));
+  const std::uint64_t certificate_bytes = bytes[static_cast<int>(SectionId::kCertificate)];
+  if (certificate_bytes != 0 && certificate_bytes != sizeof(playback::CertificateRecord))
+    fail("section 'certificate' has " + std::to_string(certificate_bytes) +
+         " bytes, the header implies 0 or " + std::to_string(sizeof(playback::CertificateRecord)));
   if (!(m2.stiffness_limit >= 0) || !std::isfinite(m2.stiffness_limit))
     fail("meta: stiffness limit is not a finite number >= 0");
   for (int k = 0; k < 3; ++k)
@@ -256,6 +262,9 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     f.refined_points = reinterpret_cast<const double*>(section(SectionId::kRefinedPoints));
     f.num_refined_cells = static_cast<std::int32_t>(refined_bytes / cell_bytes);
   }
+  if (certificate_bytes != 0)
+    f.certificate =
+        reinterpret_cast<const playback::CertificateRecord*>(section(SectionId::kCertificate));
   if (contact) {
     f.clearance = reinterpret_cast<const double*>(section(SectionId::kClearance));
     f.onset = reinterpret_cast<const playback::OnsetCorner*>(section(SectionId::kOnset));
@@ -399,6 +408,26 @@ std::int32_t PlaybackFile::transition_entry(std::int32_t c, int d) const {
 }
 std::uint64_t PlaybackFile::scene_hash() const { return impl_->meta->scene_hash; }
 std::uint64_t PlaybackFile::source_hash() const { return impl_->meta->source_hash; }
+
+std::optional<PlaybackCertificate> PlaybackFile::certificate() const {
+  const playback::CertificateRecord* r = impl_->certificate;
+  if (!r || r->measured_source_hash != impl_->meta->source_hash) return std::nullopt;
+  PlaybackCertificate c;
+  c.paths = r->paths;
+  c.steps_per_path = r->steps_per_path;
+  c.steps = r->steps;
+  c.failed_steps = r->failed_steps;
+  for (int s = 0; s < 2; ++s) {
+    c.force_error_worst[s] = r->force_error_worst[s];
+    c.force_error_p99[s] = r->force_error_p99[s];
+    c.force_error_worst_n[s] = r->force_error_worst_n[s];
+    c.deformation_error_worst[s] = r->deformation_error_worst[s];
+  }
+  c.stiffness_n_per_mm = r->stiffness_n_per_mm;
+  c.query_median_ns = r->query_median_ns;
+  c.query_p999_ns = r->query_p999_ns;
+  return c;
+}
 
 std::span<const float> PlaybackFile::displacement_slopes(std::int32_t c, int axis) const {
   if (!impl_->slopes) return {};

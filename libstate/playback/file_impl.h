@@ -43,6 +43,7 @@ struct PlaybackFile::Impl {
   // 12 x kRefinedPoints per refined cell (section 21), with refined_cells.
   const double* refined_points = nullptr;
   std::int32_t num_refined_cells = 0;
+  const playback::CertificateRecord* certificate = nullptr;  // section 22, nullptr: none
   // The displacements (kind 0) or their slope along axis kind - 1 at configuration c's
   // midpoint in direction d: 3 per view node.
   const float* midpoint_array(std::int32_t c, int d, int kind) const {

@@ -19,8 +19,8 @@ static_assert(std::endian::native == std::endian::little,
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
 // 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness, 7: midpoint
 // displacements, 8: the change bound of the half cells' second-order cross derivatives,
-// 9: refined cells
-inline constexpr std::uint32_t kVersion = 9;
+// 9: refined cells, 10: the certificate
+inline constexpr std::uint32_t kVersion = 10;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -83,8 +83,11 @@ enum class SectionId : std::uint32_t {
   // lattice (25 i + 5 j + k), the force (N) and the haptic stiffness (row-major, N per mesh unit);
   // NaN where none was solved (the corners and the moves' midpoints, a failed solve).
   kRefinedPoints = 21,
+  // One CertificateRecord: what hapstate-certify measured on this file (docs/certificate.md);
+  // empty until it has run (hapstate-index writes it empty).
+  kCertificate = 22,
 };
-inline constexpr int kSectionCount = 21;
+inline constexpr int kSectionCount = 22;
 
 // A refined cell's lattice: 5 points per axis at quarter spacings.
 inline constexpr int kRefinedPoints = 125;
@@ -145,6 +148,21 @@ struct OnsetCorner {
   std::int32_t depth_source;
 };
 static_assert(sizeof(OnsetCorner) == 168);
+
+// Section 22: the certificate's headline numbers, per scheme [trilinear, Hermite] (the order
+// of hapstate::Scheme). measured_source_hash is the source hash of the file it was measured on:
+// a reader ignores a record whose hash is not this file's Meta::source_hash.
+struct CertificateRecord {
+  std::uint64_t measured_source_hash;
+  std::int32_t paths, steps_per_path, steps, failed_steps;
+  double force_error_worst[2], force_error_p99[2];  // of the path's largest force
+  double force_error_worst_n[2];                    // N
+  double deformation_error_worst[2];
+  double stiffness_n_per_mm;
+  double query_median_ns, query_p999_ns;
+  double reserved[2];  // zero
+};
+static_assert(sizeof(CertificateRecord) == 128);
 
 // Transition table entries that are not a configuration index.
 enum TransitionCode : std::int32_t {

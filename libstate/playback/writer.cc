@@ -58,6 +58,33 @@ class OutFile {
   int fd_ = -1;
 };
 
+// Fills in the header's size and both checksums for `table` (kSectionCount entries).
+void seal_header(FileHeader* header, const SectionEntry* table, std::uint64_t file_size) {
+  header->file_size = file_size;
+  header->section_table_checksum =
+      content_hash(std::as_bytes(std::span<const SectionEntry>(table, kSectionCount))).value;
+  header->header_checksum =
+      content_hash(std::as_bytes(std::span(header, 1)).first(offsetof(FileHeader, header_checksum)))
+          .value;
+}
+
+// Renames the finished `tmp` over `file` and makes the rename durable (fsync of the directory).
+void replace_file(const std::filesystem::path& tmp, const std::filesystem::path& file) {
+  std::filesystem::rename(tmp, file);
+  const int dir = ::open(file.parent_path().empty() ? "." : file.parent_path().c_str(),
+                         O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
+}
+
+std::filesystem::path temporary_beside(const std::filesystem::path& file) {
+  std::filesystem::path tmp = file;
+  tmp += ".tmp-" + std::to_string(::getpid());
+  return tmp;
+}
+
 template <class T>
 std::span<const std::byte> bytes_of(const std::vector<T>& v) {
   return std::as_bytes(std::span<const T>(v));
@@ -300,10 +327,10 @@ void write_file(Content c, const std::filesystem::path& file) {
       {SectionId::kRefinedCells, 8, bytes_of(c.refined_cells), 4 * c.refined_cells.size()},
       {SectionId::kRefinedPoints, 96 * kRefinedPoints, bytes_of(c.refined_points),
        8 * c.refined_points.size()},
+      {SectionId::kCertificate, sizeof(CertificateRecord), {}, 0},  // write_certificate()
   };
 
-  std::filesystem::path tmp = file;
-  tmp += ".tmp-" + std::to_string(::getpid());
+  const std::filesystem::path tmp = temporary_beside(file);
   OutFile out(tmp);
   try {
     SectionEntry table[kSectionCount];
@@ -332,30 +359,80 @@ void write_file(Content c, const std::filesystem::path& file) {
     std::memcpy(header.magic, kMagic, sizeof(kMagic));
     header.version = kVersion;
     header.header_bytes = sizeof(FileHeader);
-    header.file_size = offset;
     header.section_table_offset = table_offset;
     header.section_count = kSectionCount;
     header.section_entry_bytes = sizeof(SectionEntry);
-    header.section_table_checksum =
-        content_hash(std::as_bytes(std::span<const SectionEntry>(table))).value;
-    header.header_checksum =
-        content_hash(
-            std::as_bytes(std::span(&header, 1)).first(offsetof(FileHeader, header_checksum)))
-            .value;
+    seal_header(&header, table, offset);
     out.write_at(table_offset, table, sizeof(table));
     out.write_at(0, &header, sizeof(header));
     out.finish(offset);
-    std::filesystem::rename(tmp, file);
+    replace_file(tmp, file);
   } catch (...) {
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
     throw;
   }
-  const int dir = ::open(file.parent_path().empty() ? "." : file.parent_path().c_str(),
-                         O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir >= 0) {
-    ::fsync(dir);
-    ::close(dir);
+}
+
+void write_certificate(const std::filesystem::path& file, const CertificateRecord& record) {
+  const int in = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (in < 0) throw EnvironmentError(file.string() + ": cannot open: " + os_error_text(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{in};
+  auto read_at = [&](std::uint64_t offset, void* data, std::size_t bytes) {
+    char* p = static_cast<char*>(data);
+    while (bytes > 0) {
+      const ssize_t n = ::pread(in, p, bytes, static_cast<off_t>(offset));
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) throw EnvironmentError(file.string() + ": cannot read: " + os_error_text(errno));
+      if (n == 0) throw InputError(file.string() + ": truncated playback file");
+      p += n;
+      offset += static_cast<std::uint64_t>(n);
+      bytes -= static_cast<std::size_t>(n);
+    }
+  };
+  FileHeader header{};
+  read_at(0, &header, sizeof(header));
+  if (std::memcmp(header.magic, kMagic, sizeof(kMagic)) != 0 || header.version != kVersion ||
+      header.section_count != kSectionCount || header.section_entry_bytes != sizeof(SectionEntry))
+    throw InputError(file.string() + ": not a playback file of version " +
+                     std::to_string(kVersion) + " (run hapstate-index again)");
+  SectionEntry table[kSectionCount];
+  read_at(header.section_table_offset, table, sizeof(table));
+  SectionEntry* entry = nullptr;
+  for (SectionEntry& e : table)
+    if (e.id == static_cast<std::uint32_t>(SectionId::kCertificate)) entry = &e;
+  if (!entry) throw InputError(file.string() + ": no certificate section in the section table");
+
+  const std::filesystem::path tmp = temporary_beside(file);
+  try {
+    OutFile out(tmp);
+    std::vector<char> buffer(1 << 20);
+    for (std::uint64_t at = 0; at < header.file_size;) {
+      const std::size_t n =
+          static_cast<std::size_t>(std::min<std::uint64_t>(buffer.size(), header.file_size - at));
+      read_at(at, buffer.data(), n);
+      out.write_at(at, buffer.data(), n);
+      at += n;
+    }
+    // In place of an earlier certificate, else after the last section.
+    const std::uint64_t offset =
+        entry->bytes == sizeof(record) ? entry->offset : align_up(header.file_size);
+    const std::uint64_t size = std::max<std::uint64_t>(header.file_size, offset + sizeof(record));
+    out.write_at(offset, &record, sizeof(record));
+    *entry = {static_cast<std::uint32_t>(SectionId::kCertificate), sizeof(record), offset,
+              sizeof(record), content_hash(std::as_bytes(std::span(&record, 1))).value};
+    seal_header(&header, table, size);
+    out.write_at(header.section_table_offset, table, sizeof(table));
+    out.write_at(0, &header, sizeof(header));
+    out.finish(size);
+    replace_file(tmp, file);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw;
   }
 }
 

@@ -400,6 +400,14 @@ SceneLevels parse_levels(const TableReader& r) {
   return levels;
 }
 
+SceneCertify parse_certify(const TableReader& r) {
+  r.allow_only({"paths", "steps"});
+  SceneCertify c;
+  if (auto v = r.integer("paths", closed(1, 100000))) c.paths = *v;
+  if (auto v = r.integer("steps", closed(2, 100000))) c.steps = *v;
+  return c;
+}
+
 // Applies `parse` to the sub-table `name` of the root, or records its absence if required.
 template <class Parse>
 void section(const TableReader& root, std::string_view name, bool required, Parse parse) {
@@ -430,8 +438,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& path,
   const Context context{path, options};
   Diagnostics diagnostics(file);
   const TableReader root(root_table, "", diagnostics);
-  root.allow_only(
-      {"mesh", "material", "fixed", "support", "loads", "probe", "grid", "solver", "levels"});
+  root.allow_only({"mesh", "material", "fixed", "support", "loads", "probe", "grid", "solver",
+                   "levels", "certify"});
   section(root, "mesh", true, [&](const TableReader& r) { scene.mesh = parse_mesh(r, context); });
   section(root, "material", true,
           [&](const TableReader& r) { scene.material = parse_material(r); });
@@ -450,6 +458,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& path,
           [&](const TableReader& r) { scene.grid = parse_grid(r); });
   section(root, "solver", false, [&](const TableReader& r) { scene.solver = parse_solver(r); });
   section(root, "levels", false, [&](const TableReader& r) { scene.levels = parse_levels(r); });
+  section(root, "certify", false, [&](const TableReader& r) { scene.certify = parse_certify(r); });
   diagnostics.throw_if_any();
   return scene;
 }

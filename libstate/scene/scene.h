@@ -110,6 +110,12 @@ struct SceneLevels {
   std::optional<double> force_tolerance;         // N, > 0
 };
 
+// [certify]: the certificate's experiment (hapstate-certify, docs/certificate.md).
+struct SceneCertify {
+  int paths = 20;  // seeded random paths, >= 1
+  int steps = 30;  // steps per path, >= 2
+};
+
 struct Scene {
   std::filesystem::path path;  // the scene file as given (messages, relative paths)
   std::string text;            // the raw scene text, byte for byte (stored and hashed later)
@@ -123,6 +129,7 @@ struct Scene {
   SceneGrid grid;
   SolverOptions solver;
   SceneLevels levels;
+  SceneCertify certify;
 };
 
 struct SceneParseOptions {

@@ -280,6 +280,35 @@ void bind_playback(py::module_& m) {
           },
           py::arg("configuration"),
           "(m, 3) the stored displacements of a configuration's view nodes, mesh units.")
+      .def_property_readonly(
+          "certificate",
+          [](const PlaybackFile& f) -> py::object {
+            const auto c = f.certificate();
+            if (!c) return py::none();
+            py::dict d;
+            d["paths"] = c->paths;
+            d["steps_per_path"] = c->steps_per_path;
+            d["steps"] = c->steps;
+            d["failed_steps"] = c->failed_steps;
+            const char* names[2] = {"trilinear", "hermite"};
+            for (int s = 0; s < 2; ++s) {
+              py::dict e;
+              e["force_error_worst"] = c->force_error_worst[s];
+              e["force_error_p99"] = c->force_error_p99[s];
+              e["force_error_worst_newtons"] = c->force_error_worst_n[s];
+              e["deformation_error_worst"] = c->deformation_error_worst[s];
+              d[names[s]] = e;
+            }
+            d["stiffness_n_per_mm"] = c->stiffness_n_per_mm;
+            d["query_median_ns"] = c->query_median_ns;
+            d["query_p999_ns"] = c->query_p999_ns;
+            return d;
+          },
+          "What hapstate-certify measured on this file (docs/certificate.md) as a dict, or None "
+          "before it has run: paths, steps, per scheme ('hermite', 'trilinear') the worst and "
+          "99th-percentile force error (relative to the path's largest force), the worst in N "
+          "and the worst deformation error, the largest stored stiffness (N/mm) and the haptic "
+          "query's median and 99.9th percentile (ns).")
       .def(
           "cursor",
           [](std::shared_ptr<PlaybackFile> f, const std::string& scheme) {

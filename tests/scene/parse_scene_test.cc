@@ -134,8 +134,11 @@ TEST_F(ParseScene, EverySelectorAndOptionalTable) {
       "[probe]\npoint = [1, 2, 3]\nradius = 0.5\ndofs = \"xz\"\nmax_force = 1.5\n"
       "[grid]\ndims = [5, 6, 7]\nbox = [[0, 0, 0], [4, 10, 3]]\n"
       "[solver]\nabsolute_tolerance = 1e-9\nmax_cutbacks = 3\n"
-      "[levels]\ndisplacement_tolerance = 0.01\nforce_tolerance = 0.05\n";
+      "[levels]\ndisplacement_tolerance = 0.01\nforce_tolerance = 0.05\n"
+      "[certify]\npaths = 40\nsteps = 25\n";
   const Scene s = parse(text);
+  EXPECT_EQ(s.certify.paths, 40);
+  EXPECT_EQ(s.certify.steps, 25);
   EXPECT_EQ(s.material.c10, 400.0);
   EXPECT_EQ(s.material.c01, 100.0);
   EXPECT_EQ(s.material.d1, 1e-3);
@@ -260,6 +263,12 @@ INSTANTIATE_TEST_SUITE_P(
                 "key 'solver.max_cutbacks' = -1: must be in [0, 50]"},
         BadCase{"max_iterations = 30", "max_iterations = 30\n[levels]\nforce_tolerance = 0", 25,
                 "key 'levels.force_tolerance' = 0: must be > 0"},
+        BadCase{"max_iterations = 30", "max_iterations = 30\n[certify]\npaths = 0", 25,
+                "key 'certify.paths' = 0: must be in [1, 100000]"},
+        BadCase{"max_iterations = 30", "max_iterations = 30\n[certify]\nsteps = 1", 25,
+                "key 'certify.steps' = 1: must be in [2, 100000]"},
+        BadCase{"max_iterations = 30", "max_iterations = 30\n[certify]\nseeds = 3", 25,
+                "unknown key 'certify.seeds' (did you mean 'steps'?); allowed: paths, steps"},
         // Gravity, density and supports (issue 40).
         BadCase{"poisson = 0.45", "poisson = 0.45\ndensity = -1000", 9,
                 "key 'material.density' = -1000: must be > 0"},
@@ -308,11 +317,11 @@ TEST_F(ParseScene, UnknownTableIsNamed) {
   EXPECT_EQ(error(kBase + "[solvr]\nsubsteps = 2\n"),
             at(24,
                "unknown table 'solvr' (did you mean 'solver'?); allowed: mesh, material, "
-               "fixed, support, loads, probe, grid, solver, levels"));
+               "fixed, support, loads, probe, grid, solver, levels, certify"));
   EXPECT_EQ(error("substeps = 2\n" + kBase),
             at(1,
                "unknown key 'substeps'; allowed: mesh, material, fixed, support, loads, probe, "
-               "grid, solver, levels"));
+               "grid, solver, levels, certify"));
 }
 
 TEST_F(ParseScene, WrongTableShapes) {

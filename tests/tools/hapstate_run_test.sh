@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `hapstate run` and the pipelines Makefile on the beam scene: the first run computes every
-# stage (import -> index), a second run (either way) finds everything up to date and changes nothing.
+# stage (import -> certify), a second run (either way) finds everything up to date and changes nothing.
 set -euo pipefail
 build=$1
 source=$2
@@ -14,6 +14,7 @@ grep -q "import:  imported: 81 nodes, 192 tets, 45 check-points" <<<"$first" || 
 grep -q "expand:  complete: 702 transitions decided" <<<"$first" || fail "expand line"
 grep -q "compact: " <<<"$first" || fail "compact line"
 grep -q "index:   wrote .*playback.bin: 45 configurations" <<<"$first" || fail "index line"
+grep -q "certify: certified: 20 of 20 paths measured now" <<<"$first" || fail "certify line"
 
 second=$("$build/tools/hapstate" run "$source/pipelines/beam/scene.toml" --state "$state" -q)
 echo "$second"
@@ -22,12 +23,14 @@ grep -q "grid:    unchanged" <<<"$second" || fail "second grid not unchanged"
 grep -q "expand:  nothing to do" <<<"$second" || fail "second expand did something"
 grep -q "compact: nothing to do" <<<"$second" || fail "second compact did something"
 grep -q "index:   unchanged" <<<"$second" || fail "second index did something"
+grep -q "certify: unchanged" <<<"$second" || fail "second certify did something"
 
 made=$(make -s -C "$source/pipelines/beam" BUILD="$build" STATE="$state" 2>&1)
 echo "$made"
 grep -q "nothing to do" <<<"$made" || fail "make re-ran work"
 ! grep -q "transitions decided" <<<"$made" || fail "make recomputed transitions"
 grep -q "hapstate-index: unchanged" <<<"$made" || fail "make re-indexed"
+grep -q "hapstate-certify: unchanged" <<<"$made" || fail "make re-certified"
 
 "$build/tools/hapstate" run /nonexistent.toml --state "$state" -q && fail "missing scene accepted"
 echo "hapstate run test: ok"

@@ -86,8 +86,21 @@ async function main() {
       new THREE.Vector3(c[0] + g.spacing[0], c[1] + g.spacing[1], c[2] + g.spacing[2]));
     world.add(new THREE.Box3Helper(cell, 0xff9933));
   }
-  if (scene.certificate) el("certificate").textContent =
-    "certificate: " + JSON.stringify(scene.certificate).slice(0, 200);
+  // The certificate's worst errors: red crosses where the probe was, and the headline.
+  const cert = scene.certificate;
+  if (cert) {
+    const h = cert.force_error.hermite, t = cert.force_error.trilinear;
+    el("certificate").textContent =
+      `certificate${cert.stale ? " (STALE: run hapstate-certify)" : ""}: ${cert.paths} paths, ` +
+      `force error worst Hermite ${fmt(100 * h.worst, 3)} %, trilinear ${fmt(100 * t.worst, 3)} %` +
+      "; the worst places are red squares";
+    const marks = [];
+    for (const w of cert.worst) marks.push(...w.probe);
+    const markGeometry = new THREE.BufferGeometry();
+    markGeometry.setAttribute("position", new THREE.Float32BufferAttribute(marks, 3));
+    world.add(new THREE.Points(markGeometry, new THREE.PointsMaterial({
+      size: 0.5 * Math.min(...scene.grid.spacing), color: 0xff2020, depthTest: false })));
+  }
 
   // The probe and the force arrow.
   const probeRadius = scene.contact ? scene.probe_radius : 0.3 * minSpacing;

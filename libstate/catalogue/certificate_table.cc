@@ -1,0 +1,158 @@
+// Tables certificate_path, certificate_step and certificate: what hapstate-certify measured
+// (schema 7).
+#include "catalogue/catalogue_impl.hpp"
+#include "util/error.h"
+
+#include <map>
+
+namespace hapstate {
+namespace {
+
+constexpr const char* kInsertPath =
+    "INSERT INTO certificate_path (seed, playback_hash, steps, max_force, failures, wall_ms) "
+    "VALUES (?, ?, ?, ?, ?, ?)";
+#define HAPSTATE_CERTIFICATE_STEP_COLUMNS                                             \
+  "seed, step, x, y, z, i, j, k, ni, nj, nk, force, solved, onset, trilinear_error, " \
+  "hermite_error, trilinear_deformation, hermite_deformation"
+constexpr const char* kInsertStep =
+    "INSERT INTO certificate_step (" HAPSTATE_CERTIFICATE_STEP_COLUMNS
+    ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
+constexpr const char* kReadSteps =
+    "SELECT " HAPSTATE_CERTIFICATE_STEP_COLUMNS " FROM certificate_step ORDER BY seed, step";
+#undef HAPSTATE_CERTIFICATE_STEP_COLUMNS
+constexpr const char* kReadPaths =
+    "SELECT seed, playback_hash, steps, max_force, failures, wall_ms FROM certificate_path "
+    "ORDER BY seed";
+#define HAPSTATE_STALE "WHERE playback_hash <> ?1 OR steps <> ?2"
+constexpr const char* kCountStale = "SELECT count(*) FROM certificate_path " HAPSTATE_STALE;
+constexpr const char* kDeleteStaleSteps =
+    "DELETE FROM certificate_step WHERE seed IN (SELECT seed FROM certificate_path " HAPSTATE_STALE
+    ")";
+constexpr const char* kDeleteStalePaths = "DELETE FROM certificate_path " HAPSTATE_STALE;
+constexpr const char* kDeleteStaleRun = "DELETE FROM certificate " HAPSTATE_STALE;
+#undef HAPSTATE_STALE
+constexpr const char* kWriteRun =
+    "INSERT OR REPLACE INTO certificate (id, playback_hash, paths, steps, queries, "
+    "query_median_ns, query_p999_ns, stiffness, ended_ms) VALUES (1, ?, ?, ?, ?, ?, ?, ?, ?)";
+constexpr const char* kReadRun =
+    "SELECT playback_hash, paths, steps, queries, query_median_ns, query_p999_ns, stiffness, "
+    "ended_ms FROM certificate WHERE id = 1";
+
+}  // namespace
+
+void Catalogue::insert_certificate_path(const CertificatePath& path) {
+  catalogue_detail::Savepoint savepoint(*impl_->db);
+  {
+    catalogue_detail::StatementUse s(impl_->statement(kInsertPath));
+    s->bind(1, path.seed);
+    s->bind(2, path.playback_hash.hex());
+    s->bind(3, path.steps);
+    s->bind(4, path.max_force);
+    s->bind(5, path.failures);
+    s->bind(6, path.wall_ms);
+    s->run();
+  }
+  for (const CertificateStep& r : path.rows) {
+    catalogue_detail::StatementUse s(impl_->statement(kInsertStep));
+    s->bind(1, path.seed);
+    s->bind(2, r.step);
+    for (int a = 0; a < 3; ++a) s->bind(3 + a, r.probe[a]);
+    for (int a = 0; a < 3; ++a) s->bind(6 + a, r.cell[a]);
+    for (int a = 0; a < 3; ++a) s->bind(9 + a, r.checkpoint[a]);
+    s->bind(12, r.force);
+    s->bind(13, r.solved ? 1 : 0);
+    s->bind(14, r.onset ? 1 : 0);
+    s->bind(15, r.error[0]);
+    s->bind(16, r.error[1]);
+    s->bind(17, r.deformation[0]);
+    s->bind(18, r.deformation[1]);
+    s->run();
+  }
+  savepoint.release();
+}
+
+std::vector<CertificatePath> Catalogue::read_all_certificate_paths() {
+  std::vector<CertificatePath> out;
+  std::map<int, std::size_t> index;
+  {
+    catalogue_detail::StatementUse s(impl_->statement(kReadPaths));
+    while (s->step()) {
+      CertificatePath p;
+      p.seed = static_cast<int>(s->column_int(0));
+      p.playback_hash = ContentHash::from_hex(s->column_text(1));
+      p.steps = static_cast<int>(s->column_int(2));
+      p.max_force = s->column_double(3);
+      p.failures = static_cast<int>(s->column_int(4));
+      p.wall_ms = s->column_double(5);
+      index[p.seed] = out.size();
+      out.push_back(std::move(p));
+    }
+  }
+  catalogue_detail::StatementUse s(impl_->statement(kReadSteps));
+  while (s->step()) {
+    const auto it = index.find(static_cast<int>(s->column_int(0)));
+    if (it == index.end()) continue;  // the foreign key makes this impossible
+    CertificateStep r;
+    r.step = static_cast<int>(s->column_int(1));
+    for (int a = 0; a < 3; ++a) r.probe[a] = s->column_double(2 + a);
+    for (int a = 0; a < 3; ++a) r.cell[a] = static_cast<int>(s->column_int(5 + a));
+    for (int a = 0; a < 3; ++a) r.checkpoint[a] = static_cast<int>(s->column_int(8 + a));
+    r.force = s->column_double(11);
+    r.solved = s->column_int(12) != 0;
+    r.onset = s->column_int(13) != 0;
+    r.error = {s->column_double(14), s->column_double(15)};
+    r.deformation = {s->column_double(16), s->column_double(17)};
+    out[it->second].rows.push_back(r);
+  }
+  return out;
+}
+
+std::int64_t Catalogue::delete_stale_certificate(const ContentHash& playback_hash, int steps) {
+  catalogue_detail::Savepoint savepoint(*impl_->db);
+  std::int64_t stale = 0;
+  {
+    catalogue_detail::StatementUse s(impl_->statement(kCountStale));
+    s->bind(1, playback_hash.hex());
+    s->bind(2, steps);
+    s->step();
+    stale = s->column_int(0);
+  }
+  for (const char* sql : {kDeleteStaleSteps, kDeleteStalePaths, kDeleteStaleRun}) {
+    catalogue_detail::StatementUse s(impl_->statement(sql));
+    s->bind(1, playback_hash.hex());
+    s->bind(2, steps);
+    s->run();
+  }
+  savepoint.release();
+  return stale;
+}
+
+void Catalogue::write_certificate(const CertificateRun& run) {
+  catalogue_detail::StatementUse s(impl_->statement(kWriteRun));
+  s->bind(1, run.playback_hash.hex());
+  s->bind(2, run.paths);
+  s->bind(3, run.steps);
+  s->bind(4, run.queries);
+  s->bind(5, run.query_median_ns);
+  s->bind(6, run.query_p999_ns);
+  s->bind(7, run.stiffness);
+  s->bind(8, static_cast<std::int64_t>(run.ended.time_since_epoch().count()));
+  s->run();
+}
+
+std::optional<CertificateRun> Catalogue::read_certificate() {
+  catalogue_detail::StatementUse s(impl_->statement(kReadRun));
+  if (!s->step()) return std::nullopt;
+  CertificateRun r;
+  r.playback_hash = ContentHash::from_hex(s->column_text(0));
+  r.paths = static_cast<int>(s->column_int(1));
+  r.steps = static_cast<int>(s->column_int(2));
+  r.queries = s->column_int(3);
+  r.query_median_ns = s->column_double(4);
+  r.query_p999_ns = s->column_double(5);
+  r.stiffness = s->column_double(6);
+  r.ended = TimeMs(std::chrono::milliseconds(s->column_int(7)));
+  return r;
+}
+
+}  // namespace hapstate

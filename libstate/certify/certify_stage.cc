@@ -1,0 +1,271 @@
+#include "certify/certify_stage.h"
+
+#include "eval/evaluation.h"
+#include "eval/region_path.h"
+#include "playback/writer.h"
+#include "statespace/stage_context.h"
+#include "statespace/stage_record.h"
+#include "util/distribution.h"
+#include "util/error.h"
+#include "util/progress.h"
+#include "util/stop_request.h"
+#include "util/text.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <set>
+#include <thread>
+
+namespace hapstate {
+namespace {
+
+using SteadyClock = std::chrono::steady_clock;
+
+// Grid index of the cell holding `p` (its lowest corner) and of the nearest check-point, both
+// inside the grid.
+void locate(const PlaybackFile& file, const Eigen::Vector3d& p, std::array<int, 3>* cell,
+            std::array<int, 3>* nearest) {
+  const auto o = file.grid_origin(), h = file.grid_spacing();
+  const auto lo = file.grid_lo(), n = file.grid_dims();
+  for (int a = 0; a < 3; ++a) {
+    const double q = (p[a] - o[a]) / h[a];
+    const int last = lo[a] + n[a] - 1;
+    (*cell)[a] = std::clamp(static_cast<int>(std::floor(q)), lo[a], std::max(lo[a], last - 1));
+    (*nearest)[a] = std::clamp(static_cast<int>(std::lround(q)), lo[a], last);
+  }
+}
+
+CertificatePath certificate_path(const PlaybackFile& file, int seed, const EvalResult& r,
+                                 double wall_ms) {
+  CertificatePath p;
+  p.seed = seed;
+  p.playback_hash = ContentHash{file.source_hash()};
+  p.steps = static_cast<int>(r.steps.size());
+  p.max_force = r.max_exact_force;
+  p.failures = failed_steps(r);
+  p.wall_ms = wall_ms;
+  // eval's schemes are {trilinear, Hermite}, the order of CertificateStep's arrays.
+  for (std::size_t k = 0; k < r.steps.size(); ++k) {
+    const EvalStep& s = r.steps[k];
+    CertificateStep row;
+    row.step = static_cast<int>(k) + 1;
+    row.probe = {s.probe.x(), s.probe.y(), s.probe.z()};
+    locate(file, s.probe, &row.cell, &row.checkpoint);
+    row.solved = s.solved;
+    row.onset = s.contact_onset;
+    row.force = s.solved ? s.exact_force.norm() : 0.0;
+    for (int scheme = 0; scheme < 2; ++scheme) {
+      const SchemeResult& sr = s.schemes[scheme];
+      row.error[scheme] = s.solved ? (sr.force - s.exact_force).norm() : 0.0;
+      row.deformation[scheme] = s.solved ? sr.deformation_error_surface : 0.0;
+    }
+    p.rows.push_back(row);
+  }
+  return p;
+}
+
+// The Hermite cursor's force() timed call by call along the stored paths, each step cut into
+// 10 positions (a device sampling the motion), a fresh cursor per path placed as eval's.
+Distribution time_queries(const PlaybackFile& file, const std::vector<CertificatePath>& paths,
+                          std::int64_t* queries) {
+  std::vector<double> ns;
+  constexpr int kPerStep = 10;
+  for (int pass = 0; pass < 2; ++pass) {  // the first pass warms the caches, untimed
+    for (const CertificatePath& p : paths) {
+      if (p.rows.empty()) continue;
+      HapticCursor cursor(file, Scheme::kHermite);
+      cursor.reset(p.rows.front().probe);
+      std::array<double, 3> last = p.rows.front().probe;
+      for (const CertificateStep& r : p.rows) {
+        for (int k = 1; k <= kPerStep; ++k) {
+          std::array<double, 3> q;
+          for (int a = 0; a < 3; ++a) q[a] = last[a] + (r.probe[a] - last[a]) * k / kPerStep;
+          const auto t0 = SteadyClock::now();
+          const Force f = cursor.force(q);
+          const auto t1 = SteadyClock::now();
+          if (pass == 1) ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+          (void)f;
+        }
+        last = r.probe;
+      }
+    }
+  }
+  *queries = static_cast<std::int64_t>(ns.size());
+  return summarize(ns);
+}
+
+// The largest |eigenvalue| of a stored stiffness's symmetric part, N per mesh unit.
+double largest_stiffness(const PlaybackFile& file) {
+  double largest = 0.0;
+  for (std::int32_t c = 0; c < file.num_configurations(); ++c) {
+    const auto k = file.stiffness(c);
+    Eigen::Matrix3d m;
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) m(r, q) = k[3 * r + q];
+    const Eigen::Matrix3d sym = 0.5 * (m + m.transpose());
+    if (!sym.allFinite()) continue;
+    const Eigen::Vector3d e = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(sym).eigenvalues();
+    largest = std::max(largest, e.cwiseAbs().maxCoeff());
+  }
+  return largest;
+}
+
+// The headline numbers into the playback file's certificate section.
+void write_playback_certificate(const std::filesystem::path& file, const Certificate& c) {
+  playback::CertificateRecord r{};
+  r.measured_source_hash = c.playback_hash.value;
+  r.paths = c.paths;
+  r.steps_per_path = c.steps_per_path;
+  r.steps = c.steps;
+  r.failed_steps = c.failed_steps;
+  for (int s = 0; s < 2; ++s) {
+    r.force_error_worst[s] = c.schemes[s].worst;
+    r.force_error_p99[s] = c.schemes[s].p99;
+    r.force_error_worst_n[s] = c.schemes[s].worst_n;
+    r.deformation_error_worst[s] = c.schemes[s].deformation_worst;
+  }
+  r.stiffness_n_per_mm = c.stiffness_n_per_mm;
+  r.query_median_ns = c.query_median_ns;
+  r.query_p999_ns = c.query_p999_ns;
+  playback::write_certificate(file, r);
+}
+
+}  // namespace
+
+void CertifyOptions::check() const {
+  if (state.empty()) throw InputError("--state: no state directory given");
+  if (paths < 0) throw InputError("--paths must be >= 1 (got " + std::to_string(paths) + ")");
+  if (steps < 0 || steps == 1)
+    throw InputError("--steps must be >= 2 (got " + std::to_string(steps) + ")");
+  if (threads < 1) throw InputError("--threads must be >= 1 (got " + std::to_string(threads) + ")");
+}
+
+CertifyReport run_certify(const CertifyOptions& options) {
+  options.check();
+  const auto start = SteadyClock::now();
+  StageContext ctx = open_stage_context(options.state);
+  const std::filesystem::path playback = ctx.dir.root / "playback.bin";
+  if (!std::filesystem::exists(playback))
+    throw InputError(playback.string() + ": no playback file: run hapstate-index --state " +
+                     ctx.dir.root.string() + " first");
+  CertifyReport report;
+  report.paths = options.paths > 0 ? options.paths : ctx.scene.certify.paths;
+  report.steps = options.steps > 0 ? options.steps : ctx.scene.certify.steps;
+  ContentHash hash;
+  {
+    const PlaybackFile probe_file(playback);
+    if (probe_file.scene_hash() != ctx.scene_record.hash.value)
+      throw InputError(playback.string() + ": built from another scene than the state directory " +
+                       ctx.dir.root.string() + ": run hapstate-index --state " +
+                       ctx.dir.root.string());
+    hash = ContentHash{probe_file.source_hash()};
+  }
+  const std::string params = "paths=" + std::to_string(report.paths) +
+                             " steps=" + std::to_string(report.steps) +
+                             " threads=" + std::to_string(options.threads);
+  StageRun run =
+      make_stage_run("certify", {{"playback", hash}, {"scene", ctx.scene_record.hash}}, params);
+
+  report.stale_deleted = ctx.catalogue.delete_stale_certificate(hash, report.steps);
+  std::set<int> stored;
+  for (const CertificatePath& p : ctx.catalogue.read_all_certificate_paths()) stored.insert(p.seed);
+  std::vector<int> todo;
+  for (int seed = 1; seed <= report.paths; ++seed)
+    if (!stored.count(seed)) todo.push_back(seed);
+  const auto previous = ctx.catalogue.read_certificate();
+  if (todo.empty() && previous && previous->playback_hash == hash &&
+      previous->paths == report.paths && previous->steps == report.steps &&
+      PlaybackFile(playback).certificate()) {
+    report.unchanged = true;
+    report.certificate = summarise_certificate(ctx.catalogue.read_all_certificate_paths(), previous,
+                                               hash, ctx.scene.probe.mode == ProbeMode::kContact);
+    report.message = "unchanged: the certificate of " + playback.string() + " is up to date (" +
+                     plural(report.paths, "path", "paths") + ")";
+    record_unchanged(ctx.catalogue, run, report.message);
+    report.seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
+    return report;
+  }
+
+  const StageRunId id = start_stage_run(ctx.catalogue, run);
+  return with_run_record(ctx.catalogue, id, [&] {
+    {
+      const PlaybackFile file(playback);
+      const auto h = file.grid_spacing();
+      const double step_length = 0.5 * std::min({h[0], h[1], h[2]});
+      Progress progress("hapstate-certify: paths", report.paths, options.progress);
+      progress.set_resumed(report.paths - static_cast<long long>(todo.size()));
+      std::atomic<std::size_t> next{0};
+      std::atomic<bool> failed{false};
+      std::mutex mutex;  // the catalogue, the progress line and the first error
+      std::exception_ptr error;
+      long long failures = 0;
+      auto work = [&] {
+        try {
+          for (std::size_t i = next++; i < todo.size() && !failed; i = next++) {
+            if (stop_requested()) return;
+            const auto t0 = SteadyClock::now();
+            const ProbePath path = precomputed_random_path(file, report.steps, step_length,
+                                                           static_cast<std::uint64_t>(todo[i]));
+            const EvalResult r = evaluate_path(ctx.problem, file, path, nullptr);
+            const double ms =
+                std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
+            const CertificatePath p = certificate_path(file, todo[i], r, ms);
+            std::lock_guard<std::mutex> lock(mutex);
+            ctx.catalogue.insert_certificate_path(p);
+            ++report.solved_now;
+            failures += p.failures;
+            progress.update(report.paths - static_cast<long long>(todo.size()) + report.solved_now,
+                            failures);
+          }
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (!error) error = std::current_exception();
+          failed = true;
+        }
+      };
+      std::vector<std::thread> pool;
+      for (int w = 1; w < options.threads; ++w) pool.emplace_back(work);
+      work();
+      for (std::thread& t : pool) t.join();
+      if (error) std::rethrow_exception(error);
+      progress.finish();
+      report.interrupted = stop_requested() && report.solved_now < static_cast<int>(todo.size());
+
+      if (!report.interrupted) {
+        CertificateRun measured;
+        measured.playback_hash = hash;
+        measured.paths = report.paths;
+        measured.steps = report.steps;
+        const Distribution d =
+            time_queries(file, ctx.catalogue.read_all_certificate_paths(), &measured.queries);
+        measured.query_median_ns = d.median;
+        measured.query_p999_ns = d.p999;
+        measured.stiffness = largest_stiffness(file) / ctx.scene.mesh.unit;  // N/m
+        measured.ended = std::chrono::time_point_cast<std::chrono::milliseconds>(Clock::now());
+        ctx.catalogue.write_certificate(measured);
+      }
+    }  // the file unmapped before it is rewritten
+    report.certificate = summarise_certificate(ctx.catalogue.read_all_certificate_paths(),
+                                               ctx.catalogue.read_certificate(), hash,
+                                               ctx.scene.probe.mode == ProbeMode::kContact);
+    if (!report.interrupted) write_playback_certificate(playback, report.certificate);
+    char line[256];
+    std::snprintf(line, sizeof line, "%s: %d of %d paths measured now (%lld stale deleted)",
+                  report.interrupted ? "interrupted" : "certified", report.solved_now,
+                  static_cast<int>(todo.size()), static_cast<long long>(report.stale_deleted));
+    report.message = line;
+    report.seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
+    ctx.catalogue.update_stage_run_end(
+        id, report.interrupted ? StageOutcome::kPartial : StageOutcome::kOk, now_ms(),
+        report.message);
+    return report;
+  });
+}
+
+}  // namespace hapstate

@@ -1,0 +1,45 @@
+// The certify stage (hapstate-certify, docs/certificate.md): the paper's experiment, the precise
+// solver against the haptic cursors, on N seeded random paths over the whole workspace (a
+// contact probe's paths are pulled toward the body: onsets, sliding and leaving), in parallel
+// and resumable; then the haptic query's time along them and the largest stored stiffness. What
+// it measured goes to the catalogue (tables certificate_path, certificate_step, certificate)
+// and its headline numbers into the playback file, so a haptic application reads what it was
+// promised (hapstate::PlaybackFile::certificate()).
+#pragma once
+
+#include "maintenance/certificate_report.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace hapstate {
+
+struct CertifyOptions {
+  std::filesystem::path state;
+  int paths = 0;    // 0: the scene's certify.paths (default 20)
+  int steps = 0;    // 0: the scene's certify.steps (default 30)
+  int threads = 1;  // worker threads, each with its own precise solver
+  std::FILE* progress = stderr;
+
+  // Throws InputError naming the first bad option (run_certify calls it first).
+  void check() const;
+};
+
+struct CertifyReport {
+  bool unchanged = false;    // the certificate was complete and current: nothing done
+  bool interrupted = false;  // stopped by Ctrl-C / SIGTERM: run again to finish
+  int paths = 0, steps = 0;  // asked for
+  int solved_now = 0;        // paths measured by this run
+  std::int64_t stale_deleted = 0;
+  Certificate certificate;
+  double seconds = 0;
+  std::string message;  // one line for the stage's report
+};
+
+// Needs a playback file built from the state directory (hapstate-index). Records a "certify"
+// stage run. Throws InputError naming the file or option when the state or the playback file is
+// unusable.
+CertifyReport run_certify(const CertifyOptions& options);
+
+}  // namespace hapstate

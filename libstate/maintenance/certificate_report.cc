@@ -1,0 +1,201 @@
+#include "maintenance/certificate_report.h"
+
+#include "maintenance/inspect_common.hpp"
+#include "util/distribution.h"
+#include "util/text.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+namespace hapstate {
+
+using inspect_detail::Json;
+
+// Manufacturers' nominal stiffness, the weakest axis (datasheets): 3D Systems Touch (formerly
+// Phantom Omni) x 1.26, y 2.31, z 1.02 N/mm; Touch X x 1.86, y 2.35, z 1.48 N/mm; Phantom Premium
+// 1.5 3.5 N/mm; Force Dimension omega.3 14.5 N/mm.
+const std::array<DeviceLimit, 4> kDeviceLimits = {{{"3D Systems Touch", 1.02},
+                                                   {"3D Systems Touch X", 1.48},
+                                                   {"Phantom Premium 1.5", 3.5},
+                                                   {"Force Dimension omega.3", 14.5}}};
+
+namespace {
+
+constexpr const char* kSchemeNames[2] = {"trilinear", "hermite"};
+constexpr const char* kSchemeTitles[2] = {"trilinear", "Hermite"};
+
+// Worst and 99th percentile (nearest rank) of a sample; zeros for an empty one.
+std::pair<double, double> worst_p99(std::vector<double> v) {
+  const Distribution d = summarize(v);
+  return {d.max, d.p99};
+}
+
+}  // namespace
+
+Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
+                                  const std::optional<CertificateRun>& run,
+                                  const std::optional<ContentHash>& current, bool contact,
+                                  int worst_per_scheme) {
+  Certificate c;
+  if (paths.empty()) return c;
+  c.present = true;
+  c.contact = contact;
+  c.playback_hash = paths.front().playback_hash;
+  c.stale = !current || *current != c.playback_hash;
+  for (const CertificatePath& p : paths) c.stale = c.stale || p.playback_hash != c.playback_hash;
+  c.paths = static_cast<int>(paths.size());
+  c.steps_per_path = paths.front().steps;
+  std::array<std::vector<double>, 2> rel, newtons, deform;
+  std::vector<CertificateLocation> all;
+  for (const CertificatePath& p : paths) {
+    bool touching = false;
+    for (const CertificateStep& r : p.rows) {
+      ++c.steps;
+      if (!r.solved) {
+        ++c.failed_steps;
+        continue;
+      }
+      const bool now = r.force > 0;
+      c.contact_steps += now;
+      c.onsets += now && !touching;
+      c.leavings += !now && touching;
+      touching = now;
+      for (int s = 0; s < 2; ++s) {
+        const double e = p.max_force > 0 ? r.error[s] / p.max_force : 0.0;
+        rel[s].push_back(e);
+        newtons[s].push_back(r.error[s]);
+        if (!r.onset) deform[s].push_back(r.deformation[s]);
+        all.push_back({s, p.seed, r.step, r.probe, r.cell, r.checkpoint, e, r.error[s]});
+      }
+    }
+  }
+  for (int s = 0; s < 2; ++s) {
+    SchemeCertificate& sc = c.schemes[s];
+    std::tie(sc.worst, sc.p99) = worst_p99(rel[s]);
+    std::tie(sc.worst_n, sc.p99_n) = worst_p99(newtons[s]);
+    std::tie(sc.deformation_worst, sc.deformation_p99) = worst_p99(deform[s]);
+  }
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+    return a.scheme != b.scheme ? a.scheme > b.scheme : a.error > b.error;  // Hermite first
+  });
+  std::array<int, 2> taken{};
+  for (const CertificateLocation& l : all)
+    if (taken[l.scheme]++ < worst_per_scheme) c.worst.push_back(l);
+  if (run && run->playback_hash == c.playback_hash) {
+    c.complete = true;
+    c.stiffness_n_per_mm = run->stiffness / 1000.0;
+    c.queries = run->queries;
+    c.query_median_ns = run->query_median_ns;
+    c.query_p999_ns = run->query_p999_ns;
+  }
+  return c;
+}
+
+CertificateText certificate_text(const Certificate& c) {
+  if (!c.present)
+    return {"null", "certificate: none (hapstate-certify has not run: docs/certificate.md)\n"};
+  Json j;
+  j["stale"] = c.stale;
+  j["complete"] = c.complete;
+  j["playback_hash"] = c.playback_hash.hex();
+  j["paths"] = c.paths;
+  j["steps_per_path"] = c.steps_per_path;
+  j["steps"] = c.steps;
+  j["failed_steps"] = c.failed_steps;
+  if (c.contact)
+    j["contact"] = {{"steps", c.contact_steps}, {"onsets", c.onsets}, {"leavings", c.leavings}};
+  else
+    j["contact"] = nullptr;
+  for (int s = 0; s < 2; ++s) {
+    const SchemeCertificate& sc = c.schemes[s];
+    j["force_error"][kSchemeNames[s]] = {{"worst", sc.worst},
+                                         {"p99", sc.p99},
+                                         {"worst_newtons", sc.worst_n},
+                                         {"p99_newtons", sc.p99_n}};
+    j["deformation_error"][kSchemeNames[s]] = {{"worst", sc.deformation_worst},
+                                               {"p99", sc.deformation_p99}};
+  }
+  if (c.complete) {
+    Json devices = Json::array();
+    for (const DeviceLimit& d : kDeviceLimits)
+      devices.push_back({{"device", d.name},
+                         {"n_per_mm", d.n_per_mm},
+                         {"within", c.stiffness_n_per_mm <= d.n_per_mm}});
+    j["stiffness"] = {{"largest_n_per_mm", c.stiffness_n_per_mm}, {"devices", devices}};
+    j["haptic_query_ns"] = {
+        {"median", c.query_median_ns}, {"p99_9", c.query_p999_ns}, {"queries", c.queries}};
+  } else {
+    j["stiffness"] = nullptr;
+    j["haptic_query_ns"] = nullptr;
+  }
+  Json worst = Json::array();
+  for (const CertificateLocation& l : c.worst)
+    worst.push_back({{"scheme", kSchemeNames[l.scheme]},
+                     {"seed", l.seed},
+                     {"step", l.step},
+                     {"probe", l.probe},
+                     {"cell", l.cell},
+                     {"checkpoint", l.checkpoint},
+                     {"force_error", l.error},
+                     {"force_error_newtons", l.error_n}});
+  j["worst"] = worst;
+
+  std::ostringstream t;
+  t << "certificate (hapstate-certify: the paper's experiment on "
+    << plural(c.paths, "random path", "random paths") << " of " << c.steps_per_path << " steps, "
+    << plural(c.failed_steps, "failed precise solve", "failed precise solves") << " left out)";
+  if (c.stale)
+    t << ": STALE, measured on an older playback file; run hapstate-certify again";
+  else if (!c.complete)
+    t << ": incomplete (interrupted); run hapstate-certify again to finish it";
+  t << "\n";
+  char line[400];
+  for (int s = 1; s >= 0; --s) {
+    const SchemeCertificate& sc = c.schemes[s];
+    std::snprintf(line, sizeof line,
+                  "  %-9s force error worst %s (%s N), 99th percentile %s (%s N); deformation "
+                  "worst %s, 99th percentile %s\n",
+                  kSchemeTitles[s], percent(sc.worst).c_str(), sci(sc.worst_n).c_str(),
+                  percent(sc.p99).c_str(), sci(sc.p99_n).c_str(),
+                  percent(sc.deformation_worst).c_str(), percent(sc.deformation_p99).c_str());
+    t << line;
+  }
+  t << "  (a force error is |f - f*| over the path's largest |f*|, as hapstate-eval's)\n";
+  if (c.contact)
+    t << "  contact: " << c.contact_steps << " of " << c.steps - c.failed_steps
+      << " steps touching, " << plural(c.onsets, "onset", "onsets") << ", "
+      << plural(c.leavings, "leaving", "leavings") << "\n";
+  if (c.complete) {
+    std::snprintf(line, sizeof line, "  largest stored stiffness %.3g N/mm:", c.stiffness_n_per_mm);
+    t << line;
+    const char* sep = " ";
+    for (const DeviceLimit& d : kDeviceLimits) {
+      std::snprintf(line, sizeof line, "%s%s %s (%.3g N/mm)", sep, d.name,
+                    c.stiffness_n_per_mm <= d.n_per_mm ? "can render it" : "cannot render it",
+                    d.n_per_mm);
+      t << line;
+      sep = "; ";
+    }
+    std::snprintf(line, sizeof line,
+                  "\n  haptic query (Hermite force()): median %.0f ns, 99.9th percentile %.0f ns "
+                  "over %lld queries along the paths\n",
+                  c.query_median_ns, c.query_p999_ns, static_cast<long long>(c.queries));
+    t << line;
+  }
+  int shown = 0;
+  for (const CertificateLocation& l : c.worst) {
+    if (l.scheme != 1 || shown >= 3) continue;
+    ++shown;
+    std::snprintf(line, sizeof line,
+                  "  worst Hermite: %s (%s N) at seed %d step %d, probe (%.4g, %.4g, %.4g), cell "
+                  "(%d, %d, %d), nearest check-point (%d, %d, %d)\n",
+                  percent(l.error).c_str(), sci(l.error_n).c_str(), l.seed, l.step, l.probe[0],
+                  l.probe[1], l.probe[2], l.cell[0], l.cell[1], l.cell[2], l.checkpoint[0],
+                  l.checkpoint[1], l.checkpoint[2]);
+    t << line;
+  }
+  return {j.dump(), t.str()};
+}
+
+}  // namespace hapstate
