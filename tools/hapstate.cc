@@ -98,7 +98,7 @@ int run_pipeline(const RunOptions& o) {
   const CertifyReport certified = run_certify(certify);
   std::printf("  certify: %s\n", certified.message.c_str());
   if (certified.interrupted) return stopped();
-  if (!o.quiet) std::printf("%s", certificate_text(certified.certificate).text.c_str());
+  if (!o.quiet) std::printf("  %s", certificate_text(certified.certificate).headline.c_str());
   return kExitOk;
 }
 

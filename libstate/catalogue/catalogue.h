@@ -138,6 +138,7 @@ class Catalogue {
   // the paths deleted.
   std::int64_t delete_stale_certificate(const ContentHash& playback_hash, int steps);
   void write_certificate(const CertificateRun& run);  // inserts or replaces the one row
+  void delete_certificate();                          // the one row, if any (not the paths)
   std::optional<CertificateRun> read_certificate();
 
   // --- maintenance (hapstate-compact; maintenance_verbs.cc) ---

@@ -34,6 +34,7 @@ constexpr const char* kDeleteStaleRun = "DELETE FROM certificate " HAPSTATE_STAL
 constexpr const char* kWriteRun =
     "INSERT OR REPLACE INTO certificate (id, playback_hash, paths, steps, queries, "
     "query_median_ns, query_p999_ns, stiffness, ended_ms) VALUES (1, ?, ?, ?, ?, ?, ?, ?, ?)";
+constexpr const char* kDeleteRun = "DELETE FROM certificate";
 constexpr const char* kReadRun =
     "SELECT playback_hash, paths, steps, queries, query_median_ns, query_p999_ns, stiffness, "
     "ended_ms FROM certificate WHERE id = 1";
@@ -137,6 +138,11 @@ void Catalogue::write_certificate(const CertificateRun& run) {
   s->bind(6, run.query_p999_ns);
   s->bind(7, run.stiffness);
   s->bind(8, static_cast<std::int64_t>(run.ended.time_since_epoch().count()));
+  s->run();
+}
+
+void Catalogue::delete_certificate() {
+  catalogue_detail::StatementUse s(impl_->statement(kDeleteRun));
   s->run();
 }
 

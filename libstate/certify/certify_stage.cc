@@ -193,6 +193,9 @@ CertifyReport run_certify(const CertifyOptions& options) {
   }
 
   const StageRunId id = start_stage_run(ctx.catalogue, run);
+  // Until this run ends, the certificate is incomplete (summary says so); the playback file
+  // keeps the headline it had.
+  ctx.catalogue.delete_certificate();
   return with_run_record(ctx.catalogue, id, [&] {
     {
       const PlaybackFile file(playback);

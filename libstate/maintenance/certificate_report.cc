@@ -93,8 +93,10 @@ Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
 }
 
 CertificateText certificate_text(const Certificate& c) {
-  if (!c.present)
-    return {"null", "certificate: none (hapstate-certify has not run: docs/certificate.md)\n"};
+  if (!c.present) {
+    const char* none = "certificate: none (hapstate-certify has not run: docs/certificate.md)\n";
+    return {"null", none, none};
+  }
   Json j;
   j["stale"] = c.stale;
   j["complete"] = c.complete;
@@ -195,7 +197,13 @@ CertificateText certificate_text(const Certificate& c) {
                   l.checkpoint[1], l.checkpoint[2]);
     t << line;
   }
-  return {j.dump(), t.str()};
+  std::snprintf(line, sizeof line,
+                "certificate%s: worst force error Hermite %s, trilinear %s of the path's largest "
+                "force over %s (hapstate-inspect summary has the rest)\n",
+                c.stale ? " (STALE)" : "", percent(c.schemes[1].worst).c_str(),
+                percent(c.schemes[0].worst).c_str(),
+                plural(c.paths, "random path", "random paths").c_str());
+  return {j.dump(), t.str(), line};
 }
 
 }  // namespace hapstate

@@ -67,6 +67,7 @@ Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
 struct CertificateText {
   std::string json;
   std::string text;
+  std::string headline;  // one line: the worst force error of each scheme
 };
 CertificateText certificate_text(const Certificate& c);
 
