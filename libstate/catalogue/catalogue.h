@@ -133,10 +133,10 @@ class Catalogue {
   // Inserts a path with its steps (one savepoint). Throws if the seed exists.
   void insert_certificate_path(const CertificatePath& path);
   std::vector<CertificatePath> read_all_certificate_paths();  // by seed, with their steps
-  // Deletes the paths measured on a playback file other than `playback_hash` or with another
-  // number of steps, and the certificate row if it is of another file or step count. Returns
-  // the paths deleted.
-  std::int64_t delete_stale_certificate(const ContentHash& playback_hash, int steps);
+  // Deletes the paths measured on a playback file other than `playback_hash`, with another
+  // number of steps, or with a seed above `paths`, and the certificate row unless it is of the
+  // same file, step count and number of paths. Returns the paths deleted.
+  std::int64_t delete_stale_certificate(const ContentHash& playback_hash, int steps, int paths);
   void write_certificate(const CertificateRun& run);  // inserts or replaces the one row
   void delete_certificate();                          // the one row, if any (not the paths)
   std::optional<CertificateRun> read_certificate();

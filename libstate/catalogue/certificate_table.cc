@@ -23,14 +23,15 @@ constexpr const char* kReadSteps =
 constexpr const char* kReadPaths =
     "SELECT seed, playback_hash, steps, max_force, failures, wall_ms FROM certificate_path "
     "ORDER BY seed";
-#define HAPSTATE_STALE "WHERE playback_hash <> ?1 OR steps <> ?2"
+#define HAPSTATE_STALE "WHERE playback_hash <> ?1 OR steps <> ?2 OR seed > ?3"
 constexpr const char* kCountStale = "SELECT count(*) FROM certificate_path " HAPSTATE_STALE;
 constexpr const char* kDeleteStaleSteps =
     "DELETE FROM certificate_step WHERE seed IN (SELECT seed FROM certificate_path " HAPSTATE_STALE
     ")";
 constexpr const char* kDeleteStalePaths = "DELETE FROM certificate_path " HAPSTATE_STALE;
-constexpr const char* kDeleteStaleRun = "DELETE FROM certificate " HAPSTATE_STALE;
 #undef HAPSTATE_STALE
+constexpr const char* kDeleteStaleRun =
+    "DELETE FROM certificate WHERE playback_hash <> ?1 OR steps <> ?2 OR paths <> ?3";
 constexpr const char* kWriteRun =
     "INSERT OR REPLACE INTO certificate (id, playback_hash, paths, steps, queries, "
     "query_median_ns, query_p999_ns, stiffness, ended_ms) VALUES (1, ?, ?, ?, ?, ?, ?, ?, ?)";
@@ -108,13 +109,15 @@ std::vector<CertificatePath> Catalogue::read_all_certificate_paths() {
   return out;
 }
 
-std::int64_t Catalogue::delete_stale_certificate(const ContentHash& playback_hash, int steps) {
+std::int64_t Catalogue::delete_stale_certificate(const ContentHash& playback_hash, int steps,
+                                                 int paths) {
   catalogue_detail::Savepoint savepoint(*impl_->db);
   std::int64_t stale = 0;
   {
     catalogue_detail::StatementUse s(impl_->statement(kCountStale));
     s->bind(1, playback_hash.hex());
     s->bind(2, steps);
+    s->bind(3, paths);
     s->step();
     stale = s->column_int(0);
   }
@@ -122,6 +125,7 @@ std::int64_t Catalogue::delete_stale_certificate(const ContentHash& playback_has
     catalogue_detail::StatementUse s(impl_->statement(sql));
     s->bind(1, playback_hash.hex());
     s->bind(2, steps);
+    s->bind(3, paths);
     s->run();
   }
   savepoint.release();

@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -47,7 +48,10 @@ CertificatePath certificate_path(const PlaybackFile& file, int seed, const EvalR
   p.seed = seed;
   p.playback_hash = ContentHash{file.source_hash()};
   p.steps = static_cast<int>(r.steps.size());
-  p.max_force = r.max_exact_force;
+  // The errors' denominator: the path's largest precise force, or the device limit on a path
+  // that never met a force (a contact path clear of the body), so that a force played back
+  // there is not hidden as a 0 % error.
+  p.max_force = r.max_exact_force > 0 ? r.max_exact_force : file.max_force();
   p.failures = failed_steps(r);
   p.wall_ms = wall_ms;
   // eval's schemes are {trilinear, Hermite}, the order of CertificateStep's arrays.
@@ -60,10 +64,15 @@ CertificatePath certificate_path(const PlaybackFile& file, int seed, const EvalR
     row.solved = s.solved;
     row.onset = s.contact_onset;
     row.force = s.solved ? s.exact_force.norm() : 0.0;
+    // A non-finite played-back force or displacement is the worst error there is: +inf (NaN
+    // would be stored as NULL and would break the ordering of the statistics).
+    auto finite_or_inf = [](double v) {
+      return std::isfinite(v) ? v : std::numeric_limits<double>::infinity();
+    };
     for (int scheme = 0; scheme < 2; ++scheme) {
       const SchemeResult& sr = s.schemes[scheme];
-      row.error[scheme] = s.solved ? (sr.force - s.exact_force).norm() : 0.0;
-      row.deformation[scheme] = s.solved ? sr.deformation_error_surface : 0.0;
+      row.error[scheme] = s.solved ? finite_or_inf((sr.force - s.exact_force).norm()) : 0.0;
+      row.deformation[scheme] = s.solved ? finite_or_inf(sr.deformation_error_surface) : 0.0;
     }
     p.rows.push_back(row);
   }
@@ -172,7 +181,7 @@ CertifyReport run_certify(const CertifyOptions& options) {
   StageRun run =
       make_stage_run("certify", {{"playback", hash}, {"scene", ctx.scene_record.hash}}, params);
 
-  report.stale_deleted = ctx.catalogue.delete_stale_certificate(hash, report.steps);
+  report.stale_deleted = ctx.catalogue.delete_stale_certificate(hash, report.steps, report.paths);
   std::set<int> stored;
   for (const CertificatePath& p : ctx.catalogue.read_all_certificate_paths()) stored.insert(p.seed);
   std::vector<int> todo;
@@ -233,7 +242,13 @@ CertifyReport run_certify(const CertifyOptions& options) {
         }
       };
       std::vector<std::thread> pool;
-      for (int w = 1; w < options.threads; ++w) pool.emplace_back(work);
+      try {
+        for (int w = 1; w < options.threads; ++w) pool.emplace_back(work);
+      } catch (...) {  // a thread could not start: the others finish, then the error goes on
+        failed = true;
+        for (std::thread& t : pool) t.join();
+        throw;
+      }
       work();
       for (std::thread& t : pool) t.join();
       if (error) std::rethrow_exception(error);

@@ -1,5 +1,7 @@
 #include "playback/writer.h"
 
+#include "hapstate/playback.h"
+
 #include "util/error.h"
 #include "util/hash.h"
 
@@ -375,6 +377,7 @@ void write_file(Content c, const std::filesystem::path& file) {
 }
 
 void write_certificate(const std::filesystem::path& file, const CertificateRecord& record) {
+  PlaybackFile(file).verify();  // a damaged file is refused, not sealed with fresh checksums
   const int in = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
   if (in < 0) throw EnvironmentError(file.string() + ": cannot open: " + os_error_text(errno));
   struct Closer {
@@ -428,6 +431,7 @@ void write_certificate(const std::filesystem::path& file, const CertificateRecor
     out.write_at(header.section_table_offset, table, sizeof(table));
     out.write_at(0, &header, sizeof(header));
     out.finish(size);
+    std::filesystem::permissions(tmp, std::filesystem::status(file).permissions());
     replace_file(tmp, file);
   } catch (...) {
     std::error_code ignored;

@@ -59,9 +59,10 @@ double force_change_bound(const Content& content);
 void write_file(Content content, const std::filesystem::path& file);
 
 // Puts `record` into the certificate section of the playback file `file` (replacing one it
-// holds), atomically as write_file: a copy with the section filled is renamed over `file`, so a
-// program that has the old file mapped keeps reading it. Throws InputError if `file` is not a
-// playback file of this version, EnvironmentError on an I/O error.
+// holds), atomically as write_file: a copy with the section filled and the same permissions is
+// renamed over `file`, so a program that has the old file mapped keeps reading it. Throws
+// InputError if `file` is not a playback file of this version or fails verify(),
+// EnvironmentError on an I/O error.
 void write_certificate(const std::filesystem::path& file, const CertificateRecord& record);
 
 }  // namespace hapstate::playback

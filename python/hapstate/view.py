@@ -25,7 +25,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from ._core import Catalogue, Cursor, EnvironmentError, InputError, Playback
+from ._core import Catalogue, Cursor, InputError, Playback
 
 _WEB = pathlib.Path(__file__).resolve().parent / "web"
 # three.js r111 from Debian's libjs-three (scripts/install-deps.sh), served locally.
@@ -41,6 +41,9 @@ _FILES = {
 # The probe walks from its last position to a new one in steps of at most this many grid
 # spacings, as a device sampled at 1 kHz would (the cursor follows transitions cell by cell).
 _STEP = 0.05
+# A target farther from the workspace than this many times its size is refused (400): the
+# cursor extends the force outside the grid, but a walk there is no view of the state.
+_REACH = 2.0
 
 
 class BadRequest(ValueError):
@@ -129,6 +132,14 @@ class ViewState:
         """Moves the cursor to `target` in a straight line (from rest, or from where it is)."""
         if scheme not in ("hermite", "trilinear"):
             raise BadRequest(f"scheme={scheme!r}: expected hermite or trilinear")
+        pb = self.playback
+        lo = pb.grid_origin + pb.grid_lo * pb.grid_spacing
+        size = (pb.grid_dims - 1) * pb.grid_spacing
+        margin = _REACH * max(float(size.max()), float(pb.grid_spacing.max()))
+        if np.any(target < lo - margin) or np.any(target > lo + size + margin):
+            raise BadRequest(f"to={','.join(repr(float(x)) for x in target)}: farther from the "
+                             f"workspace [{lo.tolist()}, {(lo + size).tolist()}] than "
+                             f"{_REACH:g} times its size")
         with self.lock:
             if self.cursor.scheme != scheme:
                 self.cursor.scheme = scheme
@@ -137,7 +148,7 @@ class ViewState:
                 self.cursor.reset()
                 start = self.playback.probe_rest
             step = _STEP * float(np.min(self.playback.grid_spacing))
-            n = max(1, int(math.ceil(float(np.linalg.norm(target - start)) / step)))
+            n = min(100_000, max(1, int(math.ceil(float(np.linalg.norm(target - start)) / step))))
             path = start + np.outer(np.arange(1, n + 1) / n, target - start)
             force = self.cursor.force(path)[-1]
             stiffness = self.cursor.stiffness(target)
@@ -181,16 +192,19 @@ class Handler(http.server.BaseHTTPRequestHandler):
             self._get()
         except BadRequest as e:
             self._error(400, str(e))
-        except (InputError, EnvironmentError) as e:
-            self._error(500, str(e))
+        except Exception as e:  # noqa: BLE001 (answered, not dropped: the server goes on)
+            self._error(500, f"{type(e).__name__}: {e}")
 
     def _get(self) -> None:
         if not self._host_ok():
             return self._error(403, "the viewer answers only requests to 127.0.0.1")
         url = urllib.parse.urlsplit(self.path)
         decoded = url.path
-        for _ in range(3):  # '%252e' decodes to '%2e', then to '.'
-            decoded = urllib.parse.unquote(decoded)
+        for _ in range(16):  # '%252e' decodes to '%2e', then to '.': until nothing changes
+            once = urllib.parse.unquote(decoded)
+            if once == decoded:
+                break
+            decoded = once
         if ".." in decoded or "\\" in decoded or "\0" in decoded:
             raise BadRequest(f"{url.path!r}: outside the viewer's files")
         query = urllib.parse.parse_qs(url.query, keep_blank_values=True)
@@ -199,7 +213,12 @@ class Handler(http.server.BaseHTTPRequestHandler):
             parse_position(one["probe"])  # a malformed link is refused, not shown broken
         if url.path in _FILES:
             file, content_type = _FILES[url.path]
-            return self._send(200, file.read_bytes(), content_type)
+            try:
+                body = file.read_bytes()
+            except OSError as e:
+                return self._error(404, f"{file}: {e.strerror} (is libjs-three installed? "
+                                        "scripts/install-deps.sh)")
+            return self._send(200, body, content_type)
         if url.path == "/api/scene":
             return self._send(200, self.view.scene_json, "application/json")
         if url.path == "/api/move":
@@ -242,7 +261,7 @@ def main(argv: Optional[list[str]] = None) -> int:
         parser.error(f"--port {args.port}: expected 0..65535")
     try:
         server = serve(args.state, args.port, args.quiet)
-    except (InputError, ValueError) as e:
+    except ValueError as e:  # hapstate.InputError is one
         print(f"hapstate-view: {e}", file=sys.stderr)
         return 2
     except OSError as e:

@@ -131,30 +131,38 @@ class PyCursor {
   }
 
   py::array_t<double> deform() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    Snapshot s;
-    cursor_.snapshot(&s);
     const auto n = static_cast<py::ssize_t>(file_->num_view_nodes());
     std::vector<float> u(3 * static_cast<std::size_t>(n));
-    if (s.sequence > 0) displacements(*file_, s, u);  // before any query: the body at rest
+    {
+      py::gil_scoped_release release;  // another thread may hold the cursor for a long walk
+      std::lock_guard<std::mutex> lock(mutex_);
+      Snapshot s;
+      cursor_.snapshot(&s);
+      if (s.sequence > 0) displacements(*file_, s, u);  // before any query: the body at rest
+    }
     py::array_t<double> out({n, py::ssize_t{3}});
     std::copy(u.begin(), u.end(), out.mutable_data());
     return out;
   }
 
   py::object probe() {
-    std::lock_guard<std::mutex> lock(mutex_);
     Snapshot s;
-    cursor_.snapshot(&s);
+    {
+      py::gil_scoped_release release;
+      std::lock_guard<std::mutex> lock(mutex_);
+      cursor_.snapshot(&s);
+    }
     if (s.sequence == 0) return py::none();
     return vec3(s.probe);
   }
 
   void reset(const std::optional<std::array<double, 3>>& at) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (at) {
+    if (at)
       for (double x : *at)
         if (!std::isfinite(x)) throw InputError("reset: the position is not finite");
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (at) {
       cursor_.reset(*at);
     } else {
       cursor_.reset();
@@ -162,14 +170,32 @@ class PyCursor {
     placed_ = at.has_value();
   }
 
-  std::string scheme() const { return scheme_text(cursor_.scheme()); }
-  void set_scheme(const std::string& name) {
+  // The getters below wait for a walk another thread may be in (the GIL released meanwhile).
+  template <typename Get>
+  auto locked(Get get) const {
+    py::gil_scoped_release release;
     std::lock_guard<std::mutex> lock(mutex_);
-    cursor_.set_scheme(scheme_from(name));
+    return get();
   }
-  std::int32_t anchor_configuration() const { return cursor_.anchor_configuration(); }
-  py::array_t<std::int32_t> anchor_checkpoint() const { return ivec3(cursor_.anchor_checkpoint()); }
-  std::uint64_t cells_walked() const { return cursor_.cells_walked(); }
+  std::string scheme() const {
+    return scheme_text(locked([&] { return cursor_.scheme(); }));
+  }
+  void set_scheme(const std::string& name) {
+    const Scheme s = scheme_from(name);
+    locked([&] {
+      cursor_.set_scheme(s);
+      return 0;
+    });
+  }
+  std::int32_t anchor_configuration() const {
+    return locked([&] { return cursor_.anchor_configuration(); });
+  }
+  py::array_t<std::int32_t> anchor_checkpoint() const {
+    return ivec3(locked([&] { return cursor_.anchor_checkpoint(); }));
+  }
+  std::uint64_t cells_walked() const {
+    return locked([&] { return cursor_.cells_walked(); });
+  }
 
  private:
   std::shared_ptr<const PlaybackFile> file_;

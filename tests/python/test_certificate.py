@@ -84,6 +84,11 @@ def test_stale_after_reindex_and_resumable(state, tmp_path):
                          check=True, capture_output=True, text=True).stdout
     assert "unchanged" in run
     assert hapstate.Playback(work).certificate["paths"] == 5
+    # Fewer paths: the seeds above are dropped, nothing is solved.
+    run = subprocess.run([STAGES / "hapstate-certify", "--state", work, "--paths", "3", "-q"],
+                         check=True, capture_output=True, text=True).stdout
+    assert "0 of 0 paths measured now (2 stale deleted)" in run
+    assert summary(work)["paths"] == 3 and hapstate.Playback(work).certificate["paths"] == 3
 
 
 def test_bad_options_and_state(tmp_path):

@@ -51,7 +51,8 @@ def test_server_refuses_what_it_must(viewer):
                  "/lib/%2E%2E%2Fview.py", "/%252e%252e/%252e%252e/etc/passwd", "/..%5c..%5cx",
                  "/?probe=abc", "/?probe=1,2", "/?probe=1,2,3,4", "/?probe=nan,1,1",
                  "/?probe=inf,0,0", "/?probe=", "/api/move", "/api/move?to=1,x,2",
-                 "/api/move?to=1,2,3&scheme=cubic"]:
+                 "/api/move?to=1,2,3&scheme=cubic", "/api/move?to=1e200,0,0",
+                 "/api/move?to=0,-1e7,0", "/%2525252e%2525252e/etc/passwd"]:
         status, body = get(port, path)
         assert status == 400, (path, status, body)
         assert b"error" in body
