@@ -184,11 +184,11 @@ CertifyReport run_certify(const CertifyOptions& options) {
   report.stale_deleted = ctx.catalogue.delete_stale_certificate(hash, report.steps, report.paths);
   std::set<int> stored;
   for (const CertificatePath& p : ctx.catalogue.read_all_certificate_paths()) stored.insert(p.seed);
-  std::vector<int> todo;
+  std::vector<int> missing;
   for (int seed = 1; seed <= report.paths; ++seed)
-    if (!stored.count(seed)) todo.push_back(seed);
+    if (!stored.count(seed)) missing.push_back(seed);
   const auto previous = ctx.catalogue.read_certificate();
-  if (todo.empty() && previous && previous->playback_hash == hash &&
+  if (missing.empty() && previous && previous->playback_hash == hash &&
       previous->paths == report.paths && previous->steps == report.steps &&
       PlaybackFile(playback).certificate()) {
     report.unchanged = true;
@@ -211,7 +211,7 @@ CertifyReport run_certify(const CertifyOptions& options) {
       const auto h = file.grid_spacing();
       const double step_length = 0.5 * std::min({h[0], h[1], h[2]});
       Progress progress("hapstate-certify: paths", report.paths, options.progress);
-      progress.set_resumed(report.paths - static_cast<long long>(todo.size()));
+      progress.set_resumed(report.paths - static_cast<long long>(missing.size()));
       std::atomic<std::size_t> next{0};
       std::atomic<bool> failed{false};
       std::mutex mutex;  // the catalogue, the progress line and the first error
@@ -219,20 +219,20 @@ CertifyReport run_certify(const CertifyOptions& options) {
       long long failures = 0;
       auto work = [&] {
         try {
-          for (std::size_t i = next++; i < todo.size() && !failed; i = next++) {
+          for (std::size_t i = next++; i < missing.size() && !failed; i = next++) {
             if (stop_requested()) return;
             const auto t0 = SteadyClock::now();
             const ProbePath path = precomputed_random_path(file, report.steps, step_length,
-                                                           static_cast<std::uint64_t>(todo[i]));
+                                                           static_cast<std::uint64_t>(missing[i]));
             const EvalResult r = evaluate_path(ctx.problem, file, path, nullptr);
             const double ms =
                 std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
-            const CertificatePath p = certificate_path(file, todo[i], r, ms);
+            const CertificatePath p = certificate_path(file, missing[i], r, ms);
             std::lock_guard<std::mutex> lock(mutex);
             ctx.catalogue.insert_certificate_path(p);
             ++report.solved_now;
             failures += p.failures;
-            progress.update(report.paths - static_cast<long long>(todo.size()) + report.solved_now,
+            progress.update(report.paths - static_cast<long long>(missing.size()) + report.solved_now,
                             failures);
           }
         } catch (...) {
@@ -253,7 +253,7 @@ CertifyReport run_certify(const CertifyOptions& options) {
       for (std::thread& t : pool) t.join();
       if (error) std::rethrow_exception(error);
       progress.finish();
-      report.interrupted = stop_requested() && report.solved_now < static_cast<int>(todo.size());
+      report.interrupted = stop_requested() && report.solved_now < static_cast<int>(missing.size());
 
       if (!report.interrupted) {
         CertificateRun measured;
@@ -276,7 +276,7 @@ CertifyReport run_certify(const CertifyOptions& options) {
     char line[256];
     std::snprintf(line, sizeof line, "%s: %d of %d paths measured now (%lld stale deleted)",
                   report.interrupted ? "interrupted" : "certified", report.solved_now,
-                  static_cast<int>(todo.size()), static_cast<long long>(report.stale_deleted));
+                  static_cast<int>(missing.size()), static_cast<long long>(report.stale_deleted));
     report.message = line;
     report.seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
     ctx.catalogue.update_stage_run_end(
