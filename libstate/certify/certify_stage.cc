@@ -211,7 +211,8 @@ CertifyReport run_certify(const CertifyOptions& options) {
       const auto h = file.grid_spacing();
       const double step_length = 0.5 * std::min({h[0], h[1], h[2]});
       Progress progress("hapstate-certify: paths", report.paths, options.progress);
-      progress.set_resumed(report.paths - static_cast<long long>(missing.size()));
+      const long long stored_before = report.paths - static_cast<long long>(missing.size());
+      progress.set_resumed(stored_before);
       std::atomic<std::size_t> next{0};
       std::atomic<bool> failed{false};
       std::mutex mutex;  // the catalogue, the progress line and the first error
@@ -232,8 +233,7 @@ CertifyReport run_certify(const CertifyOptions& options) {
             ctx.catalogue.insert_certificate_path(p);
             ++report.solved_now;
             failures += p.failures;
-            progress.update(report.paths - static_cast<long long>(missing.size()) + report.solved_now,
-                            failures);
+            progress.update(stored_before + report.solved_now, failures);
           }
         } catch (...) {
           std::lock_guard<std::mutex> lock(mutex);
