@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "hapstate-refine: after hapstate-expand, solve the force and haptic stiffness at the "
       "quarter-spacing points of every cell whose estimated interpolation error exceeds the "
-      "tolerance (grab probe). Resumable: each refined cell is committed whole.\n"
+      "tolerance (grab or contact probe). Resumable: each refined cell is committed whole.\n"
       "Exit codes: 0 done or nothing to do; 1 internal error; 2 bad options or state directory; "
       "130 stopped by Ctrl-C or SIGTERM (run again to resume)."};
   use_hapstate_help(app);

@@ -275,7 +275,10 @@ class HapticCursor {
   bool lattice_ = false;  // Hermite with the midpoint stiffness: 8 half-spacing Hermite cells
   std::array<CellCoefficients, 8> half_coef_{};  // their coefficients (bits x y z as corners)
   bool refined_ = false;                         // a refined cell: 64 quarter-spacing Hermite cells
-  std::array<CellCoefficients, 64> quarter_coef_{};         // their coefficients, (4 x + y) 4 + z
+  std::array<CellCoefficients, 64> quarter_coef_{};  // their coefficients, (4 x + y) 4 + z
+  // A refined cell with kTrilinear: the force and the stiffness (row-major) at the 125 points of
+  // its quarter-spacing lattice, 25 i + 5 j + k, interpolated trilinearly on each quarter cell.
+  std::array<std::array<double, 12>, 125> quarter_trilinear_{};
   std::array<std::int32_t, 27> midpoint_code_{};            // Snapshot::midpoint of this cell
   std::array<std::array<double, 6>, 27> midpoint_blend_{};  // Snapshot::midpoint_blend
   std::uint64_t blend_generation_ = 0;  // changes with midpoint_blend_ (copied to a slot then)
@@ -286,6 +289,9 @@ class HapticCursor {
   void fit_cell_lattice(const MidpointTarget* targets);
   std::int32_t refined_cell() const;
   void fit_refined_cell(std::int32_t slot);
+  bool refined_target(const int (&p)[3], const double* data, double* out) const;
+  void fit_refined_trilinear(std::int32_t slot);
+  void trilinear_at(const std::array<double, 3>& s, double* value, double* stiffness) const;
   void find_midpoint_displacements(const MidpointTarget* targets);
   void fit_cell_bubbles(const MidpointTarget* targets);
   void add_bubbles(const double (&m)[3], const double (&dm)[3], const double (&v)[3][2],

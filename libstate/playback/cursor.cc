@@ -24,6 +24,19 @@ constexpr std::uint32_t kFresh = 4;  // triple buffer: the middle slot holds an 
 
 std::array<std::int32_t, 3> corner_offset(int c) { return {(c >> 2) & 1, (c >> 1) & 1, c & 1}; }
 
+// The trilinear scheme's bubble factors at cell position t (add_bubbles): the hat along a
+// bubble's axes, the linear weights across them, and their derivatives per mesh unit.
+void trilinear_bubble_bases(const std::array<double, 3>& t, const double* h, double (&m)[3],
+                            double (&dm)[3], double (&v)[3][2], double (&dv)[3][2]) {
+  for (int a = 0; a < 3; ++a) {
+    const double u = 1.0 - t[a];
+    m[a] = t[a] < 0.5 ? 2.0 * t[a] : 2.0 * u;
+    dm[a] = (t[a] < 0.5 ? 2.0 : -2.0) / h[a];
+    v[a][0] = u, v[a][1] = t[a];
+    dv[a][0] = -1.0 / h[a], dv[a][1] = 1.0 / h[a];
+  }
+}
+
 // Corner c's trilinear weight at cell position t.
 double trilinear_weight(int c, const std::array<double, 3>& t) {
   const auto o = corner_offset(c);
@@ -585,6 +598,10 @@ void HapticCursor::fit_cell() {
     fit_cell_lattice(targets);
   } else {
     fit_cell_bubbles(targets);
+    if (scheme_ == Scheme::kTrilinear) {
+      const std::int32_t slot = refined_cell();
+      if (slot >= 0) fit_refined_trilinear(slot);
+    }
   }
 }
 
@@ -744,12 +761,11 @@ void HapticCursor::fit_cell_lattice(const MidpointTarget* targets) {
 
 // The refined cell (docs/playback.md, "Refined cells") the current cell is, or -1: its lowest
 // corner is a stored configuration the file has refined points for, whose moves lead to the
-// cell's other 7 corners (the points belong to the corners the cell shows), and the cell is not
-// near the contact onset.
+// cell's other 7 corners (the points belong to the corners the cell shows).
 std::int32_t HapticCursor::refined_cell() const {
   const PlaybackFile::Impl& f = file_.impl();
   const std::int32_t c0 = corners_[0].configuration;
-  if (!f.refined_cells || onset_ || c0 < 0) return -1;
+  if (!f.refined_cells || c0 < 0) return -1;
   const std::int32_t slot = f.refined_cells[2 * std::int64_t(c0)];
   if (slot < 0 || slot >= f.num_refined_cells) return -1;
   for (int c = 1; c < 8; ++c) {
@@ -759,6 +775,20 @@ std::int32_t HapticCursor::refined_cell() const {
       return -1;
   }
   return slot;
+}
+
+// What a refined cell's fit aims at quarter-lattice point p, whose solved force and stiffness
+// are `data` (12 values): those, or in a cell near the contact onset those the blend turns into
+// them (onset_target), as for the midpoints. False where the blend allows no fit there
+// (onset_blend_at): the point then keeps the half cells' interpolant.
+bool HapticCursor::refined_target(const int (&p)[3], const double* data, double* out) const {
+  if (!onset_) {
+    std::copy_n(data, 12, out);
+    return true;
+  }
+  const std::array<double, 3> t = {0.25 * p[0], 0.25 * p[1], 0.25 * p[2]};
+  OnsetPoint o;
+  return onset_blend_at(t, &o) && onset_target(t, o, data, data + 3, out, out + 3);
 }
 
 // A refined cell: its 125 quarter-spacing lattice points get a value, a gradient and cross
@@ -800,9 +830,14 @@ void HapticCursor::fit_refined_cell(std::int32_t slot) {
         const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
         exact[i][j][k] = constrained(p, constraints) || (!lattice && !finite(data, 12));
         if (lattice || exact[i][j][k]) continue;
-        for (int r = 0; r < 3; ++r) v[r] += std::clamp(data[r] - v[r], -limit, limit);
+        double target[12];
+        if (!refined_target(p, data, target)) {
+          exact[i][j][k] = true;
+          continue;
+        }
+        for (int r = 0; r < 3; ++r) v[r] += std::clamp(target[r] - v[r], -limit, limit);
         for (int e = 0; e < 9; ++e)
-          g[e] = std::clamp(data[3 + e], -m.stiffness_limit, m.stiffness_limit);
+          g[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
       }
   lattice_cross(m.spacing, &Q);
   for (int i = 0; i < 5; ++i)
@@ -814,6 +849,58 @@ void HapticCursor::fit_refined_cell(std::int32_t slot) {
         for (int r = 0; r < 3; ++r) std::copy_n(c[r], 3, Q.cross[i][j][k][r]);
       }
   sub_cell_coefficients(Q, quarter_coef_.data());
+  refined_ = true;
+}
+
+// The trilinear scheme's force (corners and bubbles) and stiffness (the corners' blended) at cell
+// position s, as force() returns them before the onset blend.
+void HapticCursor::trilinear_at(const std::array<double, 3>& s, double* value,
+                                double* stiffness) const {
+  std::fill_n(value, 3, 0.0);
+  std::fill_n(stiffness, 9, 0.0);
+  for (int c = 0; c < 8; ++c) {
+    const double w = trilinear_weight(c, s);
+    if (w == 0.0) continue;
+    for (int r = 0; r < 3; ++r) value[r] += w * force_of(c)[r];
+    for (int r = 0; r < 9; ++r) stiffness[r] += w * stiffness_of(c)[r];
+  }
+  double m[3], dm[3], v[3][2], dv[3][2];
+  trilinear_bubble_bases(s, file_.impl().meta->spacing, m, dm, v, dv);
+  std::array<double, 3> bubbles{};
+  add_bubbles(m, dm, v, dv, &bubbles, nullptr);
+  for (int r = 0; r < 3; ++r) value[r] += bubbles[r];
+}
+
+// A refined cell with kTrilinear: each point of the quarter-spacing lattice takes the solved
+// force and stiffness (through the onset blend near the onset: refined_target; a value clamped
+// to within the largest bubble limit of the half-spacing interpolant, a stiffness entry to
+// `stiffness_limit`), or where there is none, where the blend allows no fit, at the points of
+// the half-spacing lattice and on a face or an edge shared with a cell that is not refined,
+// the half-spacing trilinear interpolant's value and blended stiffness. That interpolant is
+// trilinear on each half cell, so the quarter cells reproduce it exactly on such a face: the
+// force stays continuous across it.
+void HapticCursor::fit_refined_trilinear(std::int32_t slot) {
+  const PlaybackFile::Impl& f = file_.impl();
+  const playback::Meta& m = *f.meta;
+  const std::int32_t constraints = f.refined_cells[2 * std::int64_t(corners_[0].configuration) + 1];
+  const double* stored = f.refined_points + 12 * playback::kRefinedPoints * std::int64_t(slot);
+  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = 0; k < 5; ++k) {
+        const int p[3] = {i, j, k};
+        std::array<double, 12>& out = quarter_trilinear_[25 * i + 5 * j + k];
+        trilinear_at({0.25 * i, 0.25 * j, 0.25 * k}, out.data(), out.data() + 3);
+        const double* data = stored + 12 * (25 * i + 5 * j + k);
+        const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
+        double target[12];
+        if (lattice || constrained(p, constraints) || !finite(data, 12) ||
+            !refined_target(p, data, target))
+          continue;
+        for (int r = 0; r < 3; ++r) out[r] += std::clamp(target[r] - out[r], -limit, limit);
+        for (int e = 0; e < 9; ++e)
+          out[3 + e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+      }
   refined_ = true;
 }
 
@@ -989,7 +1076,26 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
     }
   }
   if (!fitted_) fit_cell();
-  if (refined_) {
+  if (refined_ && scheme_ == Scheme::kTrilinear) {
+    // The quarter-spacing cell holding the probe: its 8 lattice points' force and stiffness
+    // interpolated trilinearly (docs/playback.md, "Refined cells").
+    value = {};
+    k_blend = {};
+    int q[3];
+    double w[3][2];
+    for (int a = 0; a < 3; ++a) {
+      q[a] = std::min(static_cast<int>(4.0 * s[a]), 3);
+      const double t = std::min(4.0 * s[a] - q[a], 1.0);
+      w[a][0] = 1.0 - t, w[a][1] = t;
+    }
+    for (int c = 0; c < 8; ++c) {
+      const auto o = corner_offset(c);
+      const double wc = w[0][o[0]] * w[1][o[1]] * w[2][o[2]];
+      const auto& d = quarter_trilinear_[25 * (q[0] + o[0]) + 5 * (q[1] + o[1]) + q[2] + o[2]];
+      for (int r = 0; r < 3; ++r) value[r] += wc * d[r];
+      for (int r = 0; r < 9; ++r) k_blend[r] += wc * d[3 + r];
+    }
+  } else if (refined_) {
     // The quarter-spacing cell holding the probe (docs/playback.md, "Refined cells").
     int sub = 0;
     std::array<double, 3> t{};
@@ -1018,22 +1124,19 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
   } else if (scheme_ == Scheme::kHermite) {
     hermite_contract(coef_, B, dB, &value, &slope);
   }
-  if (num_bubbles_ > 0) {
+  if (num_bubbles_ > 0 && !refined_) {
     // Along its axes a bubble is 16 t^2 (1 - t)^2 (Hermite) or the hat 1 - |2 t - 1|
     // (trilinear); across them the scheme's value basis of its side.
     double mb[3], dmb[3], v[3][2], dv[3][2];
-    for (int a = 0; a < 3; ++a) {
-      const double t = s[a], u = 1.0 - t, h = m.spacing[a];
-      if (scheme_ == Scheme::kHermite) {
+    if (scheme_ == Scheme::kTrilinear) {
+      trilinear_bubble_bases(s, m.spacing, mb, dmb, v, dv);
+    } else {
+      for (int a = 0; a < 3; ++a) {
+        const double t = s[a], u = 1.0 - t;
         mb[a] = 16.0 * t * t * u * u;
-        dmb[a] = 32.0 * t * u * (u - t) / h;
+        dmb[a] = 32.0 * t * u * (u - t) / m.spacing[a];
         v[a][0] = B[a][0], v[a][1] = B[a][2];
         dv[a][0] = dB[a][0], dv[a][1] = dB[a][2];
-      } else {
-        mb[a] = t < 0.5 ? 2.0 * t : 2.0 * u;
-        dmb[a] = (t < 0.5 ? 2.0 : -2.0) / h;
-        v[a][0] = u, v[a][1] = t;
-        dv[a][0] = -1.0 / h, dv[a][1] = 1.0 / h;
       }
     }
     add_bubbles(mb, dmb, v, dv, &value,

@@ -172,8 +172,6 @@ class Refiner {
     return out;
   }
 
-  bool grab() const { return ctx_.scene.probe.mode == ProbeMode::kGrab; }
-
  private:
   const Transition* transition(ConfigId source, const std::array<int, 3>& o) const {
     const auto it = transitions_.find({source, Direction::from_offset(o[0], o[1], o[2]).index()});
@@ -232,12 +230,6 @@ RefineReport run_refine(const RefineOptions& options) {
                 options.threads);
   StageRun run = make_stage_run("refine", inputs, parameters);
   Refiner refiner(ctx, options.threads);
-  if (!refiner.grab()) {
-    report.outcome = StageOutcome::kUnchanged;
-    report.message = "nothing to do: cells are refined with the grab probe only";
-    record_unchanged(cat, run, report.message);
-    return report;
-  }
   const std::set<ConfigId> done = cat.refined_cells();
   std::vector<Cell> pending;
   for (const Cell& cell : refiner.cells()) {

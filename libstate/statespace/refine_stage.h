@@ -40,13 +40,14 @@ struct RefineReport {
   std::string message;
 };
 
-// Finds the cells (8 stored corners joined by the moves of the lowest one, the grab probe) whose
+// Finds the cells (8 stored corners joined by the moves of the lowest one; either probe) whose
 // estimated error (refine_indicator.h, the largest over the cell's 19 recorded moves) exceeds the
 // tolerance times the largest force at the cell's corners and midpoints, and solves the 98 new
 // points of each that has none yet, one cell per catalogue transaction, so a run killed or stopped
 // (stop_requested) resumes with the next cell. Each point is solved from the nearest corner's
 // stored state. Records a "refine" stage run; "unchanged" when no flagged cell is left.
-// A contact probe's cells are not refined (the stage records "unchanged" and says so).
+// With a contact probe each point is a contact solve from that corner, as the expansion's moves
+// are (the cells clear of the body have no force and are never flagged).
 // Throws InputError if the directory is not expanded.
 RefineReport run_refine(const RefineOptions& options);
 

@@ -215,6 +215,40 @@ TEST_F(ContactOnset, MidpointForcesKeepTheOnsetExact) {
     }
 }
 
+// Refined cells near the onset (docs/playback.md, "Refined cells"): every cell of the plane's
+// grid refined, the cut cells included, with both schemes. A quarter-lattice point's solved force
+// is fitted to what the onset blend returns, as a midpoint's is, and where the blend allows no fit
+// (clear of the plane, or too close to the onset) the point keeps the half cells' interpolant: the
+// plane stays exact in every cell, and exactly 0 where it is clear. Fitted to the interpolated
+// force directly, the zeros at clear points would bend it.
+TEST_F(ContactOnset, RefinedCellsKeepTheOnsetExact) {
+  const Plane plane;
+  const double f_max = plane.k * 2.0 * plane.d.norm();
+  playback::Content content = plane_content(plane, false);
+  test_util::add_midpoint_forces(&content, plane, true);
+  std::vector<std::array<int, 3>> every_cell;
+  for (int i = -2; i < 2; ++i)
+    for (int j = -2; j < 2; ++j)
+      for (int k = -2; k < 2; ++k) every_cell.push_back({i, j, k});
+  test_util::add_refined_cells(&content, plane, every_cell);
+  ASSERT_EQ(content.refined_points.size(), 64u * 12 * playback::kRefinedPoints);
+  PlaybackFile file(write(std::move(content), "refined.bin"));
+  file.verify();
+  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+    SCOPED_TRACE(scheme == Scheme::kHermite ? "hermite" : "trilinear");
+    const Errors e = walk(file, plane, scheme);
+    std::printf("onset with refined cells (%s): force %.3g, clear %.3g, stiffness %.3g N/-\n",
+                scheme == Scheme::kHermite ? "hermite" : "trilinear", e.force, e.clear_force,
+                e.stiffness);
+    EXPECT_GT(e.cut_cells, 50);
+    EXPECT_EQ(e.clear_force, 0.0);
+    EXPECT_LE(e.force, 1e-12 * f_max);
+    if (scheme == Scheme::kHermite) {
+      EXPECT_LE(e.stiffness, 1e-10 * plane.k);
+    }
+  }
+}
+
 // The plane's file with its force, stiffness and displacements half-way through the moves.
 playback::Content plane_midpoint_content(const Plane& plane) {
   playback::Content content = plane_content(plane, false);

@@ -505,7 +505,9 @@ TEST_F(Cursor, MidpointStiffnessIsMoreAccurateThanTheHalfSpacingGrid) {
 // order of magnitude closer to the field in those cells than without them (the quarter cells'
 // h^4), stays continuous across every face (between the two refined cells, and where a refined
 // cell borders one that is not: there the half cells' interpolant is reproduced), and its
-// stiffness is the derivative of the force inside.
+// stiffness is the derivative of the force inside. The trilinear scheme interpolates the same
+// points trilinearly on the quarter cells: exact at them, closer to the field (h^2) and
+// continuous too.
 TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
   const Field field;
   const Eigen::Vector3d h(0.5, 0.4, 0.6);
@@ -521,25 +523,35 @@ TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
   PlaybackFile with(write(std::move(refined), "refined.bin"));
   with.verify();
   PlaybackFile without(write(std::move(plain), "plain.bin"));
-  HapticCursor cursor(with, Scheme::kHermite);
+  HapticCursor cursor(with, Scheme::kHermite), trilinear(with, Scheme::kTrilinear);
   auto at = [&](double x, double y, double z) {
     return Eigen::Vector3d(field.origin[0] + x * h[0], field.origin[1] + y * h[1],
                            field.origin[2] + z * h[2]);
   };
   // Exact at the points inside the refined pair (its outer faces take the half cells').
-  double worst_point = 0;
+  double worst_point = 0, worst_trilinear_point = 0, worst_trilinear_k = 0;
   for (int i = 1; i < 8; ++i)
     for (int j = 1; j < 4; ++j)
       for (int k = 1; k < 4; ++k) {
         const Eigen::Vector3d p = at(-1.0 + 0.25 * i, 0.25 * j, 0.25 * k);
         worst_point =
             std::max(worst_point, (vec(cursor.force(arr(p)).value) - field.force(p)).norm());
+        const Force t = trilinear.force(arr(p));
+        worst_trilinear_point =
+            std::max(worst_trilinear_point, (vec(t.value) - field.force(p)).norm());
+        // The stiffness: the solved one at a refined point (at the half-spacing lattice's, the
+        // corners' blended, as without refinement).
+        if (i % 2 || j % 2 || k % 2)
+          worst_trilinear_k =
+              std::max(worst_trilinear_k, (mat(t.stiffness) - field.jacobian(p)).norm());
       }
   EXPECT_LT(worst_point, 1e-12);
+  EXPECT_LT(worst_trilinear_point, 1e-12);
+  EXPECT_LT(worst_trilinear_k, 1e-12);
   // Accuracy inside the pair, with and without the refinement (away from the faces shared with
   // cells that are not refined, where the half cells' interpolant is kept).
-  auto error = [&](const PlaybackFile& file) {
-    HapticCursor c(file, Scheme::kHermite);
+  auto error = [&](const PlaybackFile& file, Scheme scheme) {
+    HapticCursor c(file, scheme);
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> u(0.25, 0.75);
     double worst = 0;
@@ -549,10 +561,16 @@ TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
     }
     return worst;
   };
-  const double refined_error = error(with), plain_error = error(without);
+  const double refined_error = error(with, Scheme::kHermite),
+               plain_error = error(without, Scheme::kHermite);
   std::printf("[ info ] Hermite force error in the refined cells %.3g N, without them %.3g N\n",
               refined_error, plain_error);
   EXPECT_LT(refined_error, 0.2 * plain_error);
+  const double refined_trilinear = error(with, Scheme::kTrilinear),
+               plain_trilinear = error(without, Scheme::kTrilinear);
+  std::printf("[ info ] trilinear force error in the refined cells %.3g N, without them %.3g N\n",
+              refined_trilinear, plain_trilinear);
+  EXPECT_LT(refined_trilinear, 0.4 * plain_trilinear);
   // Continuity across faces of cells, half cells and quarter cells around the pair, and around
   // an L of three refined cells whose fourth cell on their shared edge is not refined (the edge
   // is constrained, the faces between the three are not), where two points of a shared face
@@ -577,6 +595,7 @@ TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
     return jump;
   };
   EXPECT_LT(max_jump(cursor), 1e-7);
+  EXPECT_LT(max_jump(trilinear), 1e-7);
   // Its refined points from a perturbed field, so that a refined point used where the half
   // cells' interpolant belongs (a constraint missed) shows as a jump of about 1e-3 N.
   struct Perturbed {
@@ -601,6 +620,11 @@ TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
   const double l_jump = max_jump(l_cursor);
   std::printf("[ info ] largest jump across a face, L of refined cells: %.3g N\n", l_jump);
   EXPECT_LT(l_jump, 1e-7);  // without the diagonal edge's constraint: 4.3e-7
+  HapticCursor l_trilinear(l_file, Scheme::kTrilinear);
+  const double l_trilinear_jump = max_jump(l_trilinear);
+  std::printf("[ info ] largest jump across a face, L of refined cells, trilinear: %.3g N\n",
+              l_trilinear_jump);
+  EXPECT_LT(l_trilinear_jump, 1e-7);
   // The stiffness inside a refined cell: central differences of the force.
   double worst_k = 0, scale = 0;
   for (int n = 0; n < 20; ++n) {

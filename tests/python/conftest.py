@@ -18,7 +18,7 @@ TOOLS = BUILD / "tools"
 sys.path.insert(0, str(SOURCE / "tests/blobs"))  # h5py_vectors: an independent blob reader
 os.environ.setdefault("HDF5_PLUGIN_PATH", str(BUILD / "plugins"))  # our zstd filter, for h5py
 SCENES = {"grab": SOURCE / "pipelines/beam/scene.toml",
-          "contact": SOURCE / "tests/python/beam_contact.toml"}
+          "contact": SOURCE / "tests/scenes/beam_contact.toml"}
 
 
 class EvalPath:
