@@ -157,9 +157,9 @@ std::string seeds_table(const std::vector<EvalResult>& runs, std::uint64_t first
     const double d50 = quantile(&deformation, 0.5), d90 = quantile(&deformation, 0.9);
     std::snprintf(line, sizeof line, "%-10s %11s %11s %10s (%llu)    %11s %11s %10s (%llu)\n",
                   scheme_name(runs.front().schemes[s]), percent(f50).c_str(), percent(f90).c_str(),
-                  percent(fw).c_str(), static_cast<unsigned long long>(first_seed + worst_force),
+                  percent(fw).c_str(), static_cast<unsigned long long>(first_seed) + worst_force,
                   percent(d50).c_str(), percent(d90).c_str(), percent(dw).c_str(),
-                  static_cast<unsigned long long>(first_seed + worst_deformation));
+                  static_cast<unsigned long long>(first_seed) + worst_deformation);
     t << line;
     std::snprintf(line, sizeof line,
                   "  %s: %d of %zu paths outside the paper's bounds (force 4 %%, deformation "

@@ -203,7 +203,8 @@ class PyCatalogue {
   const std::filesystem::path& root() const { return dir_.root; }
 
  private:
-  static py::array_t<double> shaped(const std::vector<double>& v, std::vector<py::ssize_t> shape) {
+  static py::array_t<double> shaped(const std::vector<double>& v,
+                                    const std::vector<py::ssize_t>& shape) {
     py::array_t<double> out(shape);
     std::copy(v.begin(), v.end(), out.mutable_data());
     return out;
