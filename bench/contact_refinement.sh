@@ -7,8 +7,10 @@
 # experiment (hapstate-eval, seeds 1-6 of 30 steps). Prints one line per variant; the per-path
 # numbers stay in DIR/<variant>/.
 #   bash bench/contact_refinement.sh DIR [BUILD_DIR]     # about 15 min on 2 cores
-# A variant is "radius spacing half-width": the workspace is the cube of that half-width around
-# the rest centre (the sphere moved along the surface normal to keep 0.22 cm of clearance).
+#   VARIANTS="2.5 0.5 1.0 0.25" bash bench/contact_refinement.sh DIR   # one variant, 2 min
+# A variant is "radius spacing half-width step": the workspace is the cube of that half-width
+# around the rest centre (the sphere moved along the surface normal to keep 0.22 cm of
+# clearance), and hapstate-eval's steps are that long (the same paths for the same box).
 set -euo pipefail
 out=${1:?usage: contact_refinement.sh DIR [BUILD_DIR]}
 build=$(cd "${2:-build}" && pwd)
@@ -16,13 +18,13 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 bash "$here/scripts/install-deps.sh" sqlite3 >/dev/null  # the sqlite3 command line
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
-variants=${VARIANTS:-"2.5 0.5 1.0|2.5 0.25 1.0|1.25 0.5 1.0|1.25 0.25 1.0|0.3 0.1 0.2"}
+variants=${VARIANTS:-"2.5 0.5 1.0 0.25|2.5 0.25 1.0 0.25|1.25 0.5 1.0 0.25|0.3 0.1 0.2 0.05"}
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
-printf '%-20s %9s %9s %8s %8s  %-27s %-27s\n' variant run_s refine_s file_MiB refined \
-  "hermite median/max (plain)" "trilinear median/max (plain)"
+printf '%-12s %7s %8s %8s %7s %17s  %-25s %-25s\n' variant run_s expand_s refine_s refined \
+  "file MiB (plain)" "hermite med/max (plain)" "trilinear med/max (plain)"
 IFS='|' read -ra list <<<"$variants"
 for v in "${list[@]}"; do
-  read -r radius spacing half <<<"$v"
+  read -r radius spacing half step <<<"$v"
   name="r${radius}_h${spacing}"
   dir="$out/$name"
   rm -rf "$dir" && mkdir -p "$dir"
@@ -47,19 +49,24 @@ PY
   "$build/tools/hapstate" run "$dir/scene.toml" --state "$dir/state" --threads 2 --no-certify -q \
     > "$dir/run.log" 2>&1
   run_s=$((SECONDS - start))
-  refine_s=$(sqlite3 "$dir/state/catalogue.sqlite" \
-    "select printf('%.1f', (ended_ms - started_ms) / 1000.0) from stage_run where stage = 'refine' order by id desc limit 1")
+  stage_s() {
+    sqlite3 "$dir/state/catalogue.sqlite" "select printf('%.1f', (ended_ms - started_ms) / 1000.0)
+      from stage_run where stage = '$1' order by id desc limit 1"
+  }
+  expand_s=$(stage_s expand)
+  refine_s=$(stage_s refine)
   cells=$(sqlite3 "$dir/state/catalogue.sqlite" "select count(distinct cell) from refinement")
   cp "$dir/state/playback.bin" "$dir/refined.bin"
-  size=$(du -m "$dir/refined.bin" | cut -f1)
   cp -a "$dir/state" "$dir/plain_state"
   sqlite3 "$dir/plain_state/catalogue.sqlite" "delete from refinement"
   "$build/stages/hapstate-index" --state "$dir/plain_state" > /dev/null 2>&1
   cp "$dir/plain_state/playback.bin" "$dir/plain.bin"
+  size=$(/usr/bin/python3 -c "import os, sys; print('%.1f (%.1f)' % tuple(os.path.getsize(f) / 2**20 for f in sys.argv[1:]))" \
+    "$dir/refined.bin" "$dir/plain.bin")
   rm -rf "$dir/plain_state"
   for file in refined plain; do
     "$build/tools/hapstate-eval" --state "$dir/state" --playback "$dir/$file.bin" --steps 30 \
-      --seeds 6 --csv "$dir/eval_$file.csv" > "$dir/eval_$file.log" 2>&1
+      --seeds 6 --step-length "$step" --csv "$dir/eval_$file.csv" > "$dir/eval_$file.log" 2>&1
   done
   summary=$(/usr/bin/python3 - "$dir" <<'PY'
 import csv, statistics, sys
@@ -69,9 +76,10 @@ def stats(file, column):
 d = sys.argv[1]
 out = []
 for col in ("hermite_force_error_max", "trilinear_force_error_max"):
-    out.append("%-9s (%s)" % (stats(d + "/eval_refined.csv", col), stats(d + "/eval_plain.csv", col)))
-print("  ".join("%-27s" % o for o in out))
+    out.append("%s (%s)" % (stats(d + "/eval_refined.csv", col), stats(d + "/eval_plain.csv", col)))
+print("  ".join("%-25s" % o for o in out))
 PY
 )
-  printf '%-20s %9.0f %9s %8s %8s  %s\n' "$name" "$run_s" "$refine_s" "$size" "$cells" "$summary"
+  printf '%-12s %7s %8s %8s %7s %17s  %s\n' "$name" "$run_s" "$expand_s" "$refine_s" "$cells" \
+    "$size" "$summary"
 done

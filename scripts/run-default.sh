@@ -59,7 +59,9 @@ section "6. Contact: a frictionless sphere on the paper's clamped plate (pipelin
    workspace on both sides of it. Where the sphere can reach the plate from below and from
    above, a check-point keeps two levels (pushed up or pushed down): genuine history. The
    expansion is the longest part of this job (882 nodes: every contact move is a non-linear
-   solve with the sphere's gaps closed to 1e-6 of its radius); its progress line estimates it."
+   solve with the sphere's gaps closed to 1e-6 of its radius); its progress line estimates it.
+   Then the refine stage solves the quarter-spacing points of every cell the sphere touches
+   (the contact force has kinks finer than the grid: docs/contact.md, \"Refined contact cells\")."
 plate_start=$(date +%s)
 "$build_dir"/tools/hapstate run pipelines/plate/scene.toml --threads "$threads"
 echo "plate precomputation: $(( $(date +%s) - plate_start )) s"
@@ -76,7 +78,8 @@ echo "(the plate and its clamping are symmetric about the mid-plane, the two pat
 echo " and so are the stored states, to 1e-6 N; the errors differ in the last two steps, past the"
 echo " mid-plane: a cell's force half-way along its moves is stored from its lower corner, and from"
 echo " above that corner is the level pushed to 0.52 N, beyond probe.max_force = 0.5 N, which is never"
-echo " expanded: that cell is interpolated from its corners alone. docs/contact.md, \"Symmetry\".)"
+echo " expanded: that cell is interpolated from its corners alone and is not refined. docs/contact.md,"
+echo " \"Symmetry\".)"
 echo
 echo "-- a random 3-D path pulled toward the plate: pressing, sliding over it, backing off."
 "$build_dir"/tools/hapstate-eval --state pipelines/plate/state --steps 20 --seed 1 \

@@ -33,6 +33,7 @@ struct RunOptions {
   int threads = 1;
   std::optional<double> max_seconds;
   bool fresh = false;
+  bool no_refine = false;
   bool no_compact = false;
   bool no_certify = false;
   ViewNodes view = ViewNodes::kAll;
@@ -72,13 +73,15 @@ int run_pipeline(const RunOptions& o) {
     return kExitOk;
   }
   if (stop_requested()) return stopped();
-  RefineOptions refine;
-  refine.state = state;
-  refine.threads = o.threads;
-  refine.progress = o.quiet ? nullptr : stderr;
-  const RefineReport refined = run_refine(refine);
-  std::printf("  refine:  %s\n", refined.message.c_str());
-  if (refined.stopped_by_signal) return stopped();
+  if (!o.no_refine) {
+    RefineOptions refine;
+    refine.state = state;
+    refine.threads = o.threads;
+    refine.progress = o.quiet ? nullptr : stderr;
+    const RefineReport refined = run_refine(refine);
+    std::printf("  refine:  %s\n", refined.message.c_str());
+    if (refined.stopped_by_signal) return stopped();
+  }
   if (stop_requested()) return stopped();
   if (!o.no_compact) {
     std::printf("  compact: %s\n", compact_state(state, CompactOptions{}).headline().c_str());
@@ -134,6 +137,9 @@ int main(int argc, char** argv) {
                   "default: no limit)")
       ->check(positive());
   run->add_flag("--fresh", o.fresh, "start the state directory anew (after validating the scene)");
+  run->add_flag("--no-refine", o.no_refine,
+                "skip the refine stage (faster; cells an earlier run refined are still played "
+                "back refined; a contact scene refines every touched cell: docs/contact.md)");
   run->add_flag("--no-compact", o.no_compact, "skip the compaction stage");
   run->add_flag("--no-certify", o.no_certify,
                 "skip the certificate (hapstate-certify: the accuracy experiment on the scene's "
