@@ -24,6 +24,9 @@ grep -q "expand:  nothing to do" <<<"$second" || fail "second expand did somethi
 grep -q "compact: nothing to do" <<<"$second" || fail "second compact did something"
 grep -q "index:   unchanged" <<<"$second" || fail "second index did something"
 grep -q "certify: unchanged" <<<"$second" || fail "second certify did something"
+third=$("$build/tools/hapstate" run "$source/pipelines/beam/scene.toml" --state "$state" -q --no-refine)
+! grep -q "refine:" <<<"$third" || fail "--no-refine ran the refine stage"
+grep -q "index:   unchanged" <<<"$third" || fail "--no-refine changed the index"
 
 made=$(make -s -C "$source/pipelines/beam" BUILD="$build" STATE="$state" 2>&1)
 echo "$made"
