@@ -6,6 +6,7 @@
 #include "catalogue/catalogue.h"
 #include "eval/evaluation.h"
 #include "hapstate/playback.h"
+#include "refined_points.h"
 #include "state_suite.h"
 
 #include <gtest/gtest.h>
@@ -60,30 +61,21 @@ TEST_F(RefineContact, PlaybackPassesThroughTheRefinedPointsInContact) {
   PlaybackFile file(*state_ / "playback.bin");
   file.verify();
   Catalogue cat(*state_ / "catalogue.sqlite", OpenMode::kReadOnly);
-  std::map<std::int64_t, Checkpoint> checkpoint_of;
-  for (const Configuration& c : cat.read_all_configurations())
-    checkpoint_of.emplace(c.id.value(), cat.read_checkpoint(c.checkpoint));
-  const auto h = file.grid_spacing(), rest = file.rest_position();
   HapticCursor cursor(file, Scheme::kHermite);
   const std::vector<RefinementPoint> rows = cat.read_all_refinement_points();
+  const std::vector<std::array<double, 3>> at = refined_point_positions(cat, file, rows);
   double scale = 0;
   for (const RefinementPoint& r : rows)
     scale = std::max(scale, std::hypot(r.force[0], r.force[1], r.force[2]));
   ASSERT_GT(scale, 0);
   int touching = 0, exact = 0;
   double worst = 0;
-  for (const RefinementPoint& r : rows) {
+  for (std::size_t n = 0; n < rows.size(); ++n) {
+    const RefinementPoint& r = rows[n];
     const int q[3] = {r.point / 25, r.point / 5 % 5, r.point % 5};
     if (!(q[0] % 4 && q[1] % 4 && q[2] % 4)) continue;  // on a face: the neighbour's solve too
     if (std::hypot(r.force[0], r.force[1], r.force[2]) < 1e-3 * scale) continue;
-    const Checkpoint& cp = checkpoint_of.at(r.cell.value());
-    std::array<double, 3> p{};
-    for (int a = 0; a < 3; ++a) p[a] = cp.position[a] + 0.25 * q[a] * h[a];
-    cursor.reset();
-    for (int s = 1; s <= 10; ++s)
-      cursor.force({rest[0] + (p[0] - rest[0]) * s / 10, rest[1] + (p[1] - rest[1]) * s / 10,
-                    rest[2] + (p[2] - rest[2]) * s / 10});
-    const Force f = cursor.force(p);
+    const Force f = force_walked_from_rest(cursor, file, at[n]);
     double error = 0;
     for (int k = 0; k < 3; ++k) error = std::max(error, std::abs(f.value[k] - r.force[k]));
     ++touching;

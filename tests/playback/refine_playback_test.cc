@@ -4,6 +4,7 @@
 #include "catalogue/catalogue.h"
 #include "eval/evaluation.h"
 #include "hapstate/playback.h"
+#include "refined_points.h"
 #include "state_suite.h"
 
 #include <gtest/gtest.h>
@@ -61,25 +62,15 @@ TEST_F(RefinePlayback, PlaybackPassesThroughTheRefinedPoints) {
   PlaybackFile file(*state_ / "playback.bin");
   file.verify();
   Catalogue cat(*state_ / "catalogue.sqlite", OpenMode::kReadOnly);
-  std::map<std::int64_t, Checkpoint> checkpoint_of;
-  for (const Configuration& c : cat.read_all_configurations())
-    checkpoint_of.emplace(c.id.value(), cat.read_checkpoint(c.checkpoint));
-  const auto h = file.grid_spacing(), rest = file.rest_position();
   HapticCursor cursor(file, Scheme::kHermite);
   double worst_inside = 0, worst_face = 0, scale = 0;
   int checked = 0;
   const std::vector<RefinementPoint> rows = cat.read_all_refinement_points();
+  const std::vector<std::array<double, 3>> at = refined_point_positions(cat, file, rows);
   for (std::size_t n = 0; n < rows.size(); n += 5) {
     const RefinementPoint& r = rows[n];
-    const Checkpoint& cp = checkpoint_of.at(r.cell.value());
     const int q[3] = {r.point / 25, r.point / 5 % 5, r.point % 5};
-    std::array<double, 3> p{};
-    for (int a = 0; a < 3; ++a) p[a] = cp.position[a] + 0.25 * q[a] * h[a];
-    cursor.reset();
-    for (int s = 1; s <= 10; ++s)
-      cursor.force({rest[0] + (p[0] - rest[0]) * s / 10, rest[1] + (p[1] - rest[1]) * s / 10,
-                    rest[2] + (p[2] - rest[2]) * s / 10});
-    const Force f = cursor.force(p);
+    const Force f = force_walked_from_rest(cursor, file, at[n]);
     const bool inside = q[0] % 4 && q[1] % 4 && q[2] % 4;
     double& worst = inside ? worst_inside : worst_face;
     for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(f.value[k] - r.force[k]));
