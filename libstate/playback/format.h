@@ -1,5 +1,5 @@
 // The playback file's layout on disk (docs/playback.md): little-endian, a 64-byte header,
-// a table of sections, every section's data 64-byte aligned. Version 9 (kVersion).
+// a table of sections, every section's data 64-byte aligned. Version 10 (kVersion).
 //
 //   header | section table | section data ...
 //
