@@ -1064,7 +1064,9 @@ Force HapticCursor::force(const std::array<double, 3>& probe) {
   // Trilinear (and outside the grid, either scheme): the corners' stiffness blended, and with
   // kTrilinear their forces.
   const bool blended = scheme_ == Scheme::kTrilinear || !out.inside_grid;
-  if (blended) {
+  // A fitted refined trilinear cell replaces both below with its quarter lattice's.
+  const bool quarter_trilinear = fitted_ && refined_ && scheme_ == Scheme::kTrilinear;
+  if (blended && !quarter_trilinear) {
     for (int c = 0; c < 8; ++c) {
       const auto o = corner_offset(c);
       const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
