@@ -1,7 +1,7 @@
-// Stored bytes per configuration against the vectors' own size (docs/benchmarks.md, "Storage"):
-// for a state directory, the blob segments' bytes on disk per configuration beside the raw
-// bytes of its vectors (in their stored types) and those bytes compressed by zstd alone, one
-// configuration at a time, at the level the segments use (what a perfect container would
+// Stored bytes per configuration against the vectors' own size (docs/benchmarks.md, "Stored bytes
+// per configuration"): for a state directory, the blob segments' bytes on disk per configuration
+// beside the raw bytes of its vectors (in their stored types) and those bytes compressed by zstd
+// alone, one configuration at a time, at the level the segments use (what a perfect container would
 // take). A transition's midpoint vectors (groups m<source>_<direction>) count with the
 // configurations: per configuration is per configuration group, midpoints included. Usage:
 // storage_bench STATE_DIR

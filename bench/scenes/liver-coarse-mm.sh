@@ -1,6 +1,6 @@
 #!/bin/sh
-# A grab scene in other units, law and mesh than the bundled ones (docs/benchmarks.md, issue 14's
-# "Where it stands"): data/meshes/liverCoarse.vtu (centimetres) scaled to millimetres, a
+# A grab scene in other units, law and mesh than the bundled ones (docs/benchmarks.md, "Grab probe:
+# where it stands"): data/meshes/liverCoarse.vtu (centimetres) scaled to millimetres, a
 # Mooney-Rivlin liver, a node under the left lobe grabbed, a 7 x 7 x 7 workspace at 5 mm.
 # Writes DIR/liverCoarse_mm.vtu and DIR/scene.toml (add `radius = 8.0` under [probe] for a patch).
 # Usage: sh bench/scenes/liver-coarse-mm.sh DIR && build/tools/hapstate run DIR/scene.toml --state DIR/state --nodes all

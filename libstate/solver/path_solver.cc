@@ -24,12 +24,9 @@ double seconds_since(Clock::time_point start) {
 constexpr double kIntermediateRelTol = 1e-2;
 // Inexact Newton (SolverAlgorithm::kFast): conjugate gradients preconditioned by a kept
 // factorisation solve each Newton system to this relative residual, in at most this many
-// iterations, else the tangent is factorised afresh. Measured on the liver's complete expansion
-// (2 threads; wall s, factorisations and CG iterations per solved transition): tolerance 1e-2 /
-// 1e-3 / 1e-4 with 25 iterations 27.5 / 27.5 / 29.2 s; 8 / 15 / 50 iterations with 1e-2
-// 27.2 s, 1.38, 29.7 / 26.0 s, 0.60, 45.5 / 27.3 s, 0.42, 54.4; liverSemiFine's first 256
-// transitions 15 / 50 iterations: 17.5 / 18.4 transitions/s (full Newton: 4.6). 40, between the
-// two best, keeps the factorisations low on the larger meshes, where one costs most.
+// iterations, else the tangent is factorised afresh. 40, between the two best measured, keeps
+// the factorisations low on the larger meshes, where one costs most (the measurements behind
+// this and the other constants here: docs/benchmarks.md, "The solver's constants").
 constexpr double kInexactTolerance = 1e-2;
 constexpr int kMaxInnerIterations = 40;
 // Newton goes on past SolverOptions::max_iterations while it still converges steadily: the
@@ -38,9 +35,8 @@ constexpr int kMaxInnerIterations = 40;
 // only linearly for a while (an ill-conditioned tangent, CG to 1e-2 with a kept preconditioner,
 // PSD-projected tangents where it is indefinite) and need 35-90 iterations; cutting the
 // sub-step back does not help when it is the move's last (it must reach the full tolerance
-// whatever its size). Measured with hapstate-stress (docs/benchmarks.md): 9 cases that failed
-// with max_iterations in one move but converged in moves of a quarter grid spacing now converge
-// as asked. A solve that stalls or diverges still fails at max_iterations.
+// whatever its size); measured with hapstate-stress (docs/benchmarks.md, "Numerical stress
+// suite"). A solve that stalls or diverges still fails at max_iterations.
 constexpr int kProgressWindow = 10;
 constexpr double kProgressFactor = 0.5;
 constexpr int kMaxIterationFactor = 4;
@@ -48,24 +44,18 @@ constexpr int kMaxIterationFactor = 4;
 // contact solve that sits just outside a triangle's contact has a tangent without that
 // triangle's penalty; a step along its direction meets the penalty at once, and only a step of
 // 10^-4 to 10^-5 of the Newton step decreases the energy (after which the triangle is in the
-// tangent and Newton proceeds). 12 halvings made such a sub-step fail and be cut back: on
-// pipelines/liver-contact's random walk (hapstate-solve --random 1000 --seed 3) 456 failed
-// sub-steps, 0.94 cut-backs and 41.8 ms per contact step; with 20, no failed sub-step, no
-// cut-back and 25.3 ms (with the Newton step bound of the contact boundary).
+// tangent and Newton proceeds). 12 halvings made such a sub-step fail and be cut back; 20 do not
+// (docs/benchmarks.md, "The solver's constants").
 // Inexact Newton with a probe that has its own energy (frictionless contact): while the iterate
 // has moved less than this fraction of the boundary's longest node step since the last
 // assembly (summed over the accepted steps), a Newton iteration keeps that assembly's elastic
 // tangent and adds the probe's tangent at the iterate; the contact term changes abruptly (a
-// triangle enters or leaves), the elastic one hardly. Measured on pipelines/liver-contact's
-// random walk (hapstate-solve --random 1000 --seed 3, 486 steps in contact): assemblies 6 709 /
-// 4 823 / 4 189 / 3 607 / 2 980 / 2 384 and linear solves per contact step 12.8 / 12.7 / 12.6 /
-// 12.8 / 13.2 / 15.7 with a fresh assembly every iteration / 3e-3 / 1e-2 / 3e-2 / 0.1 / 1.
+// triangle enters or leaves), the elastic one hardly (the values tried: docs/benchmarks.md,
+// "The solver's constants").
 constexpr double kElasticDrift = 1e-2;
 // The conjugate gradients' preconditioner solves with the factor rounded to float
-// (SparseCholesky::solve_single): half the bytes per iteration, a few more iterations.
-// liverFine's first 64 transitions on 2 threads (docs/benchmarks.md, "Scaling the expansion"):
-// 30.4 / 30.8 s against 35.4 / 35.0 s in double precision; 71.5 against 70.0 conjugate-gradient
-// iterations per solved transition; the solves' time 18.2 against 26.8 s.
+// (SparseCholesky::solve_single): half the bytes per iteration, a few more iterations; faster
+// on liverFine (docs/benchmarks.md, "The solver's constants").
 constexpr bool kSinglePrecisionPreconditioner = true;
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxLineSearch = 20;
@@ -436,8 +426,7 @@ bool PathSolver::newton(double rel_tol, MoveResult* result, bool have_factor) {
         if (cg == CgOutcome::kNegativeCurvature) {
           // An indefinite tangent: CG with the probe's curvature projected away, then (still
           // indefinite) with the PSD-projected tangent (what full Newton would factorise).
-          // Measured on pipelines/liver-contact's random walk (hapstate-solve --random 1000
-          // --seed 3): 44 of 45 indefinite tangents need only the probe's projection.
+          // Most need only the first (docs/benchmarks.md, "The solver's constants").
           ++timings_.psd_fallbacks;
           if (probe_tangent_on_elastic(u_, /*psd_only=*/true)) {
             constrain_values();
@@ -581,8 +570,7 @@ PathSolver::StartFactor& PathSolver::start_factor_to_fill(const Eigen::Vector3d&
 // state (bitwise) reuses them without assembling or factorising. Two are kept, the least
 // recently used replaced: a direction that records a midpoint starts its second half there, and
 // with one slot that start evicted the source's factor, which the source's next direction then
-// factorised again (liverSemiFine's first 218 transitions: 0.27 start factorisations per solved
-// transition with one slot, the source's 1/26 = 0.04 with two; docs/benchmarks.md).
+// factorised again (measured: docs/benchmarks.md, "The solver's constants").
 bool PathSolver::predictor_factor(const Eigen::Vector3d& t_from, const Eigen::VectorXd& dt,
                                   bool move_start, Eigen::VectorXd* k_dt, MoveResult* result) {
   const bool keep = inexact_newton() && move_start;

@@ -122,7 +122,7 @@ SourceLoader blob_source_loader(const BlobStore& blobs, std::vector<double> rest
 // The transitions and stiffnesses on N threads of this process, each with its own PathSolver,
 // kept running across batches and waves (a pool). solve_range() lets the threads run ahead of
 // the batch asked for, up to a look-ahead window of the wave, so that they keep solving while
-// the stage decides and stores the batch (docs/benchmarks.md, "Scaling"); stiffnesses() come
+// the stage decides and stores the batch (docs/changelog.md, "Scaling"); stiffnesses() come
 // first when both wait. Tasks are handed out in runs of one source's directions: a thread that
 // solves several directions of a source in a row loads its vectors and factorises its tangent
 // once (PathSolver's start factors). Each result is a pure function of its task, so which

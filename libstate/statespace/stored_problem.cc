@@ -44,7 +44,8 @@ ContentHash hash_of(const ProblemVectors& v) {
   return h.value();
 }
 
-// Integer ids stored as float64: each must be an integer in [0, limit).
+// Integer ids as ProblemVectors holds them, float64 (int32 on disk, widened on reading): each
+// must be an integer in [0, limit).
 std::vector<int> to_ids(const std::vector<double>& v, double limit, const std::string& where) {
   std::vector<int> out;
   out.reserve(v.size());
