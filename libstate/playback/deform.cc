@@ -3,7 +3,7 @@
 // as the force (docs/playback.md), with each corner's displacement slopes d u / d p as the
 // derivatives and the cross derivatives estimated from the slopes of the corners on the same
 // cell face; an extended corner's displacements are its source's extended by the source's
-// slopes, a secant corner's (a free check-point beside the contact onset, cursor.cc) its
+// slopes, a secant corner's (a free check-point beside the contact onset, cursor_onset.cc) its
 // source's scaled. Where the snapshot marks stored midpoint displacements (Snapshot::midpoint)
 // the cubic is that of the half-spacing cell the probe is in, as the force's. Just past the
 // onset the depth model is blended in (Snapshot::onset_weight), and a midpoint inside the blend
@@ -134,7 +134,7 @@ void add_trilinear(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend)
 // (add_value(c, w, blend), add_slope(c, a, w, blend)), at cell position t, times `scale`: its
 // value, or with axis >= 0 its derivative along that axis. The cross derivatives of each face
 // pair (a, b) are half the difference quotients of the slopes along a across b and along b
-// across a (the force's estimate, cursor.cc).
+// across a (the force's estimate, cell_math.h).
 template <class Points>
 void add_hermite(const Points& points, const std::array<double, 3>& t, const double* h, int axis,
                  double scale, Blend* blend) {
@@ -188,7 +188,7 @@ bool stored_midpoint(const PlaybackFile::Impl& f, std::int32_t code) {
 // displacements and slopes (Snapshot::midpoint), any other midpoint the whole cell's Hermite
 // interpolant's value and derivative there. With every midpoint stored this is the Hermite
 // interpolant of a grid of half the spacing (the cursor's force takes its cross derivatives from
-// the whole lattice instead, cursor.cc; here they come from the half cell's own corners, whose
+// the whole lattice instead, cell_lattice.h; here they come from the half cell's own corners, whose
 // arrays are the only ones the frame streams).
 class HalfCellPoints {
  public:

@@ -336,10 +336,12 @@ TEST_F(ContactOnset, ForceAndSnapshotDoNotAllocate) {
   std::vector<float> pos(3 * test_util::kSyntheticViewNodes);
   Snapshot snap;
   int onset_steps = 0;
+  // Made before counting: a cursor allocates its state once, at construction.
+  HapticCursor trilinear(file, Scheme::kTrilinear), hermite(file, Scheme::kHermite);
   g_allocations = 0;
   g_counting = true;
-  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
-    HapticCursor cursor(file, scheme);
+  for (HapticCursor* c : {&trilinear, &hermite}) {
+    HapticCursor& cursor = *c;
     for (int n = 0; n < 20000; ++n) {
       const double t = 1e-3 * n;
       const Eigen::Vector3d p =

@@ -1,0 +1,188 @@
+// The cursor near the contact onset (docs/playback.md, "Contact onset"): the interpolated
+// clearance, the blend into the depth model, and the secant corners.
+#include "playback/cursor_core.h"
+
+#include "playback/cell_math.h"
+#include "playback/file_impl.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hapstate::playback {
+
+namespace {
+
+// The band above the contact onset, in units of the smallest spacing, over which the force
+// blends from the depth model into the interpolated force (apply_onset).
+constexpr double kOnsetBand = 0.5;
+
+}  // namespace
+
+// Contact: whether the cell blends in the depth model near the onset (every corner has one,
+// so no corner is extended or touching while clear of the rest body, and some corner is within
+// the band plus a cell diagonal of the onset: the clearance changes by at most the distance);
+// the clearance's Hermite coefficients.
+void CursorCore::prepare_onset() {
+  const PlaybackFile::Impl& f = file_.impl();
+  onset_ = false;
+  if (!f.clearance) return;
+  const double* h = f.meta->spacing;
+  // Along an axis with one check-point the cell is flat (s = 0): its far corners weigh nothing
+  // and take the data of their partners on the grid.
+  int flat = 0;
+  for (int a = 0; a < 3; ++a) flat |= f.meta->dims[a] == 1 ? 4 >> a : 0;
+  double gap[8][4];
+  double shallowest = std::numeric_limits<double>::infinity(), deepest = -shallowest;
+  for (int c = 0; c < 8; ++c) {
+    if (!corners_[c & ~flat].depth_model) return;
+    std::copy_n(corners_[c & ~flat].onset->per_depth, 3, per_depth_[c].begin());
+    const auto o = corner_offset(c);
+    std::array<std::int32_t, 3> ijk{};
+    for (int a = 0; a < 3; ++a)
+      ijk[a] = std::min(base_[a] + o[a], f.meta->lo[a] + f.meta->dims[a] - 1);
+    const std::int32_t g = f.point_index(ijk);
+    if (g < 0) return;
+    for (int k = 0; k < 4; ++k) gap[c][k] = f.clearance[4 * std::int64_t(g) + k];
+    shallowest = std::min(shallowest, -gap[c][0]);
+    deepest = std::max(deepest, -gap[c][0]);
+  }
+  const double diagonal = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+  if (shallowest > kOnsetBand * std::min({h[0], h[1], h[2]}) + diagonal) return;
+  onset_ = true;
+  // Every point of the cell is within a diagonal of every corner and the clearance changes by
+  // at most the distance: clear by a diagonal at every corner, the sphere is clear of the rest
+  // body in the whole cell (and so is the interpolated clearance).
+  clear_cell_ = -deepest >= diagonal;
+  scalar_coefficients(
+      h, [&](int c) { return gap[c][0]; }, [&](int c, int a) { return gap[c][1 + a]; },
+      [&](int x, int y, int z) -> double& { return clearance_coef_[x][y][z]; });
+}
+
+// The interpolated clearance (Hermite) and its gradient `grad` per mesh unit at the point
+// whose bases per axis are B (derivatives dB; both as in force()).
+double CursorCore::clearance(const double (&B)[3][4], const double (&dB)[3][4],
+                             double (&grad)[3]) const {
+  double g = 0;
+  grad[0] = grad[1] = grad[2] = 0;
+  // The tensor product contracted axis by axis (z, then y, then x).
+  for (int x = 0; x < 4; ++x) {
+    double v = 0, vy = 0, vz = 0;
+    for (int y = 0; y < 4; ++y) {
+      const std::array<double, 4>& t = clearance_coef_[x][y];
+      const double a = B[2][0] * t[0] + B[2][1] * t[1] + B[2][2] * t[2] + B[2][3] * t[3];
+      const double az = dB[2][0] * t[0] + dB[2][1] * t[1] + dB[2][2] * t[2] + dB[2][3] * t[3];
+      v += B[1][y] * a;
+      vy += dB[1][y] * a;
+      vz += B[1][y] * az;
+    }
+    g += B[0][x] * v;
+    grad[0] += dB[0][x] * v;
+    grad[1] += B[0][x] * vy;
+    grad[2] += B[0][x] * vz;
+  }
+  return g;
+}
+
+// Near the contact onset: with d the interpolated depth of the sphere into the rest body
+// (Hermite, from the clearance at the corners), the force is 0 where d <= 0 and
+// R F + (1 - R) d q for 0 < d < band, F the interpolated force, q the trilinear interpolation of
+// the corners' force per unit depth and R = smoothstep(d / band): continuous at the onset and at
+// the band's edge, exact at check-points (q d = f there) and for a force proportional to the
+// depth. `value` and `slope` hold F and its derivative on entry.
+CursorCore::OnsetBlend CursorCore::apply_onset(const double (&B)[3][4], const double (&dB)[3][4],
+                                               const std::array<double, 3>& s,
+                                               std::array<double, 3>* value,
+                                               std::array<double, 9>* slope) const {
+  const double* h = file_.impl().meta->spacing;
+  OnsetBlend blend;
+  double grad[3] = {0, 0, 0};
+  const double g = clear_cell_ ? 0.0 : clearance(B, dB, grad);
+  blend.depth = -g;
+  if (clear_cell_ || blend.depth <= 0.0) {
+    *value = {};
+    *slope = {};
+    blend.at_rest = true;
+    return blend;
+  }
+  const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
+  if (blend.depth >= band) return blend;
+  double q[3], dq[3][3];
+  per_depth_at(s, q, dq);
+  const double x = blend.depth / band;
+  const double R = x * x * (3.0 - 2.0 * x), dR = 6.0 * x * (1.0 - x) / band;  // dR / d(depth)
+  for (int r = 0; r < 3; ++r) {
+    const double model = blend.depth * q[r];
+    for (int a = 0; a < 3; ++a) {
+      const double dmodel = -q[r] * grad[a] + blend.depth * dq[r][a];
+      (*slope)[3 * r + a] =
+          R * (*slope)[3 * r + a] + (1.0 - R) * dmodel - ((*value)[r] - model) * dR * grad[a];
+    }
+    (*value)[r] = R * (*value)[r] + (1.0 - R) * model;
+  }
+  blend.weight = 1.0 - R;
+  return blend;
+}
+
+// The corners' force per unit depth q, interpolated trilinearly at cell position t, and its
+// derivative dq[r][a] per mesh unit.
+void CursorCore::per_depth_at(const std::array<double, 3>& t, double (&q)[3],
+                              double (&dq)[3][3]) const {
+  const double* h = file_.impl().meta->spacing;
+  for (int r = 0; r < 3; ++r) q[r] = dq[r][0] = dq[r][1] = dq[r][2] = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    const double w[3] = {o[0] ? t[0] : 1.0 - t[0], o[1] ? t[1] : 1.0 - t[1],
+                         o[2] ? t[2] : 1.0 - t[2]};
+    const double dw[3] = {(o[0] ? 1.0 : -1.0) / h[0] * w[1] * w[2],
+                          (o[1] ? 1.0 : -1.0) / h[1] * w[0] * w[2],
+                          (o[2] ? 1.0 : -1.0) / h[2] * w[0] * w[1]};
+    for (int r = 0; r < 3; ++r) {
+      q[r] += w[0] * w[1] * w[2] * per_depth_[c][r];
+      for (int a = 0; a < 3; ++a) dq[r][a] += dw[a] * per_depth_[c][r];
+    }
+  }
+}
+
+// The onset blend at cell position t where a midpoint may be fitted through it: R, dR/d(depth),
+// the depth and the clearance's gradient (the depth's, negated). False where the cell is clear of
+// the body, the depth is not positive or R < 1/4 (the blend barely follows F there, and a free
+// midpoint's 0 would bend the secant field): the midpoint is left out there.
+bool CursorCore::onset_blend_at(const std::array<double, 3>& t, OnsetPoint* out) const {
+  if (clear_cell_) return false;
+  const double* h = file_.impl().meta->spacing;
+  double B[3][4], dB[3][4];
+  hermite_bases(t, h, B, dB);
+  out->depth = -clearance(B, dB, out->grad);
+  if (!(out->depth > 0.0)) return false;
+  const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
+  const double x = std::min(out->depth / band, 1.0);
+  out->R = x * x * (3.0 - 2.0 * x);
+  out->dR = 6.0 * x * (1.0 - x) / band;
+  return out->R >= 0.25;
+}
+
+// The interpolated force F at cell position t, where the onset blend is o (onset_blend_at
+// true), for which the blend (apply_onset) returns `felt`: (felt - (1 - R) d q) / R, and, if
+// `felt_k` is given, the derivative of F for which the blend's derivative is felt_k (row-major,
+// per mesh unit): (felt_k - (1 - R) d(d q)/dp + (F - d q) R' grad d^T) / R. False where they
+// are not finite.
+bool CursorCore::onset_target(const std::array<double, 3>& t, const OnsetPoint& o,
+                              const double* felt, const double* felt_k, double* out,
+                              double* out_k) const {
+  const double R = o.R, dR = o.dR, depth = o.depth;
+  const double* grad = o.grad;
+  double q[3], dq[3][3];
+  per_depth_at(t, q, dq);
+  for (int r = 0; r < 3; ++r) out[r] = (felt[r] - (1.0 - R) * depth * q[r]) / R;
+  if (felt_k)
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < 3; ++a) {
+        const double dmodel = -q[r] * grad[a] + depth * dq[r][a];
+        out_k[3 * r + a] =
+            (felt_k[3 * r + a] - (1.0 - R) * dmodel + (out[r] - depth * q[r]) * dR * grad[a]) / R;
+      }
+  return finite(out, 3) && (!felt_k || finite(out_k, 9));
+}
+
+}  // namespace hapstate::playback
