@@ -38,119 +38,132 @@ CursorCore::CursorCore(const PlaybackFile& file, Scheme scheme) : file_(file), s
   reset();
 }
 
-Force CursorCore::force(const std::array<double, 3>& probe) {
-  const PlaybackFile::Impl& f = file_.impl();
-  const playback::Meta& m = *f.meta;
-  std::array<double, 3> q{}, p_clamped{};
-  Force out;
+// The probe's cell position s (clamped to the cell) after walking to it; whether the probe is
+// inside the grid, and the nearest point of the grid `clamped`.
+std::array<double, 3> CursorCore::locate(const std::array<double, 3>& probe, bool* inside,
+                                         std::array<double, 3>* clamped) {
+  const playback::Meta& m = *file_.impl().meta;
+  std::array<double, 3> q{};
   for (int a = 0; a < 3; ++a) {
     double g = (probe[a] - m.origin[a]) / m.spacing[a];
     if (!std::isfinite(g)) g = last_q_[a];  // a NaN probe keeps the last position
     const double lo = m.lo[a], hi = m.lo[a] + m.dims[a] - 1;
     // A rounding error off a face (a path interpolated along a flat axis) is still inside.
-    if (g < lo - 1e-9 || g > hi + 1e-9) out.inside_grid = false;
+    if (g < lo - 1e-9 || g > hi + 1e-9) *inside = false;
     q[a] = std::clamp(g, lo, hi);
-    p_clamped[a] = m.origin[a] + q[a] * m.spacing[a];
+    (*clamped)[a] = m.origin[a] + q[a] * m.spacing[a];
   }
   walk_to(q);
   last_q_ = q;
-
   std::array<double, 3> s{};
   for (int a = 0; a < 3; ++a) s[a] = std::clamp(q[a] - base_[a], 0.0, 1.0);
-  // The Hermite bases per axis and their derivatives (hermite_bases); lin[a][o] the linear
-  // weights.
-  double B[3][4], dB[3][4], lin[3][2];
-  hermite_bases(s, m.spacing, B, dB);
-  for (int a = 0; a < 3; ++a) {
-    lin[a][0] = 1.0 - s[a];
-    lin[a][1] = s[a];
+  return s;
+}
+
+// The corners' stiffness blended trilinearly at s into `k`, and with kTrilinear their forces
+// into `value`.
+void CursorCore::corner_blend(const std::array<double, 3>& s, std::array<double, 3>* value,
+                              std::array<double, 9>* k) const {
+  for (int c = 0; c < 8; ++c) {
+    const double w = trilinear_weight(c, s);
+    const double* kc = stiffness_of(c);
+    for (int r = 0; r < 9; ++r) (*k)[r] += w * kc[r];
+    if (scheme_ != Scheme::kTrilinear) continue;
+    const double* fc = force_of(c);
+    for (int r = 0; r < 3; ++r) (*value)[r] += w * fc[r];
   }
+}
+
+// A refined cell with kTrilinear: the quarter-spacing cell holding s, its 8 lattice points'
+// force and stiffness interpolated trilinearly (docs/playback.md, "Refined cells").
+void CursorCore::quarter_trilinear_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+                                      std::array<double, 9>* k) const {
+  *value = {};
+  *k = {};
+  int q[3];
+  double w[3][2];
+  for (int a = 0; a < 3; ++a) {
+    q[a] = std::min(static_cast<int>(4.0 * s[a]), 3);
+    const double t = std::min(4.0 * s[a] - q[a], 1.0);
+    w[a][0] = 1.0 - t, w[a][1] = t;
+  }
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    const double wc = w[0][o[0]] * w[1][o[1]] * w[2][o[2]];
+    const auto& d = quarter_trilinear_[25 * (q[0] + o[0]) + 5 * (q[1] + o[1]) + q[2] + o[2]];
+    for (int r = 0; r < 3; ++r) (*value)[r] += wc * d[r];
+    for (int r = 0; r < 9; ++r) (*k)[r] += wc * d[3 + r];
+  }
+}
+
+// The Hermite sub-cell holding s of a cell split `n` ways per axis (2: the half-spacing cells,
+// 4: a refined cell's quarter-spacing ones; docs/playback.md): its value and derivative.
+void CursorCore::sub_cell_at(const std::array<double, 3>& s, int n, std::array<double, 3>* value,
+                             std::array<double, 9>* slope) const {
+  const double* h = file_.impl().meta->spacing;
+  int sub = 0;
+  std::array<double, 3> t{};
+  double spacing[3], B[3][4], dB[3][4];
+  for (int a = 0; a < 3; ++a) {
+    const int i = std::min(static_cast<int>(n * s[a]), n - 1);
+    sub = n * sub + i;
+    t[a] = std::min(n * s[a] - i, 1.0);
+    spacing[a] = h[a] / n;
+  }
+  hermite_bases(t, spacing, B, dB);
+  hermite_contract(n == 4 ? quarter_coef_[sub] : half_coef_[sub], B, dB, value, slope);
+}
+
+// Adds the cell's bubbles at s (B, dB: the Hermite bases there); their gradient to `slope` if
+// given.
+void CursorCore::bubbles_at(const std::array<double, 3>& s, const double (&B)[3][4],
+                            const double (&dB)[3][4], std::array<double, 3>* value,
+                            std::array<double, 9>* slope) const {
+  // Along its axes a bubble is 16 t^2 (1 - t)^2 (Hermite) or the hat 1 - |2 t - 1|
+  // (trilinear); across them the scheme's value basis of its side.
+  const double* h = file_.impl().meta->spacing;
+  double mb[3], dmb[3], v[3][2], dv[3][2];
+  if (scheme_ == Scheme::kTrilinear) {
+    trilinear_bubble_bases(s, h, mb, dmb, v, dv);
+  } else {
+    for (int a = 0; a < 3; ++a) {
+      const double t = s[a], u = 1.0 - t;
+      mb[a] = 16.0 * t * t * u * u;
+      dmb[a] = 32.0 * t * u * (u - t) / h[a];
+      v[a][0] = B[a][0], v[a][1] = B[a][2];
+      dv[a][0] = dB[a][0], dv[a][1] = dB[a][2];
+    }
+  }
+  add_bubbles(mb, dmb, v, dv, value, slope);
+}
+
+Force CursorCore::force(const std::array<double, 3>& probe) {
+  Force out;
+  std::array<double, 3> p_clamped{};
+  const std::array<double, 3> s = locate(probe, &out.inside_grid, &p_clamped);
+  double B[3][4], dB[3][4];  // the Hermite bases per axis and their derivatives
+  hermite_bases(s, file_.impl().meta->spacing, B, dB);
   std::array<double, 3> value{};
   std::array<double, 9> slope{};    // d(value)/d(probe)
   std::array<double, 9> k_blend{};  // trilinear blend of the corners' stiffness
   // Trilinear (and outside the grid, either scheme): the corners' stiffness blended, and with
-  // kTrilinear their forces.
+  // kTrilinear their forces; a fitted refined trilinear cell replaces both with its quarter
+  // lattice's.
   const bool blended = scheme_ == Scheme::kTrilinear || !out.inside_grid;
-  // A fitted refined trilinear cell replaces both below with its quarter lattice's.
-  const bool quarter_trilinear = fitted_ && refined_ && scheme_ == Scheme::kTrilinear;
-  if (blended && !quarter_trilinear) {
-    for (int c = 0; c < 8; ++c) {
-      const auto o = corner_offset(c);
-      const double w = lin[0][o[0]] * lin[1][o[1]] * lin[2][o[2]];
-      const double* k = stiffness_of(c);
-      for (int r = 0; r < 9; ++r) k_blend[r] += w * k[r];
-      if (scheme_ != Scheme::kTrilinear) continue;
-      const double* f = force_of(c);
-      for (int r = 0; r < 3; ++r) value[r] += w * f[r];
-    }
-  }
+  if (blended && !(fitted_ && refined_ && scheme_ == Scheme::kTrilinear))
+    corner_blend(s, &value, &k_blend);
   if (!fitted_) fit_cell();
   if (refined_ && scheme_ == Scheme::kTrilinear) {
-    // The quarter-spacing cell holding the probe: its 8 lattice points' force and stiffness
-    // interpolated trilinearly (docs/playback.md, "Refined cells").
-    value = {};
-    k_blend = {};
-    int q[3];
-    double w[3][2];
-    for (int a = 0; a < 3; ++a) {
-      q[a] = std::min(static_cast<int>(4.0 * s[a]), 3);
-      const double t = std::min(4.0 * s[a] - q[a], 1.0);
-      w[a][0] = 1.0 - t, w[a][1] = t;
-    }
-    for (int c = 0; c < 8; ++c) {
-      const auto o = corner_offset(c);
-      const double wc = w[0][o[0]] * w[1][o[1]] * w[2][o[2]];
-      const auto& d = quarter_trilinear_[25 * (q[0] + o[0]) + 5 * (q[1] + o[1]) + q[2] + o[2]];
-      for (int r = 0; r < 3; ++r) value[r] += wc * d[r];
-      for (int r = 0; r < 9; ++r) k_blend[r] += wc * d[3 + r];
-    }
+    quarter_trilinear_at(s, &value, &k_blend);
   } else if (refined_) {
-    // The quarter-spacing cell holding the probe (docs/playback.md, "Refined cells").
-    int sub = 0;
-    std::array<double, 3> t{};
-    double quarter[3], Bq[3][4], dBq[3][4];
-    for (int a = 0; a < 3; ++a) {
-      const int q = std::min(static_cast<int>(4.0 * s[a]), 3);
-      sub = 4 * sub + q;
-      t[a] = std::min(4.0 * s[a] - q, 1.0);
-      quarter[a] = 0.25 * m.spacing[a];
-    }
-    hermite_bases(t, quarter, Bq, dBq);
-    hermite_contract(quarter_coef_[sub], Bq, dBq, &value, &slope);
+    sub_cell_at(s, 4, &value, &slope);
   } else if (lattice_) {
-    // The half-spacing cell holding the probe (docs/playback.md, "Between the check-points").
-    int sub = 0;
-    std::array<double, 3> t{};
-    double half[3], Bh[3][4], dBh[3][4];
-    for (int a = 0; a < 3; ++a) {
-      const int side = s[a] >= 0.5 ? 1 : 0;
-      sub |= side << (2 - a);
-      t[a] = std::min(2.0 * s[a] - side, 1.0);
-      half[a] = 0.5 * m.spacing[a];
-    }
-    hermite_bases(t, half, Bh, dBh);
-    hermite_contract(half_coef_[sub], Bh, dBh, &value, &slope);
+    sub_cell_at(s, 2, &value, &slope);
   } else if (scheme_ == Scheme::kHermite) {
     hermite_contract(coef_, B, dB, &value, &slope);
   }
-  if (num_bubbles_ > 0 && !refined_) {
-    // Along its axes a bubble is 16 t^2 (1 - t)^2 (Hermite) or the hat 1 - |2 t - 1|
-    // (trilinear); across them the scheme's value basis of its side.
-    double mb[3], dmb[3], v[3][2], dv[3][2];
-    if (scheme_ == Scheme::kTrilinear) {
-      trilinear_bubble_bases(s, m.spacing, mb, dmb, v, dv);
-    } else {
-      for (int a = 0; a < 3; ++a) {
-        const double t = s[a], u = 1.0 - t;
-        mb[a] = 16.0 * t * t * u * u;
-        dmb[a] = 32.0 * t * u * (u - t) / m.spacing[a];
-        v[a][0] = B[a][0], v[a][1] = B[a][2];
-        dv[a][0] = dB[a][0], dv[a][1] = dB[a][2];
-      }
-    }
-    add_bubbles(mb, dmb, v, dv, &value,
-                scheme_ == Scheme::kHermite && out.inside_grid ? &slope : nullptr);
-  }
+  if (num_bubbles_ > 0 && !refined_)
+    bubbles_at(s, B, dB, &value, scheme_ == Scheme::kHermite && out.inside_grid ? &slope : nullptr);
   if (blended) slope = k_blend;
   const OnsetBlend onset = onset_ ? apply_onset(B, dB, s, &value, &slope) : OnsetBlend{};
   if (!out.inside_grid) {

@@ -67,6 +67,16 @@ class CursorCore {
   void resolve_corner(int corner, const std::array<Corner, 8>& old,
                       const std::array<std::int32_t, 3>& old_base);
   void walk_to(const std::array<double, 3>& q);
+  std::array<double, 3> locate(const std::array<double, 3>& probe, bool* inside,
+                               std::array<double, 3>* clamped);
+  void corner_blend(const std::array<double, 3>& s, std::array<double, 3>* value,
+                    std::array<double, 9>* k) const;
+  void quarter_trilinear_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+                            std::array<double, 9>* k) const;
+  void sub_cell_at(const std::array<double, 3>& s, int n, std::array<double, 3>* value,
+                   std::array<double, 9>* slope) const;
+  void bubbles_at(const std::array<double, 3>& s, const double (&B)[3][4], const double (&dB)[3][4],
+                  std::array<double, 3>* value, std::array<double, 9>* slope) const;
   struct OnsetBlend {
     bool at_rest = false;  // the sphere clear of the rest body: force and displacements 0
     double weight = 0;     // of the depth model
