@@ -5,6 +5,7 @@
 #include "io/probe_path.h"
 #include "play/session.h"
 #include "play/tick_path.h"
+#include "playback/scheme_name.h"
 #include "util/distribution.h"
 #include "util/main_guard.h"
 
@@ -90,7 +91,7 @@ int run(const Options& o) {
   std::string description;
   const play::TickPath path(make_path(o, file, &description), o.speed, o.rate);
   play::SessionOptions s;
-  s.scheme = o.scheme == "trilinear" ? Scheme::kTrilinear : Scheme::kHermite;
+  s.scheme = *parse_scheme(o.scheme);  // checked by the option
   s.realtime = o.realtime;
   s.frames_dir = o.frames;
   s.frame_every = o.frame_every;
@@ -187,8 +188,8 @@ int main(int argc, char** argv) {
   app.add_option("--speed", o.speed, "probe speed along the path, mesh units per second")
       ->check(positive());
   app.add_option("--scheme", o.scheme, "force interpolation")
-      ->option_text(choices({"trilinear", "hermite"}))
-      ->check(CLI::IsMember({"trilinear", "hermite"}));
+      ->option_text(choices({scheme_name(Scheme::kTrilinear), scheme_name(Scheme::kHermite)}))
+      ->check(CLI::IsMember({scheme_name(Scheme::kTrilinear), scheme_name(Scheme::kHermite)}));
   app.add_flag("--realtime", o.realtime,
                "pace ticks and frames with absolute deadlines (default: as fast as possible)");
   auto* frames = app.add_option("--frames", o.frames,

@@ -19,14 +19,10 @@ Direction Direction::from_offset(int di, int dj, int dk) {
     throw std::out_of_range("Direction: offset (" + std::to_string(di) + ", " + std::to_string(dj) +
                             ", " + std::to_string(dk) + ") is not a neighbour");
   }
-  const int c = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);
-  return Direction(c < 13 ? c : c - 1);
+  return Direction(grid::direction_index(di, dj, dk));
 }
 
-std::array<int, 3> Direction::offset() const {
-  const int c = index_ < 13 ? index_ : index_ + 1;
-  return {c / 9 - 1, (c / 3) % 3 - 1, c % 3 - 1};
-}
+std::array<int, 3> Direction::offset() const { return grid::direction_offset(index_); }
 
 int Direction::taxicab_length() const {
   const auto o = offset();

@@ -1,9 +1,8 @@
-// The 26 grid directions from a check-point to its neighbours, numbered the same way in the
-// catalogue, the playback file and the code. Direction d <-> offset (di, dj, dk) in
-// {-1, 0, 1}^3 \ {(0,0,0)}: c = 9 (di+1) + 3 (dj+1) + (dk+1) runs 0..26 with 13 the centre;
-// d = c for c < 13 and d = c - 1 above. So d = 0 is (-1,-1,-1), d = 12 is (0,0,-1), d = 13 is
-// (0,0,+1), d = 25 is (+1,+1,+1), and opposite(d) = 25 - d.
+// A grid direction from a check-point to one of its 26 neighbours, checked: the numbering is
+// util/grid_direction.h's.
 #pragma once
+
+#include "util/grid_direction.h"
 
 #include <array>
 #include <compare>
@@ -13,7 +12,7 @@ namespace hapstate {
 
 class Direction {
  public:
-  static constexpr int kCount = 26;
+  static constexpr int kCount = grid::kDirections;
 
   // Direction with index 0..25; throws std::out_of_range otherwise.
   explicit Direction(int index);

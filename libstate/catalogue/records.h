@@ -35,6 +35,8 @@ struct SceneRecord {
 
 // How a stage run ended. kRunning: begun and not finished (or the process died).
 enum class StageOutcome { kRunning, kOk, kUnchanged, kPartial, kFailed };
+// Its name: the stage_run table's outcome column and inspect's "outcome" key.
+const char* stage_outcome_name(StageOutcome outcome);
 
 using Clock = std::chrono::system_clock;
 using TimeMs = std::chrono::time_point<Clock, std::chrono::milliseconds>;
@@ -80,17 +82,27 @@ enum class ConfigStatus {
   kMerged = 2,    // duplicate level merged into another by compaction; not used any more
 };
 
-// Where a configuration's vectors live: blobs/seg-NNNNNN.h5, group `name` holding the
-// datasets `name`/u (displacements), `name`/t (probe displacement), `name`/h (reactions),
-// `name`/du_dp (displacement slopes), and for contact probes `name`/touched (sticking) or
-// `name`/multipliers (frictionless); a transition's midpoint group holds u and du_dp. The
-// full table of datasets: docs/storage.md, "Blob segments".
+// The vectors of a blob group (docs/storage.md, "Blob segments"): u (displacements), t (probe
+// displacement), h (reactions), du_dp (displacement slopes), and for contact probes touched
+// (sticking) or multipliers (frictionless). A configuration's group holds the first four and
+// its probe's contact vector; a transition's midpoint group holds u and du_dp.
+enum class BlobVector { kU, kT, kH, kDuDp, kTouched, kMultipliers };
+
+// Where a configuration's (or a transition midpoint's) vectors live: blobs/seg-NNNNNN.h5, group
+// `name`, one dataset per vector, `name`/u and so on. The one definition of those names.
 struct BlobRef {
   SegmentId segment;
   std::string name;  // e.g. "c42"
 
   bool valid() const { return segment.valid() && !name.empty(); }
   bool operator==(const BlobRef&) const = default;
+  // The dataset of vector v in this group: "<name>/u", ...
+  std::string dataset(BlobVector v) const { return name + "/" + leaf(v); }
+  static const char* leaf(BlobVector v);  // "u", "t", "h", "du_dp", "touched", "multipliers"
+  // The group names: configuration `config` ("c42"), and the midpoint of the transition from
+  // configuration `source` in direction index `direction` ("m42_13").
+  static std::string configuration_group(std::int64_t config);
+  static std::string midpoint_group(std::int64_t source, int direction);
 };
 
 // Table configuration: one equilibrium state (a level of a check-point).

@@ -27,26 +27,10 @@ constexpr const char* kLastSuccessful =
 constexpr const char* kReadInputs =
     "SELECT name, hash FROM stage_run_input WHERE run = ? ORDER BY name";
 
-const char* outcome_text(StageOutcome outcome) {
-  switch (outcome) {
-    case StageOutcome::kRunning:
-      return "running";
-    case StageOutcome::kOk:
-      return "ok";
-    case StageOutcome::kUnchanged:
-      return "unchanged";
-    case StageOutcome::kPartial:
-      return "partial";
-    case StageOutcome::kFailed:
-      return "failed";
-  }
-  return "failed";
-}
-
 StageOutcome parse_outcome(const std::string& text, const std::string& where) {
   for (auto o : {StageOutcome::kRunning, StageOutcome::kOk, StageOutcome::kUnchanged,
                  StageOutcome::kPartial, StageOutcome::kFailed}) {
-    if (text == outcome_text(o)) return o;
+    if (text == stage_outcome_name(o)) return o;
   }
   throw InputError(where + ": unknown stage outcome '" + text + "'");
 }
@@ -66,6 +50,22 @@ StageRun row_to_run(const catalogue_detail::Statement& s, const std::string& lab
 }
 
 }  // namespace
+
+const char* stage_outcome_name(StageOutcome outcome) {
+  switch (outcome) {
+    case StageOutcome::kRunning:
+      return "running";
+    case StageOutcome::kOk:
+      return "ok";
+    case StageOutcome::kUnchanged:
+      return "unchanged";
+    case StageOutcome::kPartial:
+      return "partial";
+    case StageOutcome::kFailed:
+      return "failed";
+  }
+  return "failed";
+}
 
 StageRunId Catalogue::insert_stage_run(const StageRun& run) {
   catalogue_detail::Savepoint savepoint(*impl_->db);
@@ -87,7 +87,7 @@ StageRunId Catalogue::insert_stage_run(const StageRun& run) {
     } else {
       s->bind_null(6);
     }
-    s->bind(7, std::string_view(outcome_text(run.outcome)));
+    s->bind(7, std::string_view(stage_outcome_name(run.outcome)));
     s->bind(8, run.message);
     s->run();
     id = StageRunId(sqlite3_last_insert_rowid(impl_->db->get()));
@@ -106,7 +106,7 @@ StageRunId Catalogue::insert_stage_run(const StageRun& run) {
 void Catalogue::update_stage_run_end(StageRunId id, StageOutcome outcome, TimeMs ended,
                                      std::string_view message) {
   catalogue_detail::StatementUse s(impl_->statement(kUpdateEnd));
-  s->bind(1, std::string_view(outcome_text(outcome)));
+  s->bind(1, std::string_view(stage_outcome_name(outcome)));
   s->bind(2, static_cast<std::int64_t>(ended.time_since_epoch().count()));
   s->bind(3, message);
   s->bind(4, id.value());

@@ -52,10 +52,6 @@ std::vector<double> relative_errors(const std::vector<SquaredNorms>& steps) {
 
 }  // namespace
 
-const char* scheme_name(Scheme scheme) {
-  return scheme == Scheme::kTrilinear ? "trilinear" : "hermite";
-}
-
 EvalResult run_eval(const EvalOptions& options) {
   StageContext ctx = open_stage_context(options.state);
   const std::filesystem::path playback =

@@ -6,6 +6,7 @@
 
 #include "hapstate/playback.h"
 #include "io/probe_path.h"
+#include "playback/scheme_name.h"
 #include "problem/problem.h"
 
 #include <Eigen/Core>
@@ -75,7 +76,5 @@ EvalResult run_eval(const EvalOptions& options);
 // its own solver and cursors). `progress`: the precise solves' progress line (nullptr: none).
 EvalResult evaluate_path(const Problem& problem, const PlaybackFile& file, const ProbePath& path,
                          std::FILE* progress);
-
-const char* scheme_name(Scheme scheme);
 
 }  // namespace hapstate

@@ -10,6 +10,7 @@
 #include "statespace/stage_context.h"
 #include "statespace/stage_record.h"
 #include "util/error.h"
+#include "util/grid_direction.h"
 #include "util/progress.h"
 #include "util/text.h"
 
@@ -110,14 +111,8 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
   const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
   std::map<std::int64_t, std::int32_t> point_of_checkpoint;  // checkpoint id -> grid point
   for (const Checkpoint& c : cat.read_all_checkpoints()) {
-    std::int32_t p = 0;
-    bool inside = true;
-    for (int a = 0; a < 3; ++a) {
-      const int i = c.ijk[a] - m.lo[a];
-      inside = inside && i >= 0 && i < m.dims[a];
-      p = p * m.dims[a] + i;
-    }
-    if (inside) point_of_checkpoint.emplace(c.id.value(), p);
+    const std::int32_t p = playback::grid_point_index(m, {c.ijk[0], c.ijk[1], c.ijk[2]});
+    if (p >= 0) point_of_checkpoint.emplace(c.id.value(), p);
   }
   std::vector<std::pair<std::int32_t, Configuration>> ordered;
   for (Configuration& c : cat.read_all_configurations()) {
@@ -160,7 +155,7 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
         where + ": no zero configuration at the rest check-point (0, 0, 0): run hapstate-grid");
 
   const std::vector<Transition> transitions = cat.read_all_transitions();
-  c.transitions.assign(26 * ordered.size(), playback::kUndecided);
+  c.transitions.assign(grid::kDirections * ordered.size(), playback::kUndecided);
   for (const Transition& t : transitions) {
     const auto s = index_of.find(t.source.value());
     if (s == index_of.end()) continue;
@@ -170,7 +165,7 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
       const auto target = index_of.find(t.target.value());
       code = target == index_of.end() ? playback::kUndecided : target->second;
     }
-    c.transitions[26 * s->second + t.direction.index()] = code;
+    c.transitions[grid::kDirections * s->second + t.direction.index()] = code;
     if (t.midpoint_force && code >= 0) {
       const auto o = t.direction.offset();
       const int d = playback::midpoint_direction(o[0], o[1], o[2]);
@@ -309,7 +304,8 @@ IndexReport run_index(const IndexOptions& options) {
     g.content.displacements = [&](std::int32_t k, std::span<float> out) {
       const Configuration& conf = configs[k];
       if (conf.blob) {
-        const std::vector<float> u = blobs.read_float32(conf.blob->segment, conf.blob->name + "/u");
+        const std::vector<float> u =
+            blobs.read_float32(conf.blob->segment, conf.blob->dataset(BlobVector::kU));
         if (static_cast<int>(u.size()) != 3 * num_nodes)
           throw InputError(ctx.dir.blobs().string() + ": configuration " +
                            std::to_string(conf.id.value()) + " has " + std::to_string(u.size()) +
@@ -326,7 +322,8 @@ IndexReport run_index(const IndexOptions& options) {
     // The slopes d u / d p, if every configuration has them (a state expanded before they were
     // stored has none: the file then has none and Hermite deformation is trilinear).
     report.slopes = std::all_of(configs.begin(), configs.end(), [&](const Configuration& conf) {
-      return !conf.blob || blobs.contains(conf.blob->segment, conf.blob->name + "/du_dp");
+      return !conf.blob ||
+             blobs.contains(conf.blob->segment, conf.blob->dataset(BlobVector::kDuDp));
     });
     std::optional<StiffnessResult> rest;  // of the zero configurations, computed once
     if (report.slopes)
@@ -334,7 +331,7 @@ IndexReport run_index(const IndexOptions& options) {
         const Configuration& conf = configs[k];
         std::vector<float> du_dp;
         if (conf.blob) {
-          du_dp = blobs.read_float32(conf.blob->segment, conf.blob->name + "/du_dp");
+          du_dp = blobs.read_float32(conf.blob->segment, conf.blob->dataset(BlobVector::kDuDp));
         } else if (std::any_of(conf.stiffness.begin(), conf.stiffness.end(),
                                [](double v) { return v != 0.0; })) {
           if (!rest) rest = rest_stiffness(ctx.problem);
@@ -362,8 +359,10 @@ IndexReport run_index(const IndexOptions& options) {
           const std::optional<BlobRef>& ref =
               g.midpoint_blobs[playback::kMidpointDirections * std::size_t(k) + d];
           if (!ref) continue;
-          const std::vector<float> u = blobs.read_float32(ref->segment, ref->name + "/u");
-          const std::vector<float> du_dp = blobs.read_float32(ref->segment, ref->name + "/du_dp");
+          const std::vector<float> u =
+              blobs.read_float32(ref->segment, ref->dataset(BlobVector::kU));
+          const std::vector<float> du_dp =
+              blobs.read_float32(ref->segment, ref->dataset(BlobVector::kDuDp));
           if (static_cast<int>(u.size()) != 3 * num_nodes ||
               static_cast<int>(du_dp.size()) != 9 * num_nodes)
             throw InputError(ctx.dir.blobs().string() + ": midpoint vectors " + ref->name +

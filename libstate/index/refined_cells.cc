@@ -1,5 +1,7 @@
 #include "index/refined_cells.h"
 
+#include "util/grid_direction.h"
+
 #include <array>
 #include <cmath>
 #include <limits>
@@ -8,11 +10,6 @@ namespace hapstate {
 namespace {
 
 using Offset = std::array<int, 3>;
-
-int direction_index(const Offset& o) {
-  const int k = 9 * (o[0] + 1) + 3 * (o[1] + 1) + (o[2] + 1);
-  return k < 13 ? k : k - 1;
-}
 
 // The cells of the file as the cursor sees them: a cell by its lowest corner's configuration,
 // the other corners the targets of its moves.
@@ -24,7 +21,8 @@ class Cells {
   std::int32_t move(std::int32_t k, const Offset& o) const {
     if (k < 0) return -1;
     if (o[0] == 0 && o[1] == 0 && o[2] == 0) return k;
-    const std::int32_t t = c_.transitions[26 * std::size_t(k) + direction_index(o)];
+    const std::int32_t t =
+        c_.transitions[grid::kDirections * std::size_t(k) + grid::direction_index(o)];
     return t >= 0 ? t : -1;
   }
   // The 8 corners of the cell whose lowest corner is k (-1 where a move is missing).
@@ -37,16 +35,13 @@ class Cells {
   bool cell_exists(const std::array<std::int32_t, 3>& base, const Offset& d) const {
     const playback::Meta& m = c_.meta;
     for (int a = 0; a < 3; ++a) {
-      const std::int32_t last = m.lo[a] + (m.dims[a] > 1 ? m.dims[a] - 2 : 0);
+      const std::int32_t last = playback::last_cell(m, a);
       if (base[a] + d[a] < m.lo[a] || base[a] + d[a] > last) return false;
     }
     return true;
   }
   std::array<std::int32_t, 3> base_of(std::int32_t k) const {
-    const playback::Meta& m = c_.meta;
-    const std::int32_t g = c_.config_checkpoint[k];
-    const std::int32_t yz = m.dims[1] * m.dims[2];
-    return {m.lo[0] + g / yz, m.lo[1] + (g / m.dims[2]) % m.dims[1], m.lo[2] + g % m.dims[2]};
+    return playback::grid_point_ijk(c_.meta, c_.config_checkpoint[k]);
   }
   // The lowest corner of the neighbour at offset d (components -1, 0, 1) of the cell with
   // corners `own`, reached from the shared corner nearest to it, or -1; the neighbour shares

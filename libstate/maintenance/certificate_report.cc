@@ -1,6 +1,7 @@
 #include "maintenance/certificate_report.h"
 
 #include "maintenance/inspect_common.hpp"
+#include "playback/scheme_name.h"
 #include "util/distribution.h"
 #include "util/text.h"
 
@@ -22,7 +23,6 @@ const std::array<DeviceLimit, 4> kDeviceLimits = {{{"3D Systems Touch", 1.02},
 
 namespace {
 
-constexpr const char* kSchemeNames[2] = {"trilinear", "hermite"};
 constexpr const char* kSchemeTitles[2] = {"trilinear", "Hermite"};
 
 // Worst and 99th percentile (nearest rank) of a sample; zeros for an empty one.
@@ -111,12 +111,12 @@ CertificateText certificate_text(const Certificate& c) {
     j["contact"] = nullptr;
   for (int s = 0; s < 2; ++s) {
     const SchemeCertificate& sc = c.schemes[s];
-    j["force_error"][kSchemeNames[s]] = {{"worst", sc.worst},
-                                         {"p99", sc.p99},
-                                         {"worst_newtons", sc.worst_n},
-                                         {"p99_newtons", sc.p99_n}};
-    j["deformation_error"][kSchemeNames[s]] = {{"worst", sc.deformation_worst},
-                                               {"p99", sc.deformation_p99}};
+    j["force_error"][scheme_name(s)] = {{"worst", sc.worst},
+                                        {"p99", sc.p99},
+                                        {"worst_newtons", sc.worst_n},
+                                        {"p99_newtons", sc.p99_n}};
+    j["deformation_error"][scheme_name(s)] = {{"worst", sc.deformation_worst},
+                                              {"p99", sc.deformation_p99}};
   }
   if (c.complete) {
     Json devices = Json::array();
@@ -133,7 +133,7 @@ CertificateText certificate_text(const Certificate& c) {
   }
   Json worst = Json::array();
   for (const CertificateLocation& l : c.worst)
-    worst.push_back({{"scheme", kSchemeNames[l.scheme]},
+    worst.push_back({{"scheme", scheme_name(l.scheme)},
                      {"seed", l.seed},
                      {"step", l.step},
                      {"probe", l.probe},

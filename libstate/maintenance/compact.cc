@@ -7,6 +7,7 @@
 #include "scene/scene.h"
 #include "statespace/stage_record.h"
 #include "statespace/stored_problem.h"
+#include "statespace/stored_scene.h"
 #include "util/error.h"
 #include "util/text.h"
 
@@ -22,14 +23,9 @@ void say(std::FILE* log, const std::string& line) {
 }
 
 Scene stored_scene(Catalogue& catalogue, const StateDir& dir, ContentHash* hash) {
-  const std::optional<SceneRecord> record = catalogue.read_scene();
-  if (!record) {
-    throw InputError(dir.catalogue().string() + ": no scene stored (run hapstate-import first)");
-  }
-  *hash = record->hash;
-  SceneParseOptions options;
-  options.check_files = false;
-  return parse_scene(record->text, dir.root / "scene.toml (stored in catalogue.sqlite)", options);
+  const SceneRecord record = read_stored_scene(catalogue, dir);
+  *hash = record.hash;
+  return parse_stored_scene(record, dir);
 }
 
 std::int64_t freelist_pages(Catalogue& catalogue) {

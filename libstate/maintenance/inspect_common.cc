@@ -45,22 +45,6 @@ const char* transition_outcome_name(TransitionOutcome o) {
   return "unknown";
 }
 
-const char* stage_outcome_name(StageOutcome o) {
-  switch (o) {
-    case StageOutcome::kRunning:
-      return "running";
-    case StageOutcome::kOk:
-      return "ok";
-    case StageOutcome::kUnchanged:
-      return "unchanged";
-    case StageOutcome::kPartial:
-      return "partial";
-    case StageOutcome::kFailed:
-      return "failed";
-  }
-  return "unknown";
-}
-
 Catalogue open_read_only(const StateDir& dir) {
   return Catalogue(dir.catalogue(), OpenMode::kReadOnly);
 }

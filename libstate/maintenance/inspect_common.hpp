@@ -18,7 +18,6 @@ using Json = nlohmann::ordered_json;
 const char* checkpoint_class_name(CheckpointClass c);      // "workspace", "free", ...
 const char* config_status_name(ConfigStatus s);            // "open", "expanded", "merged"
 const char* transition_outcome_name(TransitionOutcome o);  // "reached", "outside_grid", "failed"
-const char* stage_outcome_name(StageOutcome o);            // as in the stage_run table
 
 // Opens the catalogue of `dir` read-only.
 Catalogue open_read_only(const StateDir& dir);

@@ -5,6 +5,7 @@
 #include "mesh/load.h"
 #include "scene/scene.h"
 #include "statespace/stored_problem.h"
+#include "statespace/stored_scene.h"
 #include "util/error.h"
 #include "util/hash.h"
 
@@ -55,12 +56,9 @@ std::filesystem::path find_mesh(const StateDir& dir, const SceneRecord& scene,
   if (given) {
     candidates.push_back(*given);
   } else {
-    SceneParseOptions options;
-    options.check_files = false;
     const std::filesystem::path named =
-        scene.mesh_file.empty()
-            ? parse_scene(scene.text, dir.root / "scene.toml", options).mesh.file
-            : std::filesystem::path(scene.mesh_file);
+        scene.mesh_file.empty() ? parse_stored_scene(scene, dir, /*require_probe=*/false).mesh.file
+                                : std::filesystem::path(scene.mesh_file);
     if (named.is_absolute()) {
       candidates.push_back(named);
     } else {
@@ -98,18 +96,16 @@ InspectOutput export_config_vtu(const StateDir& dir, ConfigId id, const std::fil
                      std::to_string(id.value()));
   }
   const Configuration c = cat.read_configuration(id);
-  const auto scene = cat.read_scene();
-  if (!scene)
-    throw InputError(dir.catalogue().string() + ": no scene stored (run hapstate-import first)");
+  const SceneRecord scene = read_stored_scene(cat, dir);
   std::optional<Mesh> stored = mesh_file ? std::nullopt : stored_mesh(dir);
   const std::filesystem::path mesh_path =
-      stored ? std::filesystem::path(stored->source) : find_mesh(dir, *scene, mesh_file);
+      stored ? std::filesystem::path(stored->source) : find_mesh(dir, scene, mesh_file);
   const Mesh mesh = stored ? std::move(*stored) : load_mesh(mesh_path);
 
   Eigen::Matrix3Xd u = Eigen::Matrix3Xd::Zero(3, mesh.num_nodes());
   if (c.blob) {
     BlobStore blobs(dir.blobs());
-    const std::vector<double> values = blobs.read(c.blob->segment, c.blob->name + "/u");
+    const std::vector<double> values = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kU));
     if (values.size() != 3 * static_cast<std::size_t>(mesh.num_nodes())) {
       throw InputError((dir.blobs() / segment_file_name(c.blob->segment)).string() + ": vector '" +
                        c.blob->name + "/u' has " + std::to_string(values.size()) +
@@ -118,10 +114,7 @@ InspectOutput export_config_vtu(const StateDir& dir, ConfigId id, const std::fil
     }
     u = Eigen::Map<const Eigen::Matrix3Xd>(values.data(), 3, mesh.num_nodes());
   } else {  // a zero configuration: the loaded rest state (none without a body force)
-    SceneParseOptions options;
-    options.check_files = false;
-    options.require_probe = false;
-    const Scene parsed = parse_scene(scene->text, dir.root / "scene.toml", options);
+    const Scene parsed = parse_stored_scene(scene, dir, /*require_probe=*/false);
     const std::vector<double> rest = stored_rest_displacements(dir, parsed.mesh.unit);
     if (rest.size() == 3 * static_cast<std::size_t>(mesh.num_nodes()))
       u = Eigen::Map<const Eigen::Matrix3Xd>(rest.data(), 3, mesh.num_nodes());

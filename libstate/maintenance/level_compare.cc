@@ -23,10 +23,10 @@ ConfigVectors read_level_vectors(const BlobStore& blobs, const Configuration& c,
     v.u = rest_u;  // the zero configuration: the loaded rest state (empty: u = 0)
     return v;
   }
-  v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
-  v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
+  v.u = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kU));
+  v.h = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kH));
   // Sticking contact: the touched set is part of the configuration (never merge different sets).
-  if (blobs.contains(c.blob->segment, c.blob->name + "/touched"))
+  if (blobs.contains(c.blob->segment, c.blob->dataset(BlobVector::kTouched)))
     v.touched = read_touched_set(blobs, c, static_cast<int>(v.u.size() / 3));
   return v;
 }

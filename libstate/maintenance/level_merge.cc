@@ -26,9 +26,10 @@ const ConfigVectors& vectors_of(Candidate& c, const BlobStore& blobs,
 
 std::size_t h_length_of(Candidate& c, const BlobStore& blobs) {
   if (!c.h_length) {
-    c.h_length = c.vectors       ? c.vectors->h.size()
-                 : c.config.blob ? blobs.size_of(c.config.blob->segment, c.config.blob->name + "/h")
-                                 : 0;
+    c.h_length = c.vectors ? c.vectors->h.size()
+                 : c.config.blob
+                     ? blobs.size_of(c.config.blob->segment, c.config.blob->dataset(BlobVector::kH))
+                     : 0;
   }
   return *c.h_length;
 }

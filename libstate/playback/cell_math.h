@@ -3,6 +3,7 @@
 #pragma once
 
 #include "playback/hermite_bases.h"
+#include "util/grid_direction.h"
 
 #include <array>
 #include <cmath>
@@ -13,6 +14,8 @@ namespace hapstate::playback {
 // specialises as it did when they were one file (as inline functions with external linkage the
 // Hermite query measured 5-10 % slower: bench/cursor_ab.sh).
 namespace {
+
+using grid::direction_index;
 
 // The axis pairs of the cross derivatives, in the order of their index.
 constexpr int kPair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
@@ -38,12 +41,6 @@ inline void trilinear_bubble_bases(const std::array<double, 3>& t, const double*
 inline double trilinear_weight(int c, const std::array<double, 3>& t) {
   const auto o = corner_offset(c);
   return (o[0] ? t[0] : 1 - t[0]) * (o[1] ? t[1] : 1 - t[1]) * (o[2] ? t[2] : 1 - t[2]);
-}
-
-// Direction index (catalogue/direction.h numbering) of grid offset (di, dj, dk).
-inline int direction_index(int di, int dj, int dk) {
-  const int c = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);
-  return c < 13 ? c : c - 1;
 }
 
 // A Hermite cell's value and its derivative (row-major, per mesh unit) at

@@ -315,7 +315,7 @@ void PlaybackFile::verify() const {
       fail("configuration " + std::to_string(c) + ": zero flag " +
            std::to_string(f.config_zero[c]) + " is not 0 or 1");
     for (int d = 0; d < 26; ++d) {
-      const std::int32_t t = f.transitions[26 * c + d];
+      const std::int32_t t = f.transitions[grid::kDirections * c + d];
       if (t < playback::kFailed || t >= n)
         fail("configuration " + std::to_string(c) + ", direction " + std::to_string(d) +
              ": transition target " + std::to_string(t) + " out of range");
@@ -404,7 +404,7 @@ std::span<const float> PlaybackFile::displacements(std::int32_t c) const {
 bool PlaybackFile::has_displacement_slopes() const { return impl_->slopes != nullptr; }
 
 std::int32_t PlaybackFile::transition_entry(std::int32_t c, int d) const {
-  return impl_->transitions[26 * static_cast<std::int64_t>(c) + d];
+  return impl_->transitions[grid::kDirections * static_cast<std::int64_t>(c) + d];
 }
 std::uint64_t PlaybackFile::scene_hash() const { return impl_->meta->scene_hash; }
 std::uint64_t PlaybackFile::source_hash() const { return impl_->meta->source_hash; }

@@ -3,6 +3,7 @@
 
 #include "hapstate/playback.h"
 #include "playback/format.h"
+#include "util/grid_direction.h"
 
 #include <array>
 #include <cstddef>
@@ -52,35 +53,18 @@ struct PlaybackFile::Impl {
            n * (4 * (playback::kMidpointDirections * static_cast<std::size_t>(c) + d) + kind);
   }
 
-  // Linear index of grid point ijk (absolute grid indices), or -1 outside the grid.
+  // The grid-point numbering and the last cell (format.h) of this file's grid.
   std::int32_t point_index(const std::array<std::int32_t, 3>& ijk) const {
-    std::int32_t g = 0;
-    for (int a = 0; a < 3; ++a) {
-      const std::int32_t i = ijk[a] - meta->lo[a];
-      if (i < 0 || i >= meta->dims[a]) return -1;
-      g = g * meta->dims[a] + i;
-    }
-    return g;
+    return playback::grid_point_index(*meta, ijk);
   }
-  // Grid index ijk of linear grid point g, the inverse of point_index; a g out of range (a
-  // damaged file) gives the first grid point, so that callers stay defined.
   std::array<std::int32_t, 3> point_ijk(std::int64_t g) const {
-    const std::int64_t points = std::int64_t(meta->dims[0]) * meta->dims[1] * meta->dims[2];
-    if (g < 0 || g >= points) g = 0;
-    const std::int64_t yz = std::int64_t(meta->dims[1]) * meta->dims[2];
-    return {meta->lo[0] + static_cast<std::int32_t>(g / yz),
-            meta->lo[1] + static_cast<std::int32_t>((g / meta->dims[2]) % meta->dims[1]),
-            meta->lo[2] + static_cast<std::int32_t>(g % meta->dims[2])};
+    return playback::grid_point_ijk(*meta, g);
   }
-  // Grid index of the last cell's first corner along axis a: a cell spans [base, base + 1];
-  // with a single check-point along an axis the cell is degenerate there (s = 0 always).
-  std::int32_t last_cell(int a) const {
-    return meta->lo[a] + (meta->dims[a] > 1 ? meta->dims[a] - 2 : 0);
-  }
+  std::int32_t last_cell(int a) const { return playback::last_cell(*meta, a); }
   // The target of configuration c's transition in direction d, or -1 if there is none
   // (undecided, outside, failed, or an index out of range in a damaged file).
   std::int32_t transition(std::int32_t c, int d) const {
-    const std::int32_t t = transitions[26 * static_cast<std::int64_t>(c) + d];
+    const std::int32_t t = transitions[grid::kDirections * static_cast<std::int64_t>(c) + d];
     return t >= 0 && t < meta->num_configurations ? t : -1;
   }
 };

@@ -7,6 +7,7 @@
 // hundred bytes); each section's checksum is checked by verify().
 #pragma once
 
+#include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -199,6 +200,33 @@ struct Meta {
   std::uint64_t scene_hash;              // XXH64 of the scene text
   std::uint64_t source_hash;             // of what the index was built from (hapstate-index skips)
 };
+
+// The grid-point numbering of the file (x-major: i slowest, k fastest; docs/playback.md): the
+// linear index of grid point ijk (absolute grid indices), or -1 outside the grid.
+inline std::int32_t grid_point_index(const Meta& m, const std::array<std::int32_t, 3>& ijk) {
+  std::int32_t g = 0;
+  for (int a = 0; a < 3; ++a) {
+    const std::int32_t i = ijk[a] - m.lo[a];
+    if (i < 0 || i >= m.dims[a]) return -1;
+    g = g * m.dims[a] + i;
+  }
+  return g;
+}
+// Its inverse; a g out of range (a damaged file) gives the first grid point, so that callers
+// stay defined.
+inline std::array<std::int32_t, 3> grid_point_ijk(const Meta& m, std::int64_t g) {
+  const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
+  if (g < 0 || g >= points) g = 0;
+  const std::int64_t yz = std::int64_t(m.dims[1]) * m.dims[2];
+  return {m.lo[0] + static_cast<std::int32_t>(g / yz),
+          m.lo[1] + static_cast<std::int32_t>((g / m.dims[2]) % m.dims[1]),
+          m.lo[2] + static_cast<std::int32_t>(g % m.dims[2])};
+}
+// Grid index of the last cell's first corner along axis a: a cell spans [base, base + 1]; with a
+// single check-point along an axis the cell is degenerate there (s = 0 always).
+inline std::int32_t last_cell(const Meta& m, int a) {
+  return m.lo[a] + (m.dims[a] > 1 ? m.dims[a] - 2 : 0);
+}
 static_assert(sizeof(Meta) == 200);
 
 }  // namespace hapstate::playback

@@ -1,5 +1,7 @@
 #include "playback/onset_model.h"
 
+#include "util/grid_direction.h"
+
 #include <algorithm>
 #include <cstdlib>
 
@@ -33,15 +35,15 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
     o.depth_source = static_cast<std::int32_t>(k);  // q = 0, no displacements if no neighbour
     int used = 0;
     // Directions by grid distance (taxicab 1: straight, 2: face diagonal, 3: body diagonal),
-    // numbered as in catalogue/direction.h; the nearest distance with a neighbour is used.
+    // numbered as in util/grid_direction.h; the nearest distance with a neighbour is used.
     for (int dist = 1; dist <= 3 && used == 0; ++dist)
       for (int di = -1; di <= 1; ++di)
         for (int dj = -1; dj <= 1; ++dj)
           for (int dk = -1; dk <= 1; ++dk) {
             if (std::abs(di) + std::abs(dj) + std::abs(dk) != dist) continue;
-            const int code = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);
-            const int d = code < 13 ? code : code - 1;
-            const std::int32_t t = c.transitions[26 * k + static_cast<std::size_t>(d)];
+            const int d = grid::direction_index(di, dj, dk);
+            const std::int32_t t =
+                c.transitions[grid::kDirections * k + static_cast<std::size_t>(d)];
             if (t < 0 || static_cast<std::size_t>(t) >= n || !deep(static_cast<std::size_t>(t)))
               continue;
             const OnsetCorner& ot = out[static_cast<std::size_t>(t)];

@@ -3,6 +3,7 @@
 #include "hapstate/playback.h"
 
 #include "util/error.h"
+#include "util/grid_direction.h"
 #include "util/hash.h"
 
 #include <fcntl.h>
@@ -108,7 +109,7 @@ void check_content(const Content& c, const std::filesystem::path& file) {
       (c.midpoint_displacement_mask.size() != n || !c.midpoint_displacements))
     bad("midpoint displacement mask size, or no midpoint displacements for it");
   if (c.config_level.size() != n || c.config_zero.size() != n || c.force.size() != 3 * n ||
-      c.stiffness.size() != 9 * n || c.transitions.size() != 26 * n)
+      c.stiffness.size() != 9 * n || c.transitions.size() != grid::kDirections * n)
     bad("configuration table sizes");
   if (c.reference.size() != 3 * c.view_nodes.size() || c.triangles.size() % 3 != 0)
     bad("view node table sizes");
@@ -141,12 +142,6 @@ void check_content(const Content& c, const std::filesystem::path& file) {
     if (std::isinf(v)) bad("a refined point's force or stiffness is infinite");
 }
 
-// Catalogue direction index of grid offset o (catalogue/direction.h numbering).
-int direction_index(const int (&o)[3]) {
-  const int k = 9 * (o[0] + 1) + 3 * (o[1] + 1) + (o[2] + 1);
-  return k < 13 ? k : k - 1;
-}
-
 // The clamp limits of the bubbles' corrections (edge, face, cell; N per component).
 std::array<double, 3> bubble_limits(const Content& c) {
   std::array<double, 3> limit{};
@@ -157,7 +152,10 @@ std::array<double, 3> bubble_limits(const Content& c) {
   double reach[3] = {0, 0, 0};  // per kind: the largest |m - f_source| + |f_target - f_source|
   for (std::size_t src = 0; src < n; ++src)
     for (int d = 0; d < kMidpointDirections; ++d) {
-      const std::int32_t tgt = c.transitions[26 * src + direction_index(kMidpointOffsets[d])];
+      const std::int32_t tgt =
+          c.transitions[grid::kDirections * src + grid::direction_index(kMidpointOffsets[d][0],
+                                                                        kMidpointOffsets[d][1],
+                                                                        kMidpointOffsets[d][2])];
       const double* m = &c.midpoint_force[3 * (kMidpointDirections * src + d)];
       if (tgt < 0 || std::isnan(m[0]) || std::isnan(m[1]) || std::isnan(m[2])) continue;
       const int kind = d < 3 ? 0 : (d < 6 ? 1 : 2);
@@ -196,24 +194,17 @@ double stiffness_limit(const Content& c) {
 
 double force_change_bound(const Content& c) {
   const std::size_t n = c.config_checkpoint.size();
-  const int ny = c.meta.dims[1], nz = c.meta.dims[2];
-  auto point_ijk = [&](std::int32_t g) {
-    return std::array<int, 3>{g / (ny * nz), (g / nz) % ny, g % nz};
-  };
   double slope = 0.0, stiffness = 0.0;
   for (std::size_t a = 0; a < n; ++a) {
     double k2 = 0;
     for (int r = 0; r < 9; ++r) k2 += c.stiffness[9 * a + r] * c.stiffness[9 * a + r];
     stiffness = std::max(stiffness, std::sqrt(k2));
-    const auto ia = point_ijk(c.config_checkpoint[a]);
+    const auto ia = grid_point_ijk(c.meta, c.config_checkpoint[a]);
     for (int di = -1; di <= 1; ++di)
       for (int dj = -1; dj <= 1; ++dj)
         for (int dk = -1; dk <= 1; ++dk) {
-          const std::array<int, 3> ib{ia[0] + di, ia[1] + dj, ia[2] + dk};
-          if ((di == 0 && dj == 0 && dk == 0) || ib[0] < 0 || ib[1] < 0 || ib[2] < 0 ||
-              ib[0] >= c.meta.dims[0] || ib[1] >= ny || ib[2] >= nz)
-            continue;
-          const std::int32_t g = (ib[0] * ny + ib[1]) * nz + ib[2];
+          const std::int32_t g = grid_point_index(c.meta, {ia[0] + di, ia[1] + dj, ia[2] + dk});
+          if ((di == 0 && dj == 0 && dk == 0) || g < 0) continue;
           const double dist =
               std::sqrt(std::pow(di * c.meta.spacing[0], 2) + std::pow(dj * c.meta.spacing[1], 2) +
                         std::pow(dk * c.meta.spacing[2], 2));

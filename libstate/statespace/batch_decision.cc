@@ -48,11 +48,8 @@ BatchDecision decide_batch(const std::vector<TransitionTask>& tasks,
     t.midpoint_force = solve.midpoint_force;
     t.midpoint_stiffness = solve.midpoint_stiffness;
     if (!solve.midpoint_u.empty()) {
-      std::string name = "m";
-      name += std::to_string(task.source.id.value());
-      name += '_';
-      name += std::to_string(task.direction.index());
-      t.midpoint_blob = BlobRef{settings.segment, std::move(name)};
+      t.midpoint_blob = BlobRef{settings.segment, BlobRef::midpoint_group(task.source.id.value(),
+                                                                          task.direction.index())};
     }
     // Compare with every level at the target, stored or new in this batch.
     const std::vector<double> summary = settings.sketch->summary(solve.vectors.u);
@@ -95,9 +92,7 @@ BatchDecision decide_batch(const std::vector<TransitionTask>& tasks,
       c.force = solve.force;
       c.expandable = settings.expandable(c.checkpoint, c.force);
       c.status = ConfigStatus::kOpen;
-      std::string name = "c";  // (not "c" + ...: GCC 12's false -Wrestrict, bug 105329)
-      name += std::to_string(c.id.value());
-      c.blob = BlobRef{settings.segment, std::move(name)};
+      c.blob = BlobRef{settings.segment, BlobRef::configuration_group(c.id.value())};
       c.summary = summary;
       t.target = c.id;
       out.fresh.push_back({c, &solve.vectors, out.transitions.size(), task.to});

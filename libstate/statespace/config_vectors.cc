@@ -9,7 +9,7 @@ namespace hapstate {
 std::vector<int> read_touched_set(const BlobStore& blobs, const Configuration& c, int num_nodes) {
   std::vector<int> touched;
   if (!c.blob) return touched;
-  for (double n : blobs.read(c.blob->segment, c.blob->name + "/touched")) {
+  for (double n : blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kTouched))) {
     if (n < 0 || n >= num_nodes || n != static_cast<int>(n) ||
         (!touched.empty() && n <= touched.back())) {
       throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() + ": '" +
@@ -31,12 +31,12 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
     v.h.assign(layout.h_size(0), 0.0);
     return v;
   }
-  v.u = blobs.read(c.blob->segment, c.blob->name + "/u");
-  v.t = blobs.read(c.blob->segment, c.blob->name + "/t");
-  v.h = blobs.read(c.blob->segment, c.blob->name + "/h");
+  v.u = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kU));
+  v.t = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kT));
+  v.h = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kH));
   if (layout.touched) v.touched = read_touched_set(blobs, c, num_dofs / 3);
   if (layout.multipliers)
-    v.multipliers = blobs.read(c.blob->segment, c.blob->name + "/multipliers");
+    v.multipliers = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kMultipliers));
   const int num_reactions = layout.h_size(v.touched.size());
   if (static_cast<int>(v.u.size()) != num_dofs || static_cast<int>(v.h.size()) != num_reactions) {
     throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() +

@@ -1,6 +1,7 @@
 #include "statespace/expand_batch.h"
 
 #include "util/error.h"
+#include "util/grid_direction.h"
 
 #include <algorithm>
 #include <cmath>
@@ -61,7 +62,7 @@ TransitionSolver::~TransitionSolver() { finish(); }
 std::size_t TransitionSolver::lookahead(int threads, int num_dofs) {
   // A whole source is 26 directions; four of them per thread keep every thread busy while the
   // slowest direction of a batch finishes and the batch is stored.
-  const std::size_t wanted = 4 * 26 * static_cast<std::size_t>(std::max(1, threads));
+  const std::size_t wanted = 4 * grid::kDirections * static_cast<std::size_t>(std::max(1, threads));
   // A result holds u (float64) and, for a midpoint, its u and three slopes (float32).
   const std::size_t bytes_per_result = 24 * static_cast<std::size_t>(std::max(1, num_dofs));
   const std::size_t affordable = (std::size_t{1} << 30) / bytes_per_result;

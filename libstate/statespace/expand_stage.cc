@@ -88,12 +88,13 @@ class Expander {
     }
     for (const Configuration& c : cat.read_all_configurations()) {
       if (!c.blob || c.status == ConfigStatus::kMerged) continue;
-      for (const char* v : {"/u", "/t", "/h", "/touched", "/multipliers"}) {
-        if (std::string(v) == "/touched" && !probe_->stores_touched()) continue;
-        if (std::string(v) == "/multipliers" && !probe_->layout().multipliers) continue;
-        if (!blobs_.contains(c.blob->segment, c.blob->name + v)) {
+      for (const BlobVector v : {BlobVector::kU, BlobVector::kT, BlobVector::kH,
+                                 BlobVector::kTouched, BlobVector::kMultipliers}) {
+        if (v == BlobVector::kTouched && !probe_->stores_touched()) continue;
+        if (v == BlobVector::kMultipliers && !probe_->layout().multipliers) continue;
+        if (!blobs_.contains(c.blob->segment, c.blob->dataset(v))) {
           throw InputError((blobs_.directory() / segment_file_name(c.blob->segment)).string() +
-                           ": vector '" + c.blob->name + v + "' of configuration " +
+                           ": vector '" + c.blob->dataset(v) + "' of configuration " +
                            std::to_string(c.id.value()) +
                            " is missing (the state directory is "
                            "damaged)");
@@ -228,21 +229,23 @@ class Expander {
                            SegmentProvenance{ctx_.scene_record.hash.hex(), "", "expand"});
       for (std::size_t k = 0; k < decision.fresh.size(); ++k) {
         const NewConfiguration& n = decision.fresh[k];
-        writer.write(n.config.blob->name + "/u", n.vectors->u);
-        writer.write(n.config.blob->name + "/t", n.vectors->t);
-        writer.write(n.config.blob->name + "/h", n.vectors->h);
+        writer.write(n.config.blob->dataset(BlobVector::kU), n.vectors->u);
+        writer.write(n.config.blob->dataset(BlobVector::kT), n.vectors->t);
+        writer.write(n.config.blob->dataset(BlobVector::kH), n.vectors->h);
         if (!stiffness[k].du_dp.empty())
-          writer.write(n.config.blob->name + "/du_dp", stiffness[k].du_dp);
+          writer.write(n.config.blob->dataset(BlobVector::kDuDp), stiffness[k].du_dp);
         if (probe_->layout().multipliers)
-          writer.write(n.config.blob->name + "/multipliers", n.vectors->multipliers);
+          writer.write(n.config.blob->dataset(BlobVector::kMultipliers), n.vectors->multipliers);
         if (probe_->stores_touched())
-          writer.write(n.config.blob->name + "/touched", std::span<const int>(n.vectors->touched));
+          writer.write(n.config.blob->dataset(BlobVector::kTouched),
+                       std::span<const int>(n.vectors->touched));
       }
       for (std::size_t k = 0; k < decision.transitions.size(); ++k) {
         const Transition& t = decision.transitions[k];
         if (!t.midpoint_blob) continue;
-        writer.write(t.midpoint_blob->name + "/u", std::span<const float>(solves[k].midpoint_u));
-        writer.write(t.midpoint_blob->name + "/du_dp",
+        writer.write(t.midpoint_blob->dataset(BlobVector::kU),
+                     std::span<const float>(solves[k].midpoint_u));
+        writer.write(t.midpoint_blob->dataset(BlobVector::kDuDp),
                      std::span<const float>(solves[k].midpoint_du_dp));
       }
       writer.close();

@@ -9,6 +9,7 @@
 #include "statespace/stage_record.h"
 #include "statespace/state_dir.h"
 #include "statespace/stored_problem.h"
+#include "statespace/stored_scene.h"
 #include "util/error.h"
 
 #include <Eigen/Geometry>
@@ -190,10 +191,10 @@ ImportReport run_import(const ImportOptions& options) {
     }
   }
   std::string what;
-  const SceneRecord old_scene = *catalogue.read_scene();
+  const SceneRecord old_scene = read_stored_scene(catalogue, dir);
   for (const auto& part : changed) {
     if (part == "max_force") {
-      const Scene old = parse_scene(old_scene.text, dir.catalogue(), SceneParseOptions{false});
+      const Scene old = parse_stored_scene(old_scene, dir);
       what += (what.empty() ? "" : "; ") + std::string("probe.max_force ") +
               format_force(old.probe.max_force) + " -> " + format_force(scene.probe.max_force);
     } else if (part == "workspace") {

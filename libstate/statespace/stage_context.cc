@@ -1,6 +1,7 @@
 #include "statespace/stage_context.h"
 
 #include "statespace/stored_problem.h"
+#include "statespace/stored_scene.h"
 #include "util/error.h"
 
 namespace hapstate {
@@ -10,7 +11,7 @@ StageContext open_stage_context(const std::filesystem::path& state) {
   std::unique_ptr<StateDirLock> lock;
   if (std::filesystem::exists(dir.catalogue())) lock = std::make_unique<StateDirLock>(dir);
   Catalogue catalogue = open_imported_catalogue(dir, OpenMode::kMigrate);
-  SceneRecord record = *catalogue.read_scene();
+  SceneRecord record = read_stored_scene(catalogue, dir);
   const StageRun import = require_stage_run(catalogue, dir, "import");
   const std::optional<ContentHash> expected = run_input(import, "problem");
   if (!expected) {
@@ -19,7 +20,7 @@ StageContext open_stage_context(const std::filesystem::path& state) {
                      "(damaged?): re-import with --fresh");
   }
   const std::string label = dir.catalogue().string() + " (stored scene)";
-  Scene scene = parse_scene(record.text, dir.catalogue(), SceneParseOptions{false});
+  Scene scene = parse_stored_scene(record, dir);
   Problem problem = load_stored_problem(dir, scene, *expected);
   GridSpec grid = resolve_grid(scene.grid, problem.probe_rest, label, problem.probe_sag);
   return StageContext{dir,

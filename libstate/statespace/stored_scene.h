@@ -14,7 +14,6 @@ SceneRecord read_stored_scene(Catalogue& catalogue, const StateDir& dir);
 // The stored scene parsed: its files are not checked (the problem is stored with it), relative
 // paths resolve against the state directory, and messages name the catalogue. With
 // `require_probe` false a scene without [probe] and [grid] is accepted.
-Scene parse_stored_scene(const SceneRecord& record, const StateDir& dir,
-                         bool require_probe = true);
+Scene parse_stored_scene(const SceneRecord& record, const StateDir& dir, bool require_probe = true);
 
 }  // namespace hapstate

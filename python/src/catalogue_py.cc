@@ -9,6 +9,7 @@
 #include "maintenance/state_paths.h"
 #include "scene/scene.h"
 #include "statespace/stored_problem.h"
+#include "statespace/stored_scene.h"
 #include "util/error.h"
 
 #include <pybind11/numpy.h>
@@ -173,14 +174,11 @@ class PyCatalogue {
       const auto nodes = scene ? scene->mesh_nodes : 0;
       std::vector<double> u;
       if (scene) {
-        SceneParseOptions options;
-        options.check_files = false;
-        options.require_probe = false;
-        const Scene parsed = parse_scene(scene->text, dir_.root / "scene.toml", options);
+        const Scene parsed = parse_stored_scene(*scene, dir_, /*require_probe=*/false);
         u = stored_rest_displacements(dir_, parsed.mesh.unit);
       }
       u.resize(3 * static_cast<std::size_t>(nodes), 0.0);
-      d["u"] = shaped(u, {static_cast<py::ssize_t>(nodes), 3});
+      d[BlobRef::leaf(BlobVector::kU)] = shaped(u, {static_cast<py::ssize_t>(nodes), 3});
       return d;
     }
     const BlobStore& blobs = this->blobs();
@@ -190,9 +188,9 @@ class PyCatalogue {
       const std::string name = full.substr(prefix.size());
       const std::vector<double> v = blobs.read(c.blob->segment, full);
       const auto n = static_cast<py::ssize_t>(v.size());
-      if (name == "u" && n % 3 == 0)
+      if (name == BlobRef::leaf(BlobVector::kU) && n % 3 == 0)
         d[py::str(name)] = shaped(v, {n / 3, 3});
-      else if (name == "du_dp" && n % 9 == 0)
+      else if (name == BlobRef::leaf(BlobVector::kDuDp) && n % 9 == 0)
         d[py::str(name)] = shaped(v, {3, n / 9, 3});
       else
         d[py::str(name)] = shaped(v, {n});

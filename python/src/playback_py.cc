@@ -5,6 +5,7 @@
 
 #include "hapstate/error.h"
 #include "hapstate/playback.h"
+#include "playback/scheme_name.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -24,12 +25,9 @@ namespace {
 using Positions = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 Scheme scheme_from(const std::string& name) {
-  if (name == "hermite") return Scheme::kHermite;
-  if (name == "trilinear") return Scheme::kTrilinear;
+  if (const auto s = parse_scheme(name)) return *s;
   throw InputError("scheme '" + name + "': expected \"hermite\" or \"trilinear\"");
 }
-
-const char* scheme_text(Scheme s) { return s == Scheme::kHermite ? "hermite" : "trilinear"; }
 
 // The rows of an (n, 3) array, or of one (3,) position; non-finite values refused.
 struct PathView {
@@ -178,7 +176,7 @@ class PyCursor {
     return get();
   }
   std::string scheme() const {
-    return scheme_text(locked([&] { return cursor_.scheme(); }));
+    return scheme_name(locked([&] { return cursor_.scheme(); }));
   }
   void set_scheme(const std::string& name) {
     const Scheme s = scheme_from(name);
@@ -316,14 +314,13 @@ void bind_playback(py::module_& m) {
             d["steps_per_path"] = c->steps_per_path;
             d["steps"] = c->steps;
             d["failed_steps"] = c->failed_steps;
-            const char* names[2] = {"trilinear", "hermite"};
             for (int s = 0; s < 2; ++s) {
               py::dict e;
               e["force_error_worst"] = c->force_error_worst[s];
               e["force_error_p99"] = c->force_error_p99[s];
               e["force_error_worst_newtons"] = c->force_error_worst_n[s];
               e["deformation_error_worst"] = c->deformation_error_worst[s];
-              d[names[s]] = e;
+              d[scheme_name(s)] = e;
             }
             d["stiffness_n_per_mm"] = c->stiffness_n_per_mm;
             d["query_median_ns"] = c->query_median_ns;
