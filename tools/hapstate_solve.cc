@@ -51,7 +51,8 @@ struct Options {
 };
 
 // --threads' default: threads pay inside one solve from a few thousand DOFs on (see
-// docs/benchmarks.md); below, their start-up costs more than the work they share.
+// docs/benchmarks.md, "Threads inside one solve"); below, their start-up costs more than the
+// work they share.
 int threads_for(int dofs) {
   cpu_set_t allowed;  // the cores this process may run on (taskset, cgroups), not the machine's
   const int cores = sched_getaffinity(0, sizeof allowed, &allowed) == 0
