@@ -76,6 +76,166 @@ bool finite(const double* v, int n) {
   return true;
 }
 
+// A check at open found the file unusable: `what` completes "not a usable playback file: ".
+struct Unusable {
+  std::string what;
+};
+[[noreturn]] void unusable(const std::string& what) { throw Unusable{what}; }
+
+// The sections the table lists, by id (nullptr / 0 bytes: absent).
+struct Sections {
+  const std::byte* data[playback::kSectionCount + 1] = {};
+  std::uint64_t bytes[playback::kSectionCount + 1] = {};
+  std::uint64_t meta_checksum = 0;
+  const std::byte* at(SectionId id) const { return data[static_cast<int>(id)]; }
+  std::uint64_t size(SectionId id) const { return bytes[static_cast<int>(id)]; }
+};
+
+// The header at `base` (`size` bytes mapped): magic, version, checksum, size and layout.
+void check_header(const std::byte* base, std::size_t size) {
+  const playback::FileHeader& h = *reinterpret_cast<const playback::FileHeader*>(base);
+  if (std::memcmp(h.magic, playback::kMagic, sizeof(playback::kMagic)) != 0)
+    unusable("bad magic at byte 0 (expected HAPSPLAY)");
+  if (h.version != playback::kVersion)
+    unusable("format version " + std::to_string(h.version) + ", this build reads version " +
+             std::to_string(playback::kVersion) + " (run hapstate-index again)");
+  const auto header_bytes =
+      std::as_bytes(std::span(&h, 1)).first(offsetof(playback::FileHeader, header_checksum));
+  if (content_hash(header_bytes).value != h.header_checksum) unusable("header checksum mismatch");
+  if (h.file_size != size)
+    unusable("truncated or extended: the header says " + std::to_string(h.file_size) +
+             " bytes, the file has " + std::to_string(size));
+  if (h.header_bytes != sizeof(playback::FileHeader) ||
+      h.section_entry_bytes != sizeof(SectionEntry) || h.section_count != playback::kSectionCount)
+    unusable("unexpected header or section table layout");
+}
+
+// The section table (checked: inside the file, its checksum, each entry's id, alignment and
+// extent).
+Sections read_sections(const std::byte* base, std::size_t size, const SectionEntry** table) {
+  const playback::FileHeader& h = *reinterpret_cast<const playback::FileHeader*>(base);
+  const std::uint64_t table_bytes = std::uint64_t{h.section_count} * sizeof(SectionEntry);
+  if (h.section_table_offset % 8 != 0 || h.section_table_offset > size ||
+      table_bytes > size - h.section_table_offset)
+    unusable("section table outside the file");
+  *table = reinterpret_cast<const SectionEntry*>(base + h.section_table_offset);
+  if (content_hash(std::span(base + h.section_table_offset, table_bytes)).value !=
+      h.section_table_checksum)
+    unusable("section table checksum mismatch");
+  Sections out;
+  for (std::uint32_t s = 0; s < h.section_count; ++s) {
+    const SectionEntry& e = (*table)[s];
+    if (e.id < 1 || e.id > playback::kSectionCount || out.data[e.id])
+      unusable("section table entry " + std::to_string(s) + " has a bad or repeated id " +
+               std::to_string(e.id));
+    const std::string name = section_name(static_cast<SectionId>(e.id));
+    if (e.offset % playback::kAlignment != 0)
+      unusable("section '" + name + "' is not 64-byte aligned");
+    if (e.offset > size || e.bytes > size - e.offset)
+      unusable("section '" + name + "' (offset " + std::to_string(e.offset) + ", " +
+               std::to_string(e.bytes) + " bytes) runs past the end of the file");
+    out.data[e.id] = base + e.offset;
+    out.bytes[e.id] = e.bytes;
+    if (e.id == static_cast<std::uint32_t>(SectionId::kMeta)) out.meta_checksum = e.checksum;
+  }
+  return out;
+}
+
+// The meta section: its size, checksum, grid, flags, counts and limits.
+const playback::Meta& check_meta(const Sections& sections) {
+  if (sections.size(SectionId::kMeta) != sizeof(playback::Meta)) unusable("meta section size");
+  if (content_hash(std::span(sections.at(SectionId::kMeta), sizeof(playback::Meta))).value !=
+      sections.meta_checksum)
+    unusable("meta section checksum mismatch");
+  const playback::Meta& m2 =
+      *reinterpret_cast<const playback::Meta*>(sections.at(SectionId::kMeta));
+  for (int a = 0; a < 3; ++a)
+    if (m2.dims[a] < 1 || m2.dims[a] > (1 << 20) || !(m2.spacing[a] > 0) ||
+        !std::isfinite(m2.origin[a]))
+      unusable("meta: bad grid (dims, spacing or origin) on axis " + std::to_string(a));
+  if (m2.has_displacement_slopes != 0 && m2.has_displacement_slopes != 1)
+    unusable("meta: has_displacement_slopes is " + std::to_string(m2.has_displacement_slopes) +
+             ", not 0 or 1");
+  if (m2.num_configurations < 1 || m2.num_view_nodes < 0 || m2.num_triangles < 0 ||
+      m2.rest_configuration < 0 || m2.rest_configuration >= m2.num_configurations)
+    unusable("meta: bad counts");
+  return m2;
+}
+
+bool contact_probe(const playback::Meta& m) {
+  return m.probe_mode == static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
+}
+
+// Every section's size against what the meta section implies (the optional ones: 0 or that).
+void check_section_sizes(const playback::Meta& m2, const Sections& sections) {
+  const std::uint64_t n = static_cast<std::uint64_t>(m2.num_configurations);
+  const std::uint64_t v = static_cast<std::uint64_t>(m2.num_view_nodes);
+  const std::uint64_t points = std::uint64_t(m2.dims[0]) * m2.dims[1] * m2.dims[2];
+  const bool contact = contact_probe(m2);
+  const std::uint64_t* bytes = sections.bytes;
+  const std::pair<SectionId, std::uint64_t> expected[] = {
+      {SectionId::kCheckpoints, 8 * points},
+      {SectionId::kConfigCheckpoint, 4 * n},
+      {SectionId::kConfigLevel, 4 * n},
+      {SectionId::kConfigZero, 4 * n},
+      {SectionId::kForce, 24 * n},
+      {SectionId::kStiffness, 72 * n},
+      {SectionId::kTransitions, 104 * n},
+      {SectionId::kViewNodes, 4 * v},
+      {SectionId::kReference, 12 * v},
+      {SectionId::kTriangles, 12 * std::uint64_t(m2.num_triangles)},
+      {SectionId::kDisplacements, 12 * v * n},
+      {SectionId::kDisplacementSlopes, m2.has_displacement_slopes ? 36 * v * n : 0},
+      {SectionId::kClearance, contact ? 32 * points : 0},
+      {SectionId::kOnset, contact ? sizeof(playback::OnsetCorner) * n : 0}};
+  const std::uint64_t midpoint_bytes = bytes[static_cast<int>(SectionId::kMidpointForce)];
+  if (midpoint_bytes != 0 && midpoint_bytes != 24 * playback::kMidpointDirections * n)
+    unusable("section 'midpoint force' has " + std::to_string(midpoint_bytes) +
+             " bytes, the header implies 0 or " +
+             std::to_string(24 * playback::kMidpointDirections * n));
+  const std::uint64_t midpoint_k_bytes = bytes[static_cast<int>(SectionId::kMidpointStiffness)];
+  if (midpoint_k_bytes != 0 &&
+      (midpoint_bytes == 0 || midpoint_k_bytes != 72 * playback::kMidpointDirections * n))
+    unusable("section 'midpoint stiffness' has " + std::to_string(midpoint_k_bytes) +
+             " bytes, the header implies 0 or " +
+             std::to_string(midpoint_bytes == 0 ? 0 : 72 * playback::kMidpointDirections * n));
+  const std::uint64_t mask_bytes = bytes[static_cast<int>(SectionId::kMidpointDisplacementMask)];
+  const std::uint64_t midpoint_u_bytes = bytes[static_cast<int>(SectionId::kMidpointDisplacements)];
+  if (mask_bytes != 0 && mask_bytes != 4 * n)
+    unusable("section 'midpoint displacement mask' has " + std::to_string(mask_bytes) +
+             " bytes, the header implies 0 or " + std::to_string(4 * n));
+  if (midpoint_u_bytes != (mask_bytes == 0 ? 0 : 48 * playback::kMidpointDirections * v * n))
+    unusable("section 'midpoint displacements' has " + std::to_string(midpoint_u_bytes) +
+             " bytes, the header implies " +
+             std::to_string(mask_bytes == 0 ? 0 : 48 * playback::kMidpointDirections * v * n));
+  const std::uint64_t refined_cell_bytes = bytes[static_cast<int>(SectionId::kRefinedCells)];
+  const std::uint64_t refined_bytes = bytes[static_cast<int>(SectionId::kRefinedPoints)];
+  const std::uint64_t cell_bytes = 96 * playback::kRefinedPoints;
+  if (refined_cell_bytes != 0 && (refined_cell_bytes != 8 * n || midpoint_k_bytes == 0))
+    unusable("section 'refined cells' has " + std::to_string(refined_cell_bytes) +
+             " bytes, the header implies 0 or " +
+             std::to_string(midpoint_k_bytes == 0 ? 0 : 8 * n));
+  if (refined_bytes % cell_bytes != 0 || (refined_bytes != 0 && refined_cell_bytes == 0))
+    unusable("section 'refined points' has " + std::to_string(refined_bytes) +
+             " bytes, not a multiple of " + std::to_string(cell_bytes) +
+             (refined_cell_bytes == 0 ? " with section 'refined cells'" : ""));
+  const std::uint64_t certificate_bytes = bytes[static_cast<int>(SectionId::kCertificate)];
+  if (certificate_bytes != 0 && certificate_bytes != sizeof(playback::CertificateRecord))
+    unusable("section 'certificate' has " + std::to_string(certificate_bytes) +
+             " bytes, the header implies 0 or " +
+             std::to_string(sizeof(playback::CertificateRecord)));
+  if (!(m2.stiffness_limit >= 0) || !std::isfinite(m2.stiffness_limit))
+    unusable("meta: stiffness limit is not a finite number >= 0");
+  for (int k = 0; k < 3; ++k)
+    if (!(m2.bubble_limit[k] >= 0) || !std::isfinite(m2.bubble_limit[k]))
+      unusable("meta: bubble limit " + std::to_string(k) + " is not a finite number >= 0");
+  for (const auto& [id, size] : expected)
+    if (bytes[static_cast<int>(id)] != size)
+      unusable("section '" + section_name(id) + "' has " +
+               std::to_string(bytes[static_cast<int>(id)]) + " bytes, the header implies " +
+               std::to_string(size));
+}
+
 }  // namespace
 
 PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), impl_(new Impl) {
@@ -110,129 +270,25 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   Impl& f = *impl_;
   f.base = static_cast<const std::byte*>(m);
   f.header = reinterpret_cast<const playback::FileHeader*>(f.base);
-  const playback::FileHeader& h = *f.header;
-  if (std::memcmp(h.magic, playback::kMagic, sizeof(playback::kMagic)) != 0)
-    fail("bad magic at byte 0 (expected HAPSPLAY)");
-  if (h.version != playback::kVersion)
-    fail("format version " + std::to_string(h.version) + ", this build reads version " +
-         std::to_string(playback::kVersion) + " (run hapstate-index again)");
-  const auto header_bytes =
-      std::as_bytes(std::span(&h, 1)).first(offsetof(playback::FileHeader, header_checksum));
-  if (content_hash(header_bytes).value != h.header_checksum) fail("header checksum mismatch");
-  if (h.file_size != f.size)
-    fail("truncated or extended: the header says " + std::to_string(h.file_size) +
-         " bytes, the file has " + std::to_string(f.size));
-  if (h.header_bytes != sizeof(playback::FileHeader) ||
-      h.section_entry_bytes != sizeof(SectionEntry) || h.section_count != playback::kSectionCount)
-    fail("unexpected header or section table layout");
-  const std::uint64_t table_bytes = std::uint64_t{h.section_count} * sizeof(SectionEntry);
-  if (h.section_table_offset % 8 != 0 || h.section_table_offset > f.size ||
-      table_bytes > f.size - h.section_table_offset)
-    fail("section table outside the file");
-  f.table = reinterpret_cast<const SectionEntry*>(f.base + h.section_table_offset);
-  if (content_hash(std::span(f.base + h.section_table_offset, table_bytes)).value !=
-      h.section_table_checksum)
-    fail("section table checksum mismatch");
-
-  const std::byte* data[playback::kSectionCount + 1] = {};
-  std::uint64_t bytes[playback::kSectionCount + 1] = {};
-  for (std::uint32_t s = 0; s < h.section_count; ++s) {
-    const SectionEntry& e = f.table[s];
-    if (e.id < 1 || e.id > playback::kSectionCount || data[e.id])
-      fail("section table entry " + std::to_string(s) + " has a bad or repeated id " +
-           std::to_string(e.id));
-    const std::string name = section_name(static_cast<SectionId>(e.id));
-    if (e.offset % playback::kAlignment != 0) fail("section '" + name + "' is not 64-byte aligned");
-    if (e.offset > f.size || e.bytes > f.size - e.offset)
-      fail("section '" + name + "' (offset " + std::to_string(e.offset) + ", " +
-           std::to_string(e.bytes) + " bytes) runs past the end of the file");
-    data[e.id] = f.base + e.offset;
-    bytes[e.id] = e.bytes;
+  Sections sections;
+  try {
+    check_header(f.base, f.size);
+    sections = read_sections(f.base, f.size, &f.table);
+    f.meta = &check_meta(sections);
+    check_section_sizes(*f.meta, sections);
+  } catch (const Unusable& e) {
+    fail(e.what);
   }
-  auto section = [&](SectionId id) { return data[static_cast<int>(id)]; };
-  if (bytes[static_cast<int>(SectionId::kMeta)] != sizeof(playback::Meta))
-    fail("meta section size");
-  f.meta = reinterpret_cast<const playback::Meta*>(section(SectionId::kMeta));
-  const SectionEntry* meta_entry = nullptr;
-  for (std::uint32_t s = 0; s < h.section_count; ++s)
-    if (f.table[s].id == static_cast<std::uint32_t>(SectionId::kMeta)) meta_entry = &f.table[s];
-  if (content_hash(std::span(section(SectionId::kMeta), sizeof(playback::Meta))).value !=
-      meta_entry->checksum)
-    fail("meta section checksum mismatch");
   const playback::Meta& m2 = *f.meta;
-  for (int a = 0; a < 3; ++a)
-    if (m2.dims[a] < 1 || m2.dims[a] > (1 << 20) || !(m2.spacing[a] > 0) ||
-        !std::isfinite(m2.origin[a]))
-      fail("meta: bad grid (dims, spacing or origin) on axis " + std::to_string(a));
-  if (m2.has_displacement_slopes != 0 && m2.has_displacement_slopes != 1)
-    fail("meta: has_displacement_slopes is " + std::to_string(m2.has_displacement_slopes) +
-         ", not 0 or 1");
-  if (m2.num_configurations < 1 || m2.num_view_nodes < 0 || m2.num_triangles < 0 ||
-      m2.rest_configuration < 0 || m2.rest_configuration >= m2.num_configurations)
-    fail("meta: bad counts");
-  const std::uint64_t n = static_cast<std::uint64_t>(m2.num_configurations);
-  const std::uint64_t v = static_cast<std::uint64_t>(m2.num_view_nodes);
-  const std::uint64_t points = std::uint64_t(m2.dims[0]) * m2.dims[1] * m2.dims[2];
-  const bool contact =
-      m2.probe_mode == static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
-  const std::pair<SectionId, std::uint64_t> expected[] = {
-      {SectionId::kCheckpoints, 8 * points},
-      {SectionId::kConfigCheckpoint, 4 * n},
-      {SectionId::kConfigLevel, 4 * n},
-      {SectionId::kConfigZero, 4 * n},
-      {SectionId::kForce, 24 * n},
-      {SectionId::kStiffness, 72 * n},
-      {SectionId::kTransitions, 104 * n},
-      {SectionId::kViewNodes, 4 * v},
-      {SectionId::kReference, 12 * v},
-      {SectionId::kTriangles, 12 * std::uint64_t(m2.num_triangles)},
-      {SectionId::kDisplacements, 12 * v * n},
-      {SectionId::kDisplacementSlopes, m2.has_displacement_slopes ? 36 * v * n : 0},
-      {SectionId::kClearance, contact ? 32 * points : 0},
-      {SectionId::kOnset, contact ? sizeof(playback::OnsetCorner) * n : 0}};
-  const std::uint64_t midpoint_bytes = bytes[static_cast<int>(SectionId::kMidpointForce)];
-  if (midpoint_bytes != 0 && midpoint_bytes != 24 * playback::kMidpointDirections * n)
-    fail("section 'midpoint force' has " + std::to_string(midpoint_bytes) +
-         " bytes, the header implies 0 or " +
-         std::to_string(24 * playback::kMidpointDirections * n));
-  const std::uint64_t midpoint_k_bytes = bytes[static_cast<int>(SectionId::kMidpointStiffness)];
-  if (midpoint_k_bytes != 0 &&
-      (midpoint_bytes == 0 || midpoint_k_bytes != 72 * playback::kMidpointDirections * n))
-    fail("section 'midpoint stiffness' has " + std::to_string(midpoint_k_bytes) +
-         " bytes, the header implies 0 or " +
-         std::to_string(midpoint_bytes == 0 ? 0 : 72 * playback::kMidpointDirections * n));
-  const std::uint64_t mask_bytes = bytes[static_cast<int>(SectionId::kMidpointDisplacementMask)];
-  const std::uint64_t midpoint_u_bytes = bytes[static_cast<int>(SectionId::kMidpointDisplacements)];
-  if (mask_bytes != 0 && mask_bytes != 4 * n)
-    fail("section 'midpoint displacement mask' has " + std::to_string(mask_bytes) +
-         " bytes, the header implies 0 or " + std::to_string(4 * n));
-  if (midpoint_u_bytes != (mask_bytes == 0 ? 0 : 48 * playback::kMidpointDirections * v * n))
-    fail("section 'midpoint displacements' has " + std::to_string(midpoint_u_bytes) +
-         " bytes, the header implies " +
-         std::to_string(mask_bytes == 0 ? 0 : 48 * playback::kMidpointDirections * v * n));
-  const std::uint64_t refined_cell_bytes = bytes[static_cast<int>(SectionId::kRefinedCells)];
-  const std::uint64_t refined_bytes = bytes[static_cast<int>(SectionId::kRefinedPoints)];
+  const bool contact = contact_probe(m2);
+  auto section = [&](SectionId id) { return sections.at(id); };
+  const std::uint64_t midpoint_bytes = sections.size(SectionId::kMidpointForce);
+  const std::uint64_t midpoint_k_bytes = sections.size(SectionId::kMidpointStiffness);
+  const std::uint64_t mask_bytes = sections.size(SectionId::kMidpointDisplacementMask);
+  const std::uint64_t refined_cell_bytes = sections.size(SectionId::kRefinedCells);
+  const std::uint64_t refined_bytes = sections.size(SectionId::kRefinedPoints);
   const std::uint64_t cell_bytes = 96 * playback::kRefinedPoints;
-  if (refined_cell_bytes != 0 && (refined_cell_bytes != 8 * n || midpoint_k_bytes == 0))
-    fail("section 'refined cells' has " + std::to_string(refined_cell_bytes) +
-         " bytes, the header implies 0 or " + std::to_string(midpoint_k_bytes == 0 ? 0 : 8 * n));
-  if (refined_bytes % cell_bytes != 0 || (refined_bytes != 0 && refined_cell_bytes == 0))
-    fail("section 'refined points' has " + std::to_string(refined_bytes) +
-         " bytes, not a multiple of " + std::to_string(cell_bytes) +
-         (refined_cell_bytes == 0 ? " with section 'refined cells'" : ""));
-  const std::uint64_t certificate_bytes = bytes[static_cast<int>(SectionId::kCertificate)];
-  if (certificate_bytes != 0 && certificate_bytes != sizeof(playback::CertificateRecord))
-    fail("section 'certificate' has " + std::to_string(certificate_bytes) +
-         " bytes, the header implies 0 or " + std::to_string(sizeof(playback::CertificateRecord)));
-  if (!(m2.stiffness_limit >= 0) || !std::isfinite(m2.stiffness_limit))
-    fail("meta: stiffness limit is not a finite number >= 0");
-  for (int k = 0; k < 3; ++k)
-    if (!(m2.bubble_limit[k] >= 0) || !std::isfinite(m2.bubble_limit[k]))
-      fail("meta: bubble limit " + std::to_string(k) + " is not a finite number >= 0");
-  for (const auto& [id, size] : expected)
-    if (bytes[static_cast<int>(id)] != size)
-      fail("section '" + section_name(id) + "' has " + std::to_string(bytes[static_cast<int>(id)]) +
-           " bytes, the header implies " + std::to_string(size));
+  const std::uint64_t certificate_bytes = sections.size(SectionId::kCertificate);
   f.checkpoints = reinterpret_cast<const std::int32_t*>(section(SectionId::kCheckpoints));
   f.config_checkpoint =
       reinterpret_cast<const std::int32_t*>(section(SectionId::kConfigCheckpoint));

@@ -202,13 +202,152 @@ class PyCursor {
   mutable std::mutex mutex_;
 };
 
+// What hapstate-certify measured on the file, as Playback.certificate returns it.
+py::object certificate_dict(const PlaybackFile& f) {
+  const auto c = f.certificate();
+  if (!c) return py::none();
+  py::dict d;
+  d["paths"] = c->paths;
+  d["steps_per_path"] = c->steps_per_path;
+  d["steps"] = c->steps;
+  d["failed_steps"] = c->failed_steps;
+  for (int s = 0; s < 2; ++s) {
+    py::dict e;
+    e["force_error_worst"] = c->force_error_worst[s];
+    e["force_error_p99"] = c->force_error_p99[s];
+    e["force_error_worst_newtons"] = c->force_error_worst_n[s];
+    e["deformation_error_worst"] = c->deformation_error_worst[s];
+    d[scheme_name(s)] = e;
+  }
+  d["stiffness_n_per_mm"] = c->stiffness_n_per_mm;
+  d["query_median_ns"] = c->query_median_ns;
+  d["query_p999_ns"] = c->query_p999_ns;
+  return d;
+}
+
+// The check-points' positions, (I, J, K, 3).
+py::array_t<double> grid_points(const PlaybackFile& f) {
+  const auto o = f.grid_origin(), h = f.grid_spacing();
+  const auto lo = f.grid_lo(), n = f.grid_dims();
+  py::array_t<double> out(
+      {py::ssize_t{n[0]}, py::ssize_t{n[1]}, py::ssize_t{n[2]}, py::ssize_t{3}});
+  double* p = out.mutable_data();
+  for (int i = 0; i < n[0]; ++i)
+    for (int j = 0; j < n[1]; ++j)
+      for (int k = 0; k < n[2]; ++k) {
+        const int idx[3] = {lo[0] + i, lo[1] + j, lo[2] + k};
+        for (int a = 0; a < 3; ++a) *p++ = o[a] + idx[a] * h[a];
+      }
+  return out;
+}
+
+using PyPlayback = py::class_<PlaybackFile, std::shared_ptr<PlaybackFile>>;
+
+// Playback's grid: the probe's rest point, the check-points' origin, spacing, extent, positions.
+void bind_grid(PyPlayback& playback) {
+  playback
+      .def_property_readonly(
+          "probe_rest", [](const PlaybackFile& f) { return vec3(f.rest_position()); },
+          "(3,) the probe's position at rest, mesh units.")
+      .def_property_readonly(
+          "grid_origin", [](const PlaybackFile& f) { return vec3(f.grid_origin()); },
+          "(3,) position of grid index (0, 0, 0), mesh units.")
+      .def_property_readonly(
+          "grid_spacing", [](const PlaybackFile& f) { return vec3(f.grid_spacing()); },
+          "(3,) check-point spacing per axis, mesh units.")
+      .def_property_readonly(
+          "grid_lo", [](const PlaybackFile& f) { return ivec3(f.grid_lo()); },
+          "(3,) grid index of the first check-point per axis.")
+      .def_property_readonly(
+          "grid_dims", [](const PlaybackFile& f) { return ivec3(f.grid_dims()); },
+          "(3,) number of check-points per axis.")
+      .def("grid_points", &grid_points, "(I, J, K, 3) positions of the check-points, mesh units.");
+}
+
+// Playback's stored data per configuration, its certificate and its cursors.
+void bind_data(PyPlayback& playback) {
+  playback
+      .def(
+          "force",
+          [](const PlaybackFile& f, std::int32_t c) {
+            if (c < 0 || c >= f.num_configurations())
+              throw InputError("configuration " + std::to_string(c) + ": out of range");
+            return vec3(f.force(c));
+          },
+          py::arg("configuration"), "(3,) the stored force of a configuration (file index), N.")
+      .def(
+          "displacements",
+          [](const PlaybackFile& f, std::int32_t c) {
+            if (c < 0 || c >= f.num_configurations())
+              throw InputError("configuration " + std::to_string(c) + ": out of range");
+            const auto u = f.displacements(c);
+            py::array_t<double> out({static_cast<py::ssize_t>(u.size() / 3), py::ssize_t{3}});
+            std::copy(u.begin(), u.end(), out.mutable_data());
+            return out;
+          },
+          py::arg("configuration"),
+          "(m, 3) the stored displacements of a configuration's view nodes, mesh units.")
+      .def_property_readonly(
+          "certificate", &certificate_dict,
+          "What hapstate-certify measured on this file (docs/certificate.md) as a dict, or None "
+          "before it has run: paths, steps, per scheme ('hermite', 'trilinear') the worst and "
+          "99th-percentile force error (relative to the path's largest force), the worst in N "
+          "and the worst deformation error, the largest stored stiffness (N/mm) and the haptic "
+          "query's median and 99.9th percentile (ns).")
+      .def(
+          "cursor",
+          [](std::shared_ptr<PlaybackFile> f, const std::string& scheme) {
+            return std::make_unique<PyCursor>(std::move(f), scheme_from(scheme));
+          },
+          py::arg("scheme") = "hermite",
+          "A haptic cursor on this file: scheme \"hermite\" (default) or \"trilinear\".")
+      .def("__repr__", [](const PlaybackFile& f) {
+        return "<hapstate.Playback '" + f.path().string() +
+               "': " + std::to_string(f.num_configurations()) + " configurations, " +
+               (f.is_contact() ? "contact" : "grab") + ">";
+      });
+}
+
+void bind_cursor(py::module_& m) {
+  py::class_<PyCursor>(m, "Cursor",
+                       "The haptic cursor of one device (HapticCursor): it follows the probe cell "
+                       "by cell through the stored transitions, so the order of positions matters "
+                       "(the history of a device loop). Made by Playback.cursor().")
+      .def("force", &PyCursor::force, py::arg("path"),
+           "Forces (n, 3) in N along `path`, an (n, 3) array of probe positions (mesh units) "
+           "visited in order, continuing from the cursor's last position; a (3,) position gives "
+           "a (3,) force. A new (or reset()) cursor starts at the path's first position with the "
+           "body at rest, as hapstate-eval and hapstate-play do.")
+      .def("stiffness", &PyCursor::stiffness, py::arg("path"),
+           "Stiffness d force / d probe, (n, 3, 3) in N per mesh unit, along `path` (visited in "
+           "order as by force()).")
+      .def("deform", &PyCursor::deform,
+           "(m, 3) displacements of the view nodes at the cursor's current position (mesh units, "
+           "from the mesh as drawn); zeros before the first query.")
+      .def("reset", &PyCursor::reset, py::arg("at") = py::none(),
+           "Back to rest; with `at`, placed there with the body at rest (a contact probe clear of "
+           "the body).")
+      .def_property("scheme", &PyCursor::scheme, &PyCursor::set_scheme,
+                    "\"hermite\" or \"trilinear\".")
+      .def_property_readonly("probe", &PyCursor::probe,
+                             "(3,) the last position queried, or None before the first.")
+      .def_property_readonly("anchor_configuration", &PyCursor::anchor_configuration,
+                             "The configuration at the check-point nearest to the last position "
+                             "(-1 if that corner is extended).")
+      .def_property_readonly("anchor_checkpoint", &PyCursor::anchor_checkpoint,
+                             "(3,) grid index of the check-point nearest to the last position.")
+      .def_property_readonly("cells_walked", &PyCursor::cells_walked,
+                             "Cells entered since the cursor was made.");
+}
+
 }  // namespace
 
 void bind_playback(py::module_& m) {
-  py::class_<PlaybackFile, std::shared_ptr<PlaybackFile>>(
+  PyPlayback playback(
       m, "Playback",
       "A playback file written by hapstate-index (state/playback.bin), memory-mapped read-only. "
-      "Positions are in mesh units (the scene's), forces in N, stiffness in N per mesh unit.")
+      "Positions are in mesh units (the scene's), forces in N, stiffness in N per mesh unit.");
+  playback
       .def(py::init([](const std::filesystem::path& p) {
              return std::make_shared<PlaybackFile>(
                  std::filesystem::is_directory(p) ? p / "playback.bin" : p);
@@ -251,129 +390,10 @@ void bind_playback(py::module_& m) {
             const auto t = f.triangles();
             return rows_of(t.data(), static_cast<py::ssize_t>(t.size() / 3), 3);
           },
-          "(t, 3) surface triangles as view-node indices, int32.")
-      .def_property_readonly(
-          "probe_rest", [](const PlaybackFile& f) { return vec3(f.rest_position()); },
-          "(3,) the probe's position at rest, mesh units.")
-      .def_property_readonly(
-          "grid_origin", [](const PlaybackFile& f) { return vec3(f.grid_origin()); },
-          "(3,) position of grid index (0, 0, 0), mesh units.")
-      .def_property_readonly(
-          "grid_spacing", [](const PlaybackFile& f) { return vec3(f.grid_spacing()); },
-          "(3,) check-point spacing per axis, mesh units.")
-      .def_property_readonly(
-          "grid_lo", [](const PlaybackFile& f) { return ivec3(f.grid_lo()); },
-          "(3,) grid index of the first check-point per axis.")
-      .def_property_readonly(
-          "grid_dims", [](const PlaybackFile& f) { return ivec3(f.grid_dims()); },
-          "(3,) number of check-points per axis.")
-      .def(
-          "grid_points",
-          [](const PlaybackFile& f) {
-            const auto o = f.grid_origin(), h = f.grid_spacing();
-            const auto lo = f.grid_lo(), n = f.grid_dims();
-            py::array_t<double> out(
-                {py::ssize_t{n[0]}, py::ssize_t{n[1]}, py::ssize_t{n[2]}, py::ssize_t{3}});
-            double* p = out.mutable_data();
-            for (int i = 0; i < n[0]; ++i)
-              for (int j = 0; j < n[1]; ++j)
-                for (int k = 0; k < n[2]; ++k) {
-                  const int idx[3] = {lo[0] + i, lo[1] + j, lo[2] + k};
-                  for (int a = 0; a < 3; ++a) *p++ = o[a] + idx[a] * h[a];
-                }
-            return out;
-          },
-          "(I, J, K, 3) positions of the check-points, mesh units.")
-      .def(
-          "force",
-          [](const PlaybackFile& f, std::int32_t c) {
-            if (c < 0 || c >= f.num_configurations())
-              throw InputError("configuration " + std::to_string(c) + ": out of range");
-            return vec3(f.force(c));
-          },
-          py::arg("configuration"), "(3,) the stored force of a configuration (file index), N.")
-      .def(
-          "displacements",
-          [](const PlaybackFile& f, std::int32_t c) {
-            if (c < 0 || c >= f.num_configurations())
-              throw InputError("configuration " + std::to_string(c) + ": out of range");
-            const auto u = f.displacements(c);
-            py::array_t<double> out({static_cast<py::ssize_t>(u.size() / 3), py::ssize_t{3}});
-            std::copy(u.begin(), u.end(), out.mutable_data());
-            return out;
-          },
-          py::arg("configuration"),
-          "(m, 3) the stored displacements of a configuration's view nodes, mesh units.")
-      .def_property_readonly(
-          "certificate",
-          [](const PlaybackFile& f) -> py::object {
-            const auto c = f.certificate();
-            if (!c) return py::none();
-            py::dict d;
-            d["paths"] = c->paths;
-            d["steps_per_path"] = c->steps_per_path;
-            d["steps"] = c->steps;
-            d["failed_steps"] = c->failed_steps;
-            for (int s = 0; s < 2; ++s) {
-              py::dict e;
-              e["force_error_worst"] = c->force_error_worst[s];
-              e["force_error_p99"] = c->force_error_p99[s];
-              e["force_error_worst_newtons"] = c->force_error_worst_n[s];
-              e["deformation_error_worst"] = c->deformation_error_worst[s];
-              d[scheme_name(s)] = e;
-            }
-            d["stiffness_n_per_mm"] = c->stiffness_n_per_mm;
-            d["query_median_ns"] = c->query_median_ns;
-            d["query_p999_ns"] = c->query_p999_ns;
-            return d;
-          },
-          "What hapstate-certify measured on this file (docs/certificate.md) as a dict, or None "
-          "before it has run: paths, steps, per scheme ('hermite', 'trilinear') the worst and "
-          "99th-percentile force error (relative to the path's largest force), the worst in N "
-          "and the worst deformation error, the largest stored stiffness (N/mm) and the haptic "
-          "query's median and 99.9th percentile (ns).")
-      .def(
-          "cursor",
-          [](std::shared_ptr<PlaybackFile> f, const std::string& scheme) {
-            return std::make_unique<PyCursor>(std::move(f), scheme_from(scheme));
-          },
-          py::arg("scheme") = "hermite",
-          "A haptic cursor on this file: scheme \"hermite\" (default) or \"trilinear\".")
-      .def("__repr__", [](const PlaybackFile& f) {
-        return "<hapstate.Playback '" + f.path().string() +
-               "': " + std::to_string(f.num_configurations()) + " configurations, " +
-               (f.is_contact() ? "contact" : "grab") + ">";
-      });
-
-  py::class_<PyCursor>(m, "Cursor",
-                       "The haptic cursor of one device (HapticCursor): it follows the probe cell "
-                       "by cell through the stored transitions, so the order of positions matters "
-                       "(the history of a device loop). Made by Playback.cursor().")
-      .def("force", &PyCursor::force, py::arg("path"),
-           "Forces (n, 3) in N along `path`, an (n, 3) array of probe positions (mesh units) "
-           "visited in order, continuing from the cursor's last position; a (3,) position gives "
-           "a (3,) force. A new (or reset()) cursor starts at the path's first position with the "
-           "body at rest, as hapstate-eval and hapstate-play do.")
-      .def("stiffness", &PyCursor::stiffness, py::arg("path"),
-           "Stiffness d force / d probe, (n, 3, 3) in N per mesh unit, along `path` (visited in "
-           "order as by force()).")
-      .def("deform", &PyCursor::deform,
-           "(m, 3) displacements of the view nodes at the cursor's current position (mesh units, "
-           "from the mesh as drawn); zeros before the first query.")
-      .def("reset", &PyCursor::reset, py::arg("at") = py::none(),
-           "Back to rest; with `at`, placed there with the body at rest (a contact probe clear of "
-           "the body).")
-      .def_property("scheme", &PyCursor::scheme, &PyCursor::set_scheme,
-                    "\"hermite\" or \"trilinear\".")
-      .def_property_readonly("probe", &PyCursor::probe,
-                             "(3,) the last position queried, or None before the first.")
-      .def_property_readonly("anchor_configuration", &PyCursor::anchor_configuration,
-                             "The configuration at the check-point nearest to the last position "
-                             "(-1 if that corner is extended).")
-      .def_property_readonly("anchor_checkpoint", &PyCursor::anchor_checkpoint,
-                             "(3,) grid index of the check-point nearest to the last position.")
-      .def_property_readonly("cells_walked", &PyCursor::cells_walked,
-                             "Cells entered since the cursor was made.");
+          "(t, 3) surface triangles as view-node indices, int32.");
+  bind_grid(playback);
+  bind_data(playback);
+  bind_cursor(m);
 }
 
 }  // namespace hapstate::python
