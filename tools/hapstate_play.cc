@@ -32,7 +32,7 @@ struct Options {
   double step = 0;  // 0: half the smallest grid spacing
   double rate = 1000;
   double speed = 1;
-  std::string scheme = "hermite";
+  std::string scheme = scheme_name(Scheme::kHermite);
   bool realtime = false;
   std::string frames;
   int frame_every = 1;

@@ -209,7 +209,7 @@ class HapticCursor {
   void snapshot(Snapshot* out) const;  // the newest published state
 
  private:
-  // The cell, its fitted interpolants and the snapshot buffer (about 100 KiB), made once here
+  // The cell, its fitted interpolants and the snapshot buffer (about 130 KiB), made once here
   // (playback/cursor_core.h).
   std::unique_ptr<playback::CursorCore> core_;
 };

@@ -1,6 +1,7 @@
 #include "eval/region_path.h"
 
 #include "util/error.h"
+#include "util/grid_direction.h"
 
 #include <cmath>
 
@@ -10,7 +11,7 @@ namespace {
 // Whether configuration c was expanded: some transition decided (a partial expansion leaves
 // its frontier open, a configuration past F_max is never expanded).
 bool expanded(const PlaybackFile& file, std::int32_t c) {
-  for (int d = 0; d < 26; ++d)
+  for (int d = 0; d < grid::kDirections; ++d)
     if (file.transition_entry(c, d) != -1) return true;  // -1: undecided
   return false;
 }

@@ -59,6 +59,74 @@ std::string axis_table(const std::vector<StressOutcome>& outcomes, const std::st
   return head + "\n" + rule + "\n" + row + "\n\n";
 }
 
+// The converged share per law (rows) and Poisson's ratio (columns).
+std::string law_nu_table(const std::vector<StressOutcome>& outcomes) {
+  std::ostringstream s;
+  std::vector<double> nus;
+  std::vector<Law> laws;
+  for (const StressOutcome& o : outcomes) {
+    if (std::find(nus.begin(), nus.end(), o.c.poisson) == nus.end()) nus.push_back(o.c.poisson);
+    if (std::find(laws.begin(), laws.end(), o.c.law) == laws.end()) laws.push_back(o.c.law);
+  }
+  s << "Converged per law and Poisson's ratio:\n\n| law \\ nu |";
+  for (double nu : nus) s << " " << nu << " |";
+  s << " all |\n|---|";
+  for (std::size_t i = 0; i <= nus.size(); ++i) s << "---|";
+  s << "\n";
+  for (Law law : laws) {
+    s << "| " << law_name(law) << " |";
+    Tally all;
+    for (double nu : nus) {
+      Tally t;
+      for (const StressOutcome& o : outcomes)
+        if (o.c.law == law && o.c.poisson == nu) {
+          ++t.cases;
+          t.converged += o.status == "converged";
+        }
+      all.cases += t.cases;
+      all.converged += t.converged;
+      s << " " << t.rate() << " |";
+    }
+    s << " " << all.rate() << " |\n";
+  }
+  s << "\n";
+  return s.str();
+}
+
+// The strain the converged cases reached per law, probe and load, and the meshes' quality.
+std::string strain_table(const std::vector<StressOutcome>& outcomes) {
+  std::ostringstream s;
+  s << "Strain reached by the converged cases (largest and smallest principal stretch of any tet "
+       "at the end of the path, over the cases of the row; smallest det F; linear and stvk allow "
+       "det F <= 0):\n\n| law / probe / load | max stretch | min stretch | min det F "
+       "|\n|---|---|---|---|\n";
+  std::map<std::string, StretchRange> reach;
+  std::vector<std::string> order;
+  for (const StressOutcome& o : outcomes) {
+    if (o.status != "converged") continue;
+    const std::string k = std::string(law_name(o.c.law)) + " / " + stress_name(o.c.probe) + " / " +
+                          stress_name(o.c.load);
+    if (!reach.count(k)) {
+      order.push_back(k);
+      reach[k] = StretchRange{0, 1e300, 1e300};  // max of the max, min of the min
+    }
+    StretchRange& r = reach[k];
+    r.max_stretch = std::max(r.max_stretch, o.strain.max_stretch);
+    r.min_stretch = std::min(r.min_stretch, o.strain.min_stretch);
+    r.min_jacobian = std::min(r.min_jacobian, o.strain.min_jacobian);
+  }
+  for (const std::string& k : order)
+    s << "| " << k << " | " << fmt("%.2f", reach[k].max_stretch) << " | "
+      << fmt("%.2f", reach[k].min_stretch) << " | " << fmt("%.2f", reach[k].min_jacobian) << " |\n";
+  std::map<std::string, double> quality;
+  for (const StressOutcome& o : outcomes) quality[stress_name(o.c.mesh)] = o.mesh_min_quality;
+  s << "\nMesh min quality q = 3 r_in / r_circ:";
+  for (const auto& [name, q] : quality) s << " " << name << " " << fmt("%.3f", q) << ";";
+  s << "\n\n";
+
+  return s.str();
+}
+
 }  // namespace
 
 void write_stress_csv(const std::vector<StressOutcome>& outcomes,
@@ -98,35 +166,7 @@ std::string stress_markdown(const std::vector<StressOutcome>& outcomes) {
     << ", bugs (NaN in a converged output, exception, failure without a reason) " << bugs
     << "; solver time " << fmt("%.1f", wall / 1e3) << " s.\n\n";
 
-  // Law x nu.
-  std::vector<double> nus;
-  std::vector<Law> laws;
-  for (const StressOutcome& o : outcomes) {
-    if (std::find(nus.begin(), nus.end(), o.c.poisson) == nus.end()) nus.push_back(o.c.poisson);
-    if (std::find(laws.begin(), laws.end(), o.c.law) == laws.end()) laws.push_back(o.c.law);
-  }
-  s << "Converged per law and Poisson's ratio:\n\n| law \\ nu |";
-  for (double nu : nus) s << " " << nu << " |";
-  s << " all |\n|---|";
-  for (std::size_t i = 0; i <= nus.size(); ++i) s << "---|";
-  s << "\n";
-  for (Law law : laws) {
-    s << "| " << law_name(law) << " |";
-    Tally all;
-    for (double nu : nus) {
-      Tally t;
-      for (const StressOutcome& o : outcomes)
-        if (o.c.law == law && o.c.poisson == nu) {
-          ++t.cases;
-          t.converged += o.status == "converged";
-        }
-      all.cases += t.cases;
-      all.converged += t.converged;
-      s << " " << t.rate() << " |";
-    }
-    s << " " << all.rate() << " |\n";
-  }
-  s << "\n";
+  s << law_nu_table(outcomes);
   s << axis_table(outcomes, "load",
                   [](const StressCase& c) { return std::string(stress_name(c.load)); });
   s << axis_table(outcomes, "step",
@@ -136,34 +176,7 @@ std::string stress_markdown(const std::vector<StressOutcome>& outcomes) {
   s << axis_table(outcomes, "probe",
                   [](const StressCase& c) { return std::string(stress_name(c.probe)); });
 
-  // Strain reached (converged cases) and mesh quality.
-  s << "Strain reached by the converged cases (largest and smallest principal stretch of any tet "
-       "at the end of the path, over the cases of the row; smallest det F; linear and stvk allow "
-       "det F <= 0):\n\n| law / probe / load | max stretch | min stretch | min det F "
-       "|\n|---|---|---|---|\n";
-  std::map<std::string, StretchRange> reach;
-  std::vector<std::string> order;
-  for (const StressOutcome& o : outcomes) {
-    if (o.status != "converged") continue;
-    const std::string k = std::string(law_name(o.c.law)) + " / " + stress_name(o.c.probe) + " / " +
-                          stress_name(o.c.load);
-    if (!reach.count(k)) {
-      order.push_back(k);
-      reach[k] = StretchRange{0, 1e300, 1e300};  // max of the max, min of the min
-    }
-    StretchRange& r = reach[k];
-    r.max_stretch = std::max(r.max_stretch, o.strain.max_stretch);
-    r.min_stretch = std::min(r.min_stretch, o.strain.min_stretch);
-    r.min_jacobian = std::min(r.min_jacobian, o.strain.min_jacobian);
-  }
-  for (const std::string& k : order)
-    s << "| " << k << " | " << fmt("%.2f", reach[k].max_stretch) << " | "
-      << fmt("%.2f", reach[k].min_stretch) << " | " << fmt("%.2f", reach[k].min_jacobian) << " |\n";
-  std::map<std::string, double> quality;
-  for (const StressOutcome& o : outcomes) quality[stress_name(o.c.mesh)] = o.mesh_min_quality;
-  s << "\nMesh min quality q = 3 r_in / r_circ:";
-  for (const auto& [name, q] : quality) s << " " << name << " " << fmt("%.3f", q) << ";";
-  s << "\n\n";
+  s << strain_table(outcomes);
 
   // Moves rescued by the split fallback.
   int rescued = 0;

@@ -130,11 +130,8 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
   c.checkpoints.assign(2 * points, 0);
   for (std::int64_t p = 0; p < points; ++p) c.checkpoints[2 * p] = -1;
   std::map<std::int64_t, std::int32_t> index_of;  // configuration id -> file index
-  std::int32_t rest_point = 0;  // grid point of check-point (0, 0, 0), -1 if outside the grid
-  for (int a = 0; a < 3; ++a)
-    rest_point = -m.lo[a] < 0 || -m.lo[a] >= m.dims[a] || rest_point < 0
-                     ? -1
-                     : rest_point * m.dims[a] - m.lo[a];
+  // grid point of check-point (0, 0, 0), -1 if outside the grid
+  const std::int32_t rest_point = playback::grid_point_index(m, {0, 0, 0});
   m.rest_configuration = -1;
   for (std::size_t k = 0; k < ordered.size(); ++k) {
     const auto& [p, conf] = ordered[k];

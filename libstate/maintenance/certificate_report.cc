@@ -31,72 +31,8 @@ std::pair<double, double> worst_p99(std::vector<double> v) {
   return {d.max, d.p99};
 }
 
-}  // namespace
-
-Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
-                                  const std::optional<CertificateRun>& run,
-                                  const std::optional<ContentHash>& current, bool contact,
-                                  int worst_per_scheme) {
-  Certificate c;
-  if (paths.empty()) return c;
-  c.present = true;
-  c.contact = contact;
-  c.playback_hash = paths.front().playback_hash;
-  c.stale = !current || *current != c.playback_hash;
-  for (const CertificatePath& p : paths) c.stale = c.stale || p.playback_hash != c.playback_hash;
-  c.paths = static_cast<int>(paths.size());
-  c.steps_per_path = paths.front().steps;
-  std::array<std::vector<double>, 2> rel, newtons, deform;
-  std::vector<CertificateLocation> all;
-  for (const CertificatePath& p : paths) {
-    bool touching = false;
-    for (const CertificateStep& r : p.rows) {
-      ++c.steps;
-      if (!r.solved) {
-        ++c.failed_steps;
-        continue;
-      }
-      const bool now = r.force > 0;
-      c.contact_steps += now;
-      c.onsets += now && !touching;
-      c.leavings += !now && touching;
-      touching = now;
-      for (int s = 0; s < 2; ++s) {
-        const double e = p.max_force > 0 ? r.error[s] / p.max_force : 0.0;
-        rel[s].push_back(e);
-        newtons[s].push_back(r.error[s]);
-        if (!r.onset) deform[s].push_back(r.deformation[s]);
-        all.push_back({s, p.seed, r.step, r.probe, r.cell, r.checkpoint, e, r.error[s]});
-      }
-    }
-  }
-  for (int s = 0; s < 2; ++s) {
-    SchemeCertificate& sc = c.schemes[s];
-    std::tie(sc.worst, sc.p99) = worst_p99(rel[s]);
-    std::tie(sc.worst_n, sc.p99_n) = worst_p99(newtons[s]);
-    std::tie(sc.deformation_worst, sc.deformation_p99) = worst_p99(deform[s]);
-  }
-  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
-    return a.scheme != b.scheme ? a.scheme > b.scheme : a.error > b.error;  // Hermite first
-  });
-  std::array<int, 2> taken{};
-  for (const CertificateLocation& l : all)
-    if (taken[l.scheme]++ < worst_per_scheme) c.worst.push_back(l);
-  if (run && run->playback_hash == c.playback_hash) {
-    c.complete = true;
-    c.stiffness_n_per_mm = run->stiffness / 1000.0;
-    c.queries = run->queries;
-    c.query_median_ns = run->query_median_ns;
-    c.query_p999_ns = run->query_p999_ns;
-  }
-  return c;
-}
-
-CertificateText certificate_text(const Certificate& c) {
-  if (!c.present) {
-    const char* none = "certificate: none (hapstate-certify has not run: docs/certificate.md)\n";
-    return {"null", none, none};
-  }
+// The certificate as hapstate-inspect summary --json's "certificate" (docs/inspect.md).
+Json certificate_json(const Certificate& c) {
   Json j;
   j["stale"] = c.stale;
   j["complete"] = c.complete;
@@ -109,7 +45,7 @@ CertificateText certificate_text(const Certificate& c) {
     j["contact"] = {{"steps", c.contact_steps}, {"onsets", c.onsets}, {"leavings", c.leavings}};
   else
     j["contact"] = nullptr;
-  for (int s = 0; s < 2; ++s) {
+  for (int s = 0; s < kNumSchemes; ++s) {
     const SchemeCertificate& sc = c.schemes[s];
     j["force_error"][scheme_name(s)] = {{"worst", sc.worst},
                                         {"p99", sc.p99},
@@ -142,6 +78,76 @@ CertificateText certificate_text(const Certificate& c) {
                      {"force_error", l.error},
                      {"force_error_newtons", l.error_n}});
   j["worst"] = worst;
+  return j;
+}
+
+}  // namespace
+
+Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
+                                  const std::optional<CertificateRun>& run,
+                                  const std::optional<ContentHash>& current, bool contact,
+                                  int worst_per_scheme) {
+  Certificate c;
+  if (paths.empty()) return c;
+  c.present = true;
+  c.contact = contact;
+  c.playback_hash = paths.front().playback_hash;
+  c.stale = !current || *current != c.playback_hash;
+  for (const CertificatePath& p : paths) c.stale = c.stale || p.playback_hash != c.playback_hash;
+  c.paths = static_cast<int>(paths.size());
+  c.steps_per_path = paths.front().steps;
+  std::array<std::vector<double>, 2> rel, newtons, deform;
+  std::vector<CertificateLocation> all;
+  for (const CertificatePath& p : paths) {
+    bool touching = false;
+    for (const CertificateStep& r : p.rows) {
+      ++c.steps;
+      if (!r.solved) {
+        ++c.failed_steps;
+        continue;
+      }
+      const bool now = r.force > 0;
+      c.contact_steps += now;
+      c.onsets += now && !touching;
+      c.leavings += !now && touching;
+      touching = now;
+      for (int s = 0; s < kNumSchemes; ++s) {
+        const double e = p.max_force > 0 ? r.error[s] / p.max_force : 0.0;
+        rel[s].push_back(e);
+        newtons[s].push_back(r.error[s]);
+        if (!r.onset) deform[s].push_back(r.deformation[s]);
+        all.push_back({s, p.seed, r.step, r.probe, r.cell, r.checkpoint, e, r.error[s]});
+      }
+    }
+  }
+  for (int s = 0; s < kNumSchemes; ++s) {
+    SchemeCertificate& sc = c.schemes[s];
+    std::tie(sc.worst, sc.p99) = worst_p99(rel[s]);
+    std::tie(sc.worst_n, sc.p99_n) = worst_p99(newtons[s]);
+    std::tie(sc.deformation_worst, sc.deformation_p99) = worst_p99(deform[s]);
+  }
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+    return a.scheme != b.scheme ? a.scheme > b.scheme : a.error > b.error;  // Hermite first
+  });
+  std::array<int, 2> taken{};
+  for (const CertificateLocation& l : all)
+    if (taken[l.scheme]++ < worst_per_scheme) c.worst.push_back(l);
+  if (run && run->playback_hash == c.playback_hash) {
+    c.complete = true;
+    c.stiffness_n_per_mm = run->stiffness / 1000.0;
+    c.queries = run->queries;
+    c.query_median_ns = run->query_median_ns;
+    c.query_p999_ns = run->query_p999_ns;
+  }
+  return c;
+}
+
+CertificateText certificate_text(const Certificate& c) {
+  if (!c.present) {
+    const char* none = "certificate: none (hapstate-certify has not run: docs/certificate.md)\n";
+    return {"null", none, none};
+  }
+  const Json j = certificate_json(c);
 
   std::ostringstream t;
   t << "certificate (hapstate-certify: the paper's experiment on "

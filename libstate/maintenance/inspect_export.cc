@@ -56,9 +56,9 @@ std::filesystem::path find_mesh(const StateDir& dir, const SceneRecord& scene,
   if (given) {
     candidates.push_back(*given);
   } else {
-    const std::filesystem::path named =
-        scene.mesh_file.empty() ? parse_stored_scene(scene, dir, /*require_probe=*/false).mesh.file
-                                : std::filesystem::path(scene.mesh_file);
+    const std::filesystem::path named = scene.mesh_file.empty()
+                                            ? parse_stored_scene(scene, dir).mesh.file
+                                            : std::filesystem::path(scene.mesh_file);
     if (named.is_absolute()) {
       candidates.push_back(named);
     } else {
@@ -108,7 +108,7 @@ InspectOutput export_config_vtu(const StateDir& dir, ConfigId id, const std::fil
     const std::vector<double> values = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kU));
     if (values.size() != 3 * static_cast<std::size_t>(mesh.num_nodes())) {
       throw InputError((dir.blobs() / segment_file_name(c.blob->segment)).string() + ": vector '" +
-                       c.blob->name + "/u' has " + std::to_string(values.size()) +
+                       c.blob->dataset(BlobVector::kU) + "' has " + std::to_string(values.size()) +
                        " values, the mesh " + mesh_path.string() + " has " +
                        std::to_string(mesh.num_nodes()) + " nodes (x3)");
     }

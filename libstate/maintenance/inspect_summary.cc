@@ -36,20 +36,9 @@ void mark_interrupted(Json* run, bool busy) {
       "resume";
 }
 
-Json summary_json(const StateDir& dir, Catalogue& cat) {
-  Json j;
-  j["state"] = dir.root.string();
-  j["schema_version"] = cat.schema_version();
-  if (const auto scene = cat.read_scene()) {
-    j["scene"] = {{"hash", scene->hash.hex()},
-                  {"mesh_file", scene->mesh_file},
-                  {"mesh_nodes", scene->mesh_nodes},
-                  {"mesh_elements", scene->mesh_elements},
-                  {"mesh_surface_triangles", scene->mesh_surface_triangles}};
-  } else {
-    j["scene"] = nullptr;
-  }
-
+// The "stages" and "last_runs" keys: each stage's runs and last run, the last runs overall.
+void add_stage_runs(const StateDir& dir, Catalogue& cat, Json* out) {
+  Json& j = *out;
   Json stages = Json::array();
   for (const auto& row : cat.query_read_only("SELECT stage, count(*), max(id) FROM stage_run "
                                              "GROUP BY stage ORDER BY min(id)")
@@ -69,7 +58,11 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
   for (Json& run : last) mark_interrupted(&run, busy);
   j["stages"] = stages;
   j["last_runs"] = last;
+}
 
+// The "checkpoints", "configurations" and "levels_per_checkpoint" keys.
+void add_configurations(Catalogue& cat, Json* out) {
+  Json& j = *out;
   Json by_class = Json::object();
   for (int c = 0; c <= 4; ++c) by_class[checkpoint_class_name(static_cast<CheckpointClass>(c))] = 0;
   for (const auto& row :
@@ -111,7 +104,11 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
   for (const auto& row : rows)
     histogram.push_back({{"levels", int_at(row, 0)}, {"checkpoints", int_at(row, 1)}});
   j["levels_per_checkpoint"] = histogram;
+}
 
+// The "transitions", "failures_by_reason" and "refinement" keys.
+void add_transitions(Catalogue& cat, Json* out) {
+  Json& j = *out;
   Json transitions = {
       {"total", cat.num_transitions()}, {"reached", 0}, {"outside_grid", 0}, {"failed", 0}};
   for (const auto& row :
@@ -142,6 +139,25 @@ Json summary_json(const StateDir& dir, Catalogue& cat) {
   j["refinement"] = {{"cells", int_at(refined.rows.front(), 0)},
                      {"points", int_at(refined.rows.front(), 1)},
                      {"failed", int_at(refined.rows.front(), 2)}};
+}
+
+Json summary_json(const StateDir& dir, Catalogue& cat) {
+  Json j;
+  j["state"] = dir.root.string();
+  j["schema_version"] = cat.schema_version();
+  if (const auto scene = cat.read_scene()) {
+    j["scene"] = {{"hash", scene->hash.hex()},
+                  {"mesh_file", scene->mesh_file},
+                  {"mesh_nodes", scene->mesh_nodes},
+                  {"mesh_elements", scene->mesh_elements},
+                  {"mesh_surface_triangles", scene->mesh_surface_triangles}};
+  } else {
+    j["scene"] = nullptr;
+  }
+
+  add_stage_runs(dir, cat, &j);
+  add_configurations(cat, &j);
+  add_transitions(cat, &j);
 
   const DiskUse disk = measure_disk_use(dir);
   j["disk"] = {{"catalogue_bytes", disk.catalogue_bytes},

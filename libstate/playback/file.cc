@@ -278,6 +278,11 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     check_section_sizes(*f.meta, sections);
   } catch (const Unusable& e) {
     fail(e.what);
+  } catch (...) {  // no memory for a message: unmap and pass it on
+    ::munmap(const_cast<std::byte*>(impl_->base), impl_->size);
+    delete impl_;
+    impl_ = nullptr;
+    throw;
   }
   const playback::Meta& m2 = *f.meta;
   const bool contact = contact_probe(m2);
@@ -370,7 +375,7 @@ void PlaybackFile::verify() const {
     if (f.config_zero[c] != 0 && f.config_zero[c] != 1)
       fail("configuration " + std::to_string(c) + ": zero flag " +
            std::to_string(f.config_zero[c]) + " is not 0 or 1");
-    for (int d = 0; d < 26; ++d) {
+    for (int d = 0; d < grid::kDirections; ++d) {
       const std::int32_t t = f.transitions[grid::kDirections * c + d];
       if (t < playback::kFailed || t >= n)
         fail("configuration " + std::to_string(c) + ", direction " + std::to_string(d) +

@@ -257,6 +257,64 @@ double force_change_bound(const Content& c) {
   return std::max({corners + bubbles, half_cells, quarter_cells});
 }
 
+namespace {
+
+// A section as write_file lays it out: its bytes in memory, or streamed one configuration at a
+// time (the displacements and their slopes).
+struct PendingSection {
+  SectionId id;
+  std::uint32_t element_bytes;
+  std::span<const std::byte> data;  // empty for the streamed sections
+  std::uint64_t bytes;
+  // A streamed section: fills the floats of one configuration.
+  const std::function<void(std::int32_t, std::span<float>)>* stream = nullptr;
+  std::uint64_t row_floats = 0;
+};
+
+// Writes the sections from `offset` on, each 64-byte aligned, into `out` (n configurations for
+// the streamed ones), and their table entries with checksums into `table`; returns the end.
+std::uint64_t write_sections(OutFile& out, const PendingSection (&pending)[kSectionCount],
+                             std::size_t n, std::uint64_t offset,
+                             SectionEntry (&table)[kSectionCount]) {
+  for (int s = 0; s < kSectionCount; ++s) {
+    const PendingSection& p = pending[s];
+    table[s] = {static_cast<std::uint32_t>(p.id), p.element_bytes, offset, p.bytes, 0};
+    if (!p.stream) {
+      out.write_at(offset, p.data.data(), p.data.size());
+      table[s].checksum = content_hash(p.data).value;
+    } else {
+      ContentHasher hasher;
+      std::vector<float> row(p.row_floats);
+      for (std::size_t k = 0; k < n && p.row_floats > 0; ++k) {
+        std::fill(row.begin(), row.end(), 0.0f);
+        (*p.stream)(static_cast<std::int32_t>(k), row);
+        out.write_at(offset + 4 * p.row_floats * k, row.data(), 4 * p.row_floats);
+        hasher.update(std::as_bytes(std::span<const float>(row)));
+      }
+      table[s].checksum = hasher.value().value;
+    }
+    offset = align_up(offset + p.bytes);
+  }
+  return offset;
+}
+
+// The section table at table_offset and the sealed header at 0, for a file of `end` bytes.
+void write_header_and_table(OutFile& out, const SectionEntry (&table)[kSectionCount],
+                            std::uint64_t table_offset, std::uint64_t end) {
+  FileHeader header{};
+  std::memcpy(header.magic, kMagic, sizeof(kMagic));
+  header.version = kVersion;
+  header.header_bytes = sizeof(FileHeader);
+  header.section_table_offset = table_offset;
+  header.section_count = kSectionCount;
+  header.section_entry_bytes = sizeof(SectionEntry);
+  seal_header(&header, table, end);
+  out.write_at(table_offset, table, sizeof(table));
+  out.write_at(0, &header, sizeof(header));
+}
+
+}  // namespace
+
 void write_file(Content c, const std::filesystem::path& file) {
   check_content(c, file);
   const std::size_t n = c.config_checkpoint.size();
@@ -273,17 +331,8 @@ void write_file(Content c, const std::filesystem::path& file) {
   const std::uint64_t midpoint_floats =
       c.midpoint_displacement_mask.empty() ? 0 : 12 * kMidpointDirections * v;
 
-  struct Pending {
-    SectionId id;
-    std::uint32_t element_bytes;
-    std::span<const std::byte> data;  // empty for the streamed sections
-    std::uint64_t bytes;
-    // A streamed section: fills the floats of one configuration.
-    const std::function<void(std::int32_t, std::span<float>)>* stream = nullptr;
-    std::uint64_t row_floats = 0;
-  };
   const std::vector<Meta> meta{c.meta};
-  const Pending pending[kSectionCount] = {
+  const PendingSection pending[kSectionCount] = {
       {SectionId::kMeta, sizeof(Meta), bytes_of(meta), sizeof(Meta)},
       {SectionId::kCheckpoints, 8, bytes_of(c.checkpoints), 4 * c.checkpoints.size()},
       {SectionId::kConfigCheckpoint, 4, bytes_of(c.config_checkpoint), 4 * n},
@@ -328,37 +377,10 @@ void write_file(Content c, const std::filesystem::path& file) {
   try {
     SectionEntry table[kSectionCount];
     const std::uint64_t table_offset = align_up(sizeof(FileHeader));
-    std::uint64_t offset = align_up(table_offset + sizeof(table));
-    for (int s = 0; s < kSectionCount; ++s) {
-      const Pending& p = pending[s];
-      table[s] = {static_cast<std::uint32_t>(p.id), p.element_bytes, offset, p.bytes, 0};
-      if (!p.stream) {
-        out.write_at(offset, p.data.data(), p.data.size());
-        table[s].checksum = content_hash(p.data).value;
-      } else {
-        ContentHasher hasher;
-        std::vector<float> row(p.row_floats);
-        for (std::size_t k = 0; k < n && p.row_floats > 0; ++k) {
-          std::fill(row.begin(), row.end(), 0.0f);
-          (*p.stream)(static_cast<std::int32_t>(k), row);
-          out.write_at(offset + 4 * p.row_floats * k, row.data(), 4 * p.row_floats);
-          hasher.update(std::as_bytes(std::span<const float>(row)));
-        }
-        table[s].checksum = hasher.value().value;
-      }
-      offset = align_up(offset + p.bytes);
-    }
-    FileHeader header{};
-    std::memcpy(header.magic, kMagic, sizeof(kMagic));
-    header.version = kVersion;
-    header.header_bytes = sizeof(FileHeader);
-    header.section_table_offset = table_offset;
-    header.section_count = kSectionCount;
-    header.section_entry_bytes = sizeof(SectionEntry);
-    seal_header(&header, table, offset);
-    out.write_at(table_offset, table, sizeof(table));
-    out.write_at(0, &header, sizeof(header));
-    out.finish(offset);
+    const std::uint64_t end =
+        write_sections(out, pending, n, align_up(table_offset + sizeof(table)), table);
+    write_header_and_table(out, table, table_offset, end);
+    out.finish(end);
     replace_file(tmp, file);
   } catch (...) {
     std::error_code ignored;

@@ -13,8 +13,8 @@ std::vector<int> read_touched_set(const BlobStore& blobs, const Configuration& c
     if (n < 0 || n >= num_nodes || n != static_cast<int>(n) ||
         (!touched.empty() && n <= touched.back())) {
       throw InputError((blobs.directory() / segment_file_name(c.blob->segment)).string() + ": '" +
-                       c.blob->name + "/touched' of configuration " + std::to_string(c.id.value()) +
-                       " is not an ascending list of node ids");
+                       c.blob->dataset(BlobVector::kTouched) + "' of configuration " +
+                       std::to_string(c.id.value()) + " is not an ascending list of node ids");
     }
     touched.push_back(static_cast<int>(n));
   }

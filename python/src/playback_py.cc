@@ -211,7 +211,7 @@ py::object certificate_dict(const PlaybackFile& f) {
   d["steps_per_path"] = c->steps_per_path;
   d["steps"] = c->steps;
   d["failed_steps"] = c->failed_steps;
-  for (int s = 0; s < 2; ++s) {
+  for (int s = 0; s < kNumSchemes; ++s) {
     py::dict e;
     e["force_error_worst"] = c->force_error_worst[s];
     e["force_error_p99"] = c->force_error_p99[s];
