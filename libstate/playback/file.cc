@@ -162,6 +162,7 @@ const playback::Meta& check_meta(const Sections& sections) {
   return m2;
 }
 
+// Whether the file is for a contact (sphere) probe: PlaybackFile::is_contact, before it is open.
 bool contact_probe(const playback::Meta& m) {
   return m.probe_mode == static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
 }
@@ -420,9 +421,7 @@ std::int32_t PlaybackFile::num_configurations() const { return impl_->meta->num_
 std::int32_t PlaybackFile::num_view_nodes() const { return impl_->meta->num_view_nodes; }
 std::int32_t PlaybackFile::num_mesh_nodes() const { return impl_->meta->num_mesh_nodes; }
 bool PlaybackFile::view_is_all_nodes() const { return impl_->meta->view_all_nodes != 0; }
-bool PlaybackFile::is_contact() const {
-  return impl_->meta->probe_mode == static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
-}
+bool PlaybackFile::is_contact() const { return contact_probe(*impl_->meta); }
 bool PlaybackFile::is_zero_configuration(std::int32_t c) const {
   return impl_->config_zero[c] == 1;
 }
