@@ -1,5 +1,5 @@
 // hapstate-certify: the certificate of a state's playback file (docs/certificate.md).
-#include "certify/certify_stage.h"
+#include "stages/certify_stage.h"
 #include "statespace/math_threads.h"
 #include "util/cores.h"
 #include "util/main_guard.h"

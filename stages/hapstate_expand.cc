@@ -1,6 +1,6 @@
 // hapstate-expand: breadth-first expansion of the state space (the long stage).
 #include "distributed/mpi_engine.h"
-#include "statespace/expand_stage.h"
+#include "stages/expand_stage.h"
 #include "statespace/math_threads.h"
 #include "util/cores.h"
 #include "util/main_guard.h"

@@ -1,5 +1,5 @@
 // hapstate-grid: the check-point grid and the zero configuration of an imported state directory.
-#include "statespace/grid_stage.h"
+#include "stages/grid_stage.h"
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
 

@@ -1,5 +1,5 @@
 // hapstate-import: a scene and its mesh into a state directory.
-#include "statespace/import_stage.h"
+#include "stages/import_stage.h"
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
 

@@ -1,6 +1,6 @@
 // hapstate-index: the playback file of an expanded state directory (docs/playback.md).
 #include "hapstate/playback.h"
-#include "index/index_stage.h"
+#include "stages/index_stage.h"
 #include "util/main_guard.h"
 
 #include "help_format.h"

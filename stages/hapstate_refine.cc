@@ -1,7 +1,7 @@
 // hapstate-refine: the quarter-spacing points of the cells the half-spacing data do not resolve
 // (docs/state-space.md, "Refined cells").
+#include "stages/refine_stage.h"
 #include "statespace/math_threads.h"
-#include "statespace/refine_stage.h"
 #include "util/cores.h"
 #include "util/main_guard.h"
 #include "util/stop_request.h"

@@ -2,14 +2,14 @@
 // (import -> grid -> expand -> refine -> compact -> index -> certify) on the scene's state
 // directory; every
 // stage skips the work whose inputs have not changed, so re-running does only what is out of date.
-#include "certify/certify_stage.h"
-#include "index/index_stage.h"
 #include "maintenance/compact.h"
-#include "statespace/expand_stage.h"
-#include "statespace/grid_stage.h"
-#include "statespace/import_stage.h"
+#include "stages/certify_stage.h"
+#include "stages/expand_stage.h"
+#include "stages/grid_stage.h"
+#include "stages/import_stage.h"
+#include "stages/index_stage.h"
+#include "stages/refine_stage.h"
 #include "statespace/math_threads.h"
-#include "statespace/refine_stage.h"
 #include "util/cores.h"
 #include "util/main_guard.h"
 #include "util/stop_request.h"

@@ -2,9 +2,9 @@
 #include "distributed/mpi_engine.h"
 #include "distributed/wire.h"
 
+#include "statedir/stage_context.h"
+#include "statedir/stored_problem.h"
 #include "statespace/expand_batch.h"
-#include "statespace/stage_context.h"
-#include "statespace/stored_problem.h"
 #include "util/error.h"
 
 #include <algorithm>

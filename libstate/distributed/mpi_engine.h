@@ -7,12 +7,12 @@
 #pragma once
 
 #include "distributed/mpi_session.h"
-#include "statespace/expand_stage.h"
+#include "statespace/expand_batch.h"
 
 namespace hapstate {
 
-// For ExpandOptions::engine on rank 0 of a distributed session: ranks 1 .. size-1 solve, each
-// with `threads` threads (one PathSolver each).
+// For the expand stage's ExpandOptions::engine on rank 0 of a distributed session: ranks 1 ..
+// size-1 solve, each with `threads` threads (one PathSolver each).
 TransitionEngineFactory mpi_engine_factory(const MpiSession& session, int threads,
                                            SolverAlgorithm algorithm);
 

@@ -3,9 +3,9 @@
 #include "distributed/wire.h"
 
 #include "scene/scene.h"
+#include "statedir/stored_problem.h"
 #include "statespace/expand_batch.h"
 #include "statespace/probe_model.h"
-#include "statespace/stored_problem.h"
 #include "util/error.h"
 
 #include <chrono>

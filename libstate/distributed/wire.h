@@ -7,8 +7,8 @@
 #pragma once
 
 #include "solver/path_solver.h"
+#include "statedir/stored_problem.h"
 #include "statespace/expand_batch.h"
-#include "statespace/stored_problem.h"
 
 #include <cstdint>
 #include <cstring>

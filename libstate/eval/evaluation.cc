@@ -2,8 +2,8 @@
 
 #include "eval/region_path.h"
 #include "solver/path_solver.h"
+#include "statedir/stage_context.h"
 #include "statespace/probe_model.h"
-#include "statespace/stage_context.h"
 #include "util/error.h"
 #include "util/progress.h"
 

@@ -5,9 +5,9 @@
 #include "catalogue/transaction.h"
 #include "maintenance/level_merge.h"
 #include "scene/scene.h"
-#include "statespace/stage_record.h"
-#include "statespace/stored_problem.h"
-#include "statespace/stored_scene.h"
+#include "statedir/stage_run.h"
+#include "statedir/stored_problem.h"
+#include "statedir/stored_scene.h"
 #include "util/error.h"
 #include "util/text.h"
 

@@ -4,8 +4,8 @@
 #include "maintenance/inspect_common.hpp"
 #include "mesh/load.h"
 #include "scene/scene.h"
-#include "statespace/stored_problem.h"
-#include "statespace/stored_scene.h"
+#include "statedir/stored_problem.h"
+#include "statedir/stored_scene.h"
 #include "util/error.h"
 #include "util/hash.h"
 

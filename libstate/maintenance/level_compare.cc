@@ -1,7 +1,7 @@
 #include "maintenance/level_compare.h"
 
 #include "blobs/blob_store.h"
-#include "statespace/config_vectors.h"
+#include "statedir/config_vectors.h"
 
 #include <algorithm>
 #include <limits>

@@ -1,9 +1,9 @@
 // Locating a state directory and measuring its files (docs/storage.md, docs/inspect.md):
 // <dir>/catalogue.sqlite (+ -wal, -shm), <dir>/blobs/seg-NNNNNN.h5 (configuration vectors),
-// <dir>/problem/ (the imported mesh and constraints). The layout is statespace/state_dir.h.
+// <dir>/problem/ (the imported mesh and constraints). The layout is statedir/state_dir.h.
 #pragma once
 
-#include "statespace/state_dir.h"
+#include "statedir/state_dir.h"
 
 #include <cstdint>
 #include <filesystem>

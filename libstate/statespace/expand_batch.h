@@ -8,7 +8,7 @@
 #include "blobs/blob_store.h"
 #include "catalogue/records.h"
 #include "solver/path_solver.h"
-#include "statespace/config_vectors.h"
+#include "statedir/config_vectors.h"
 #include "statespace/level_match.h"
 #include "statespace/probe_model.h"
 
@@ -106,6 +106,13 @@ class TransitionEngine {
   // Releases the workers (an engine over MPI stops its ranks); results are no longer needed.
   virtual void finish() {}
 };
+
+struct StageContext;
+
+// Makes the engine that solves the transitions (the expand stage's ExpandOptions::engine); called
+// once the state directory is open and validated. Default: worker threads in this process.
+using TransitionEngineFactory = std::function<std::unique_ptr<TransitionEngine>(
+    const StageContext& ctx, const ProbeModel& probe, const BlobStore& blobs)>;
 
 // How many consecutive tasks of one source a consumer (a thread, or an MPI worker with `least`
 // threads) takes at once when `left` tasks of the window remain for `consumers` of them:

@@ -8,39 +8,11 @@
 #include "catalogue/records.h"
 #include "problem/problem.h"
 #include "scene/scene.h"
+#include "statedir/config_vectors.h"
 
 #include <vector>
 
 namespace hapstate {
-
-// The vectors of a configuration: u (3 per node, mesh units), t (probe DOFs, mesh units),
-// h (reactions at the probe DOFs, N); sticking contact: touched (the nodes the sphere holds,
-// ascending; their 3 DOFs each are the probe DOFs of t and h, in that order); frictionless
-// contact: h is the sphere's resultant force on the body (VectorLayout below).
-struct ConfigVectors {
-  std::vector<double> u, t, h;
-  std::vector<int> touched;
-  std::vector<double> multipliers;  // frictionless contact: (triangle, N) pairs; not compared
-};
-
-// What a configuration stores besides u (ProbeModel::layout(): one definition for the loader,
-// the writer and the level comparison). Grab: t and h have a value per grabbed DOF; sticking
-// contact: the touched set is stored ("<blob>/touched") and t and h have 3 values per touched
-// node; frictionless contact: t is empty, h the 3 components of the sphere's force on the
-// body, and the contact multipliers are stored ("<blob>/multipliers") to warm-start the moves
-// from the configuration (they do not define it: level comparison ignores them).
-struct VectorLayout {
-  bool touched = false;      // "<blob>/touched" is stored; t and h: 3 values per touched node
-  int load_size = 0;         // otherwise: the values of t
-  int reaction_size = 0;     // otherwise: the values of h
-  bool multipliers = false;  // "<blob>/multipliers" is stored
-  int t_size(std::size_t touched_nodes) const {
-    return touched ? 3 * static_cast<int>(touched_nodes) : load_size;
-  }
-  int h_size(std::size_t touched_nodes) const {
-    return touched ? 3 * static_cast<int>(touched_nodes) : reaction_size;
-  }
-};
 
 class LevelSketch {
  public:

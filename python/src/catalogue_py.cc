@@ -8,8 +8,8 @@
 #include "maintenance/inspect.h"
 #include "maintenance/state_paths.h"
 #include "scene/scene.h"
-#include "statespace/stored_problem.h"
-#include "statespace/stored_scene.h"
+#include "statedir/stored_problem.h"
+#include "statedir/stored_scene.h"
 #include "util/error.h"
 
 #include <pybind11/numpy.h>

@@ -8,7 +8,7 @@
 #include "maintenance/level_compare.h"
 #include "maintenance/level_merge.h"
 #include "scene/scene.h"
-#include "statespace/state_dir.h"
+#include "statedir/state_dir.h"
 #include "synthetic_state.h"
 #include "util/error.h"
 

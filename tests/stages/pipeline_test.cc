@@ -5,8 +5,8 @@
 
 #include "blobs/blob_store.h"
 #include "catalogue/catalogue.h"
+#include "scene/grid_spec.h"
 #include "statespace/expand_batch.h"
-#include "statespace/grid_spec.h"
 #include "statespace/level_match.h"
 
 #include <cmath>

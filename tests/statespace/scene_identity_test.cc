@@ -1,7 +1,7 @@
-#include "statespace/scene_identity.h"
+#include "statedir/scene_identity.h"
 
 #include "scene/bind.h"
-#include "statespace/stored_problem.h"
+#include "statedir/stored_problem.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "statespace/grid_spec.h"
+#include "scene/grid_spec.h"
 
 #include "util/error.h"
 

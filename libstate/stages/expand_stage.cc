@@ -1,15 +1,15 @@
-#include "statespace/expand_stage.h"
+#include "stages/expand_stage.h"
 
 #include "blobs/blob_store.h"
 #include "blobs/segment_writer.h"
 #include "catalogue/transaction.h"
+#include "statedir/stage_context.h"
+#include "statedir/stage_run.h"
 #include "statespace/batch_decision.h"
 #include "statespace/expand_batch.h"
 #include "statespace/expansion_eta.h"
 #include "statespace/level_match.h"
 #include "statespace/probe_model.h"
-#include "statespace/stage_context.h"
-#include "statespace/stage_record.h"
 #include "util/error.h"
 #include "util/progress.h"
 #include "util/stop_request.h"
@@ -229,24 +229,14 @@ class Expander {
                            SegmentProvenance{ctx_.scene_record.hash.hex(), "", "expand"});
       for (std::size_t k = 0; k < decision.fresh.size(); ++k) {
         const NewConfiguration& n = decision.fresh[k];
-        writer.write(n.config.blob->dataset(BlobVector::kU), n.vectors->u);
-        writer.write(n.config.blob->dataset(BlobVector::kT), n.vectors->t);
-        writer.write(n.config.blob->dataset(BlobVector::kH), n.vectors->h);
-        if (!stiffness[k].du_dp.empty())
-          writer.write(n.config.blob->dataset(BlobVector::kDuDp), stiffness[k].du_dp);
-        if (probe_->layout().multipliers)
-          writer.write(n.config.blob->dataset(BlobVector::kMultipliers), n.vectors->multipliers);
-        if (probe_->stores_touched())
-          writer.write(n.config.blob->dataset(BlobVector::kTouched),
-                       std::span<const int>(n.vectors->touched));
+        write_config_vectors(writer, *n.config.blob, *n.vectors, stiffness[k].du_dp,
+                             probe_->layout());
       }
       for (std::size_t k = 0; k < decision.transitions.size(); ++k) {
         const Transition& t = decision.transitions[k];
-        if (!t.midpoint_blob) continue;
-        writer.write(t.midpoint_blob->dataset(BlobVector::kU),
-                     std::span<const float>(solves[k].midpoint_u));
-        writer.write(t.midpoint_blob->dataset(BlobVector::kDuDp),
-                     std::span<const float>(solves[k].midpoint_du_dp));
+        if (t.midpoint_blob)
+          write_midpoint_vectors(writer, *t.midpoint_blob, solves[k].midpoint_u,
+                                 solves[k].midpoint_du_dp);
       }
       writer.close();
     }

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "catalogue/catalogue.h"
-#include "statespace/scene_identity.h"
+#include "statedir/scene_identity.h"
 
 #include <exception>
 #include <string>

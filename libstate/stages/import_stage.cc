@@ -1,15 +1,15 @@
-#include "statespace/import_stage.h"
+#include "stages/import_stage.h"
 
 #include "catalogue/catalogue.h"
 #include "catalogue/transaction.h"
 #include "scene/bind.h"
+#include "scene/grid_spec.h"
 #include "scene/scene.h"
-#include "statespace/grid_spec.h"
-#include "statespace/scene_identity.h"
-#include "statespace/stage_record.h"
-#include "statespace/state_dir.h"
-#include "statespace/stored_problem.h"
-#include "statespace/stored_scene.h"
+#include "statedir/scene_identity.h"
+#include "statedir/stage_run.h"
+#include "statedir/state_dir.h"
+#include "statedir/stored_problem.h"
+#include "statedir/stored_scene.h"
 #include "util/error.h"
 
 #include <Eigen/Geometry>

@@ -1,7 +1,7 @@
-#include "statespace/stage_record.h"
+#include "statedir/stage_run.h"
 
 #include "catalogue/transaction.h"
-#include "statespace/state_dir.h"
+#include "statedir/state_dir.h"
 
 #include <algorithm>
 

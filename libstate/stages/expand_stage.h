@@ -4,6 +4,7 @@
 
 #include "catalogue/records.h"
 #include "solver/path_solver.h"
+#include "statespace/expand_batch.h"
 
 #include <cstdint>
 #include <cstdio>
@@ -14,16 +15,6 @@
 #include <string>
 
 namespace hapstate {
-
-class BlobStore;
-class ProbeModel;
-class TransitionEngine;
-struct StageContext;
-
-// Makes the engine that solves the transitions (see expand_batch.h); called once the state
-// directory is open and validated. Default: `threads` worker threads in this process.
-using TransitionEngineFactory = std::function<std::unique_ptr<TransitionEngine>(
-    const StageContext& ctx, const ProbeModel& probe, const BlobStore& blobs)>;
 
 struct ExpandOptions {
   std::filesystem::path state;

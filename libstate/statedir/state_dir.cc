@@ -1,4 +1,4 @@
-#include "statespace/state_dir.h"
+#include "statedir/state_dir.h"
 
 #include "util/error.h"
 

@@ -1,7 +1,7 @@
-#include "statespace/stage_context.h"
+#include "statedir/stage_context.h"
 
-#include "statespace/stored_problem.h"
-#include "statespace/stored_scene.h"
+#include "statedir/stored_problem.h"
+#include "statedir/stored_scene.h"
 #include "util/error.h"
 
 namespace hapstate {

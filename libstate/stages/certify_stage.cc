@@ -1,10 +1,10 @@
-#include "certify/certify_stage.h"
+#include "stages/certify_stage.h"
 
 #include "eval/evaluation.h"
 #include "eval/region_path.h"
 #include "playback/writer.h"
-#include "statespace/stage_context.h"
-#include "statespace/stage_record.h"
+#include "statedir/stage_context.h"
+#include "statedir/stage_run.h"
 #include "util/distribution.h"
 #include "util/error.h"
 #include "util/progress.h"

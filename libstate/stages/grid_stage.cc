@@ -1,11 +1,11 @@
-#include "statespace/grid_stage.h"
+#include "stages/grid_stage.h"
 
 #include "catalogue/transaction.h"
+#include "statedir/stage_context.h"
+#include "statedir/stage_run.h"
 #include "statespace/expand_batch.h"
 #include "statespace/level_match.h"
 #include "statespace/probe_model.h"
-#include "statespace/stage_context.h"
-#include "statespace/stage_record.h"
 #include "util/error.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
-#include "statespace/scene_identity.h"
+#include "statedir/scene_identity.h"
 
-#include "statespace/grid_spec.h"
-#include "statespace/stored_problem.h"
+#include "scene/grid_spec.h"
+#include "statedir/stored_problem.h"
 
 #include <algorithm>
 

@@ -11,7 +11,7 @@
 #include "blobs/segment.h"
 #include "problem/problem.h"
 #include "scene/scene.h"
-#include "statespace/state_dir.h"
+#include "statedir/state_dir.h"
 #include "util/hash.h"
 
 #include <string>

@@ -1,4 +1,4 @@
-#include "statespace/stored_problem.h"
+#include "statedir/stored_problem.h"
 
 #include "blobs/blob_store.h"
 #include "blobs/segment_writer.h"

@@ -4,9 +4,9 @@
 
 #include "catalogue/catalogue.h"
 #include "problem/problem.h"
+#include "scene/grid_spec.h"
 #include "scene/scene.h"
-#include "statespace/grid_spec.h"
-#include "statespace/state_dir.h"
+#include "statedir/state_dir.h"
 
 #include <memory>
 

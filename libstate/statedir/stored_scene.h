@@ -4,7 +4,7 @@
 
 #include "catalogue/catalogue.h"
 #include "scene/scene.h"
-#include "statespace/state_dir.h"
+#include "statedir/state_dir.h"
 
 namespace hapstate {
 

@@ -1,4 +1,4 @@
-#include "statespace/stored_scene.h"
+#include "statedir/stored_scene.h"
 
 #include "util/error.h"
 

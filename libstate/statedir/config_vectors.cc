@@ -1,4 +1,4 @@
-#include "statespace/config_vectors.h"
+#include "statedir/config_vectors.h"
 
 #include "util/error.h"
 
@@ -46,6 +46,23 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
                      std::to_string(num_dofs) + " / " + std::to_string(num_reactions));
   }
   return v;
+}
+
+void write_config_vectors(SegmentWriter& writer, const BlobRef& blob, const ConfigVectors& v,
+                          std::span<const float> du_dp, const VectorLayout& layout) {
+  writer.write(blob.dataset(BlobVector::kU), v.u);
+  writer.write(blob.dataset(BlobVector::kT), v.t);
+  writer.write(blob.dataset(BlobVector::kH), v.h);
+  if (!du_dp.empty()) writer.write(blob.dataset(BlobVector::kDuDp), du_dp);
+  if (layout.multipliers) writer.write(blob.dataset(BlobVector::kMultipliers), v.multipliers);
+  if (layout.touched)
+    writer.write(blob.dataset(BlobVector::kTouched), std::span<const int>(v.touched));
+}
+
+void write_midpoint_vectors(SegmentWriter& writer, const BlobRef& blob, std::span<const float> u,
+                            std::span<const float> du_dp) {
+  writer.write(blob.dataset(BlobVector::kU), u);
+  writer.write(blob.dataset(BlobVector::kDuDp), du_dp);
 }
 
 }  // namespace hapstate
