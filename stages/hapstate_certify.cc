@@ -53,8 +53,8 @@ int main(int argc, char** argv) {
       "either way, run the same command again to resume)\n");
   return guarded_main("hapstate-certify", [&] {
     const CertifyReport r = run_certify(options);
-    std::printf("hapstate-certify: %s (%.1f s)\n", r.message.c_str(), r.seconds);
+    std::printf("hapstate-certify: %s (%.1f s)\n", r.message.c_str(), r.wall_s);
     if (!quiet) std::printf("%s", certificate_text(r.certificate).text.c_str());
-    return r.interrupted ? kExitInterrupted : kExitOk;
+    return r.stopped_by_signal ? kExitInterrupted : kExitOk;
   });
 }

@@ -12,7 +12,6 @@
 
 int main(int argc, char** argv) {
   using namespace hapstate;
-  std::string state;
   CompactOptions options;
   bool quiet = false;
   CLI::App app{
@@ -23,7 +22,7 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok (also when there was nothing to do), 1 internal error, 2 bad input or "
       "state (missing state directory, no scene, unreadable blob)."};
   use_hapstate_help(app);
-  app.add_option("--state", state, "state directory")->required();
+  app.add_option("--state", options.state, "state directory")->required();
   app.add_flag("--dry-run", options.dry_run, "report what would be done; change nothing");
   app.add_option("--segment-values", options.repack.max_segment_values,
                  "values per repacked segment before a new one is started (default 2^27)")
@@ -37,7 +36,8 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? kExitOk : kExitBadInput;  // --help is not an error
   }
   return guarded_main("hapstate-compact", [&] {
-    const CompactReport report = compact_state(state, options, quiet ? nullptr : stderr);
+    options.log = quiet ? nullptr : stderr;
+    const CompactReport report = run_compact(options);
     std::fputs(report.text().c_str(), stdout);
     return kExitOk;
   });

@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   options.output = output;
   return guarded_main("hapstate-index", [&] {
     const IndexReport r = run_index(options);
-    std::printf("hapstate-index: %s (%.1f s)\n", r.message.c_str(), r.seconds);
+    std::printf("hapstate-index: %s (%.1f s)\n", r.message.c_str(), r.wall_s);
     return kExitOk;
   });
 }

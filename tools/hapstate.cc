@@ -84,7 +84,9 @@ int run_pipeline(const RunOptions& o) {
   }
   if (stop_requested()) return stopped();
   if (!o.no_compact) {
-    std::printf("  compact: %s\n", compact_state(state, CompactOptions{}).headline().c_str());
+    CompactOptions compact;
+    compact.state = state;
+    std::printf("  compact: %s\n", run_compact(compact).headline().c_str());
   }
   if (stop_requested()) return stopped();
   IndexOptions index;
@@ -100,7 +102,7 @@ int run_pipeline(const RunOptions& o) {
   certify.progress = o.quiet ? nullptr : stderr;
   const CertifyReport certified = run_certify(certify);
   std::printf("  certify: %s\n", certified.message.c_str());
-  if (certified.interrupted) return stopped();
+  if (certified.stopped_by_signal) return stopped();
   if (!o.quiet) std::printf("  %s", certificate_text(certified.certificate).headline.c_str());
   return kExitOk;
 }

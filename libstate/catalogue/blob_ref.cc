@@ -1,5 +1,7 @@
 #include "catalogue/records.h"
 
+#include <algorithm>
+
 namespace hapstate {
 
 const char* BlobRef::leaf(BlobVector v) {
@@ -32,6 +34,23 @@ std::string BlobRef::midpoint_group(std::int64_t source, int direction) {
   name += '_';
   name += std::to_string(direction);
   return name;
+}
+
+namespace {
+
+bool all_digits(std::string_view s) {
+  return !s.empty() &&
+         std::all_of(s.begin(), s.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+}
+
+}  // namespace
+
+bool BlobRef::is_state_group(std::string_view group) {
+  if (group.size() < 2) return false;
+  if (group[0] == 'c') return all_digits(group.substr(1));
+  const std::size_t underscore = group.find('_');
+  return group[0] == 'm' && underscore != std::string_view::npos &&
+         all_digits(group.substr(1, underscore - 1)) && all_digits(group.substr(underscore + 1));
 }
 
 }  // namespace hapstate

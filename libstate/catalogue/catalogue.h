@@ -161,6 +161,8 @@ class Catalogue {
   // (sqlite3_stmt_readonly), ATTACH / DETACH, transaction control, a PRAGMA with a value.
   // On a kReadOnly catalogue SQLite itself refuses writes as well.
   QueryResult query_read_only(std::string_view sql);
+  // Whether a Transaction is open on this catalogue.
+  bool in_transaction() const;
 
  private:
   friend class Transaction;

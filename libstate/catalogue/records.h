@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -103,6 +104,9 @@ struct BlobRef {
   // configuration `source` in direction index `direction` ("m42_13").
   static std::string configuration_group(std::int64_t config);
   static std::string midpoint_group(std::int64_t source, int direction);
+  // Whether `group` is a name the two above make ("c<digits>", "m<digits>_<digits>"): a state's
+  // vectors, as opposed to anything else a segment may hold.
+  static bool is_state_group(std::string_view group);
 };
 
 // Table configuration: one equilibrium state (a level of a check-point).

@@ -20,6 +20,8 @@ Transaction::~Transaction() {
   impl.in_transaction = false;
 }
 
+bool Catalogue::in_transaction() const { return impl_->in_transaction; }
+
 void Transaction::commit() {
   if (done_) throw std::logic_error("Transaction::commit called twice");
   Catalogue::Impl& impl = *catalogue_->impl_;

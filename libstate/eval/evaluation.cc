@@ -53,7 +53,7 @@ std::vector<double> relative_errors(const std::vector<SquaredNorms>& steps) {
 }  // namespace
 
 EvalResult run_eval(const EvalOptions& options) {
-  StageContext ctx = open_stage_context(options.state);
+  const StageContext ctx = open_stage_context(options.state, StateAccess::kRead);
   const std::filesystem::path playback =
       options.playback.empty() ? ctx.dir.root / "playback.bin" : options.playback;
   if (!std::filesystem::exists(playback))

@@ -52,17 +52,54 @@ std::string counts_text(const CompactReport& r) {
   return s.str();
 }
 
+// What a dry run reports: what the merges and the repack plan would do.
+void report_dry_run(const std::vector<LevelMerge>& merges, const RepackPlan& plan,
+                    const BlobStore& blobs, const RepackOptions& repack, CompactReport& report) {
+  report.merged_levels = static_cast<std::int64_t>(merges.size());
+  report.repacked_configurations =
+      plan.needed ? std::count_if(plan.moves.begin(), plan.moves.end(),
+                                  [](const BlobMove& m) { return m.direction < 0; })
+                  : 0;
+  // The segments the live configurations would reference afterwards: those the repack
+  // leaves alone plus the ones it would write; byte sizes are not predicted.
+  report.new_segments = count_repacked_segments(plan, blobs, repack);
+  const std::set<SegmentId> emptied(plan.sources.begin(), plan.sources.end());
+  std::set<SegmentId> kept;
+  for (const BlobMove& m : plan.moves)
+    if (!(plan.needed && emptied.contains(m.from.segment))) kept.insert(m.from.segment);
+  for (const SegmentId s : plan.pinned) kept.insert(s);
+  report.after = report.before;
+  report.after.segments = static_cast<std::int64_t>(kept.size()) + report.new_segments;
+}
+
+// The merges and the repacked blob references, in one transaction: all or nothing.
+void commit_compaction(Catalogue& catalogue, const std::vector<LevelMerge>& merges,
+                       const RepackResult& repacked, CompactReport& report) {
+  Transaction transaction(catalogue);
+  // Midpoint references first: a merge may give a transition row to another source.
+  for (const RepackResult::NewRef& r : repacked.new_refs)
+    if (r.direction >= 0)
+      catalogue.update_transition_midpoint_blob(r.config, Direction(r.direction), r.ref);
+  const MergeCounts counts = apply_level_merges(catalogue, merges);
+  for (const RepackResult::NewRef& r : repacked.new_refs)
+    if (r.direction < 0) catalogue.update_configuration_blob(r.config, r.ref);
+  transaction.commit();
+  report.merged_levels = counts.merged_levels;
+  report.retargeted_transitions = counts.retargeted_transitions;
+  report.moved_transitions = counts.moved_transitions;
+}
+
 }  // namespace
 
 std::string CompactReport::headline() const {
-  if (nothing_to_do) return "nothing to do (" + size_text(before.total()) + " on disk)";
+  if (unchanged()) return "nothing to do (" + size_text(before.total()) + " on disk)";
   return "disk " + size_text(before.total()) + " -> " + size_text(after.total()) + ": " +
          counts_text(*this);
 }
 
 std::string CompactReport::text() const {
   std::ostringstream s;
-  if (nothing_to_do) {
+  if (unchanged()) {
     s << "nothing to do: no duplicate level, no garbage, blobs already packed (" << before.segments
       << (before.segments == 1 ? " segment; total bytes " : " segments; total bytes ")
       << bytes_text(before.total()) << ")\n";
@@ -96,10 +133,10 @@ void CompactOptions::check() const {
                      ")");
 }
 
-CompactReport compact_state(const std::filesystem::path& state_dir, const CompactOptions& options,
-                            std::FILE* log) {
+CompactReport run_compact(const CompactOptions& options) {
   options.check();
-  const StateDir dir = locate_state(state_dir);
+  std::FILE* log = options.log;
+  const StateDir dir = locate_state(options.state);
   std::optional<StateDirLock> lock;
   if (!options.dry_run) lock.emplace(dir);
   CompactReport report;
@@ -118,15 +155,10 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
   const Scene scene = stored_scene(catalogue, dir, &scene_hash);
   const LevelTolerances tolerances = level_tolerances(scene);
 
-  StageRunId run_id;
-  if (!options.dry_run) {
-    run_id = catalogue.insert_stage_run(
-        make_stage_run("compact", {{"scene", scene_hash}},
-                       "max_segment_values=" + std::to_string(options.repack.max_segment_values) +
-                           " zstd_level=" + std::to_string(options.repack.zstd_level)));
-  }
-  // Returns true when a dry run found and reported what it would do.
-  auto work = [&]() -> bool {
+  StageRunFrame frame(catalogue, "compact", {{"scene", scene_hash}},
+                      "max_segment_values=" + std::to_string(options.repack.max_segment_values) +
+                          " zstd_level=" + std::to_string(options.repack.zstd_level));
+  auto work = [&] {
     // 1. Garbage left by a crash (or by an earlier compaction that died before deleting).
     const std::set<SegmentId> referenced = catalogue.referenced_segments();
     report.garbage_segments =
@@ -159,26 +191,13 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     const RepackPlan plan = plan_repack(live, midpoints, blobs, options.repack);
     report.dead_vectors = plan.dead_vectors;
     report.freelist_pages = freelist_pages(catalogue);
-    report.nothing_to_do = merges.empty() && !plan.needed && report.garbage_segments == 0 &&
-                           report.freelist_pages == 0;
+    const bool nothing_to_do = merges.empty() && !plan.needed && report.garbage_segments == 0 &&
+                               report.freelist_pages == 0;
+    report.outcome = nothing_to_do ? StageOutcome::kUnchanged : StageOutcome::kOk;
 
-    if (options.dry_run) {
-      report.merged_levels = static_cast<std::int64_t>(merges.size());
-      report.repacked_configurations =
-          plan.needed ? std::count_if(plan.moves.begin(), plan.moves.end(),
-                                      [](const BlobMove& m) { return m.direction < 0; })
-                      : 0;
-      // The segments the live configurations would reference afterwards: those the repack
-      // leaves alone plus the ones it would write; byte sizes are not predicted.
-      report.new_segments = count_repacked_segments(plan, blobs, options.repack);
-      const std::set<SegmentId> emptied(plan.sources.begin(), plan.sources.end());
-      std::set<SegmentId> kept;
-      for (const BlobMove& m : plan.moves)
-        if (!(plan.needed && emptied.contains(m.from.segment))) kept.insert(m.from.segment);
-      for (const SegmentId s : plan.pinned) kept.insert(s);
-      report.after = report.before;
-      report.after.segments = static_cast<std::int64_t>(kept.size()) + report.new_segments;
-      return true;  // a dry run ends here
+    if (options.dry_run) {  // a dry run ends here
+      report_dry_run(merges, plan, blobs, options.repack, report);
+      return;
     }
 
     RepackResult repacked;
@@ -194,32 +213,20 @@ CompactReport compact_state(const std::filesystem::path& state_dir, const Compac
     hook("segments-written");
 
     // 4. One transaction: merges and blob references, all or nothing.
-    if (!merges.empty() || !repacked.new_refs.empty()) {
-      Transaction transaction(catalogue);
-      // Midpoint references first: a merge may give a transition row to another source.
-      for (const RepackResult::NewRef& r : repacked.new_refs)
-        if (r.direction >= 0)
-          catalogue.update_transition_midpoint_blob(r.config, Direction(r.direction), r.ref);
-      const MergeCounts counts = apply_level_merges(catalogue, merges);
-      for (const RepackResult::NewRef& r : repacked.new_refs)
-        if (r.direction < 0) catalogue.update_configuration_blob(r.config, r.ref);
-      transaction.commit();
-      report.merged_levels = counts.merged_levels;
-      report.retargeted_transitions = counts.retargeted_transitions;
-      report.moved_transitions = counts.moved_transitions;
-    }
+    if (!merges.empty() || !repacked.new_refs.empty())
+      commit_compaction(catalogue, merges, repacked, report);
     hook("committed");
 
     // 5. The old segments are now garbage; then VACUUM.
     blobs.remove_unreferenced_segments(catalogue.referenced_segments());
-    catalogue.update_stage_run_end(
-        run_id, report.nothing_to_do ? StageOutcome::kUnchanged : StageOutcome::kOk, now_ms(),
-        report.nothing_to_do ? "nothing to do" : counts_text(report));
-    if (!report.nothing_to_do) catalogue.vacuum();
-    return false;
+    report.message = report.unchanged() ? "nothing to do" : counts_text(report);
   };
-  // A dry run records no stage run.
-  if (run_id.valid() ? with_run_record(catalogue, run_id, work) : work()) return report;
+  if (options.dry_run) {  // a dry run records no stage run
+    work();
+    return report;
+  }
+  frame.run(report, work);
+  if (!report.unchanged()) catalogue.vacuum();  // after the run's end is recorded
   blobs.close_all();
   catalogue_slot.reset();  // closing the last connection folds the WAL into the file
   report.after = measure_disk_use(dir);

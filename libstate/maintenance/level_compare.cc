@@ -1,8 +1,5 @@
 #include "maintenance/level_compare.h"
 
-#include "blobs/blob_store.h"
-#include "statedir/config_vectors.h"
-
 #include <algorithm>
 #include <limits>
 
@@ -15,21 +12,6 @@ std::vector<double> or_zeros(const std::vector<double>& v, const std::vector<dou
 }
 
 }  // namespace
-
-ConfigVectors read_level_vectors(const BlobStore& blobs, const Configuration& c,
-                                 const std::vector<double>& rest_u) {
-  ConfigVectors v;
-  if (!c.blob) {
-    v.u = rest_u;  // the zero configuration: the loaded rest state (empty: u = 0)
-    return v;
-  }
-  v.u = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kU));
-  v.h = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kH));
-  // Sticking contact: the touched set is part of the configuration (never merge different sets).
-  if (blobs.contains(c.blob->segment, c.blob->dataset(BlobVector::kTouched)))
-    v.touched = read_touched_set(blobs, c, static_cast<int>(v.u.size() / 3));
-  return v;
-}
 
 double compaction_level_distance(const ConfigVectors& a, const ConfigVectors& b,
                                  const LevelTolerances& tolerances) {

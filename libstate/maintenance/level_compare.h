@@ -12,15 +12,6 @@
 
 namespace hapstate {
 
-class BlobStore;
-
-// The vectors u and h of `c` ("<blob>/u", "/h"; t is not compared) and, for a sticking contact
-// probe, its touched set ("/touched", read_touched_set: configurations with different sets are
-// never merged); empty when `c` has no blob (a zero state). Throws InputError naming the segment
-// and vector if one is missing, unreadable or (the touched set) not ascending node ids.
-ConfigVectors read_level_vectors(const BlobStore& blobs, const Configuration& c,
-                                 const std::vector<double>& rest_u);
-
 // level_distance of two configurations' vectors; an empty u or h (no blob) counts as zeros of
 // the other's length; different non-zero lengths are never the same level (+infinity).
 double compaction_level_distance(const ConfigVectors& a, const ConfigVectors& b,

@@ -3,6 +3,7 @@
 #include "blobs/blob_store.h"
 #include "catalogue/catalogue.h"
 #include "maintenance/level_compare.h"
+#include "statedir/config_vectors.h"
 
 #include <algorithm>
 #include <map>
@@ -20,7 +21,7 @@ struct Candidate {
 
 const ConfigVectors& vectors_of(Candidate& c, const BlobStore& blobs,
                                 const std::vector<double>& rest_u) {
-  if (!c.vectors) c.vectors = read_level_vectors(blobs, c.config, rest_u);
+  if (!c.vectors) c.vectors = load_level_vectors(blobs, c.config, rest_u);
   return *c.vectors;
 }
 

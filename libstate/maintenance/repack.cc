@@ -11,21 +11,6 @@
 namespace hapstate {
 namespace {
 
-bool all_digits(std::string_view s) {
-  return !s.empty() &&
-         std::all_of(s.begin(), s.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
-}
-
-// "c<digits>": the group of a configuration's vectors; "m<digits>_<digits>": a transition's
-// midpoint vectors (docs/storage.md, naming scheme).
-bool is_state_group(std::string_view group) {
-  if (group.size() < 2) return false;
-  if (group[0] == 'c') return all_digits(group.substr(1));
-  const std::size_t underscore = group.find('_');
-  return group[0] == 'm' && underscore != std::string_view::npos &&
-         all_digits(group.substr(1, underscore - 1)) && all_digits(group.substr(underscore + 1));
-}
-
 // The live blob name `vector` lies under, or "" if none.
 std::string owning_name(const std::string& vector, const std::set<std::string>& names) {
   for (std::size_t slash = vector.find('/'); slash != std::string::npos;
@@ -57,7 +42,7 @@ RepackPlan plan_repack(std::span<const Configuration> live, std::span<const Tran
       const std::string owner = owning_name(vector, names);
       if (!owner.empty()) {
         vectors_of[{segment, owner}].push_back(vector);
-      } else if (is_state_group(vector.substr(0, vector.find('/')))) {
+      } else if (BlobRef::is_state_group(vector.substr(0, vector.find('/')))) {
         ++segment_dead;
       } else {
         foreign = true;

@@ -147,6 +147,78 @@ void write_playback_certificate(const std::filesystem::path& file, const Certifi
 
 }  // namespace
 
+namespace {
+
+// Measures the paths of the seeds in `missing` on options.threads threads, each stored as soon as
+// it is measured (a stopped run keeps them); stops early on a stop request.
+void measure_paths(const PlaybackFile& file, StageContext& ctx, const std::vector<int>& missing,
+                   const CertifyOptions& options, CertifyReport& report) {
+  const auto h = file.grid_spacing();
+  const double step_length = 0.5 * std::min({h[0], h[1], h[2]});
+  Progress progress("hapstate-certify: paths", report.paths, options.progress);
+  const long long stored_before = report.paths - static_cast<long long>(missing.size());
+  progress.set_resumed(stored_before);
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex mutex;  // the catalogue, the progress line and the first error
+  std::exception_ptr error;
+  long long failures = 0;
+  auto work = [&] {
+    try {
+      for (std::size_t i = next++; i < missing.size() && !failed; i = next++) {
+        if (stop_requested()) return;
+        const auto t0 = SteadyClock::now();
+        const ProbePath path = precomputed_random_path(file, report.steps, step_length,
+                                                       static_cast<std::uint64_t>(missing[i]));
+        const EvalResult r = evaluate_path(ctx.problem, file, path, nullptr);
+        const double ms =
+            std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
+        const CertificatePath p = certificate_path(file, missing[i], r, ms);
+        std::lock_guard<std::mutex> lock(mutex);
+        ctx.catalogue.insert_certificate_path(p);
+        ++report.solved_now;
+        failures += p.failures;
+        progress.update(stored_before + report.solved_now, failures);
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!error) error = std::current_exception();
+      failed = true;
+    }
+  };
+  std::vector<std::thread> pool;
+  try {
+    for (int w = 1; w < options.threads; ++w) pool.emplace_back(work);
+  } catch (...) {  // a thread could not start: the others finish, then the error goes on
+    failed = true;
+    for (std::thread& t : pool) t.join();
+    throw;
+  }
+  work();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+  progress.finish();
+}
+
+// Once every path is stored: the certificate's run-wide numbers (the query's timing, the largest
+// stiffness) stored with it.
+void store_certificate_run(const PlaybackFile& file, StageContext& ctx, const ContentHash& hash,
+                           const CertifyReport& report) {
+  CertificateRun measured;
+  measured.playback_hash = hash;
+  measured.paths = report.paths;
+  measured.steps = report.steps;
+  const Distribution d =
+      time_queries(file, ctx.catalogue.read_all_certificate_paths(), &measured.queries);
+  measured.query_median_ns = d.median;
+  measured.query_p999_ns = d.p999;
+  measured.stiffness = largest_stiffness(file) / ctx.scene.mesh.unit;  // N/m
+  measured.ended = std::chrono::time_point_cast<std::chrono::milliseconds>(Clock::now());
+  ctx.catalogue.write_certificate(measured);
+}
+
+}  // namespace
+
 void CertifyOptions::check() const {
   if (state.empty()) throw InputError("--state: no state directory given");
   if (paths < 0) throw InputError("--paths must be >= 1 (got " + std::to_string(paths) + ")");
@@ -178,8 +250,9 @@ CertifyReport run_certify(const CertifyOptions& options) {
   const std::string params = "paths=" + std::to_string(report.paths) +
                              " steps=" + std::to_string(report.steps) +
                              " threads=" + std::to_string(options.threads);
-  StageRun run =
-      make_stage_run("certify", {{"playback", hash}, {"scene", ctx.scene_record.hash}}, params);
+  StageRunFrame frame(ctx.catalogue, "certify",
+                      {{"playback", hash}, {"scene", ctx.scene_record.hash}}, params);
+  const bool contact = ctx.scene.probe.mode == ProbeMode::kContact;
 
   report.stale_deleted = ctx.catalogue.delete_stale_certificate(hash, report.steps, report.paths);
   std::set<int> stored;
@@ -191,99 +264,35 @@ CertifyReport run_certify(const CertifyOptions& options) {
   if (missing.empty() && previous && previous->playback_hash == hash &&
       previous->paths == report.paths && previous->steps == report.steps &&
       PlaybackFile(playback).certificate()) {
-    report.unchanged = true;
-    report.certificate = summarise_certificate(ctx.catalogue.read_all_certificate_paths(), previous,
-                                               hash, ctx.scene.probe.mode == ProbeMode::kContact);
-    report.message = "unchanged: the certificate of " + playback.string() + " is up to date (" +
-                     plural(report.paths, "path", "paths") + ")";
-    record_unchanged(ctx.catalogue, run, report.message);
-    report.seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
-    return report;
+    report.certificate =
+        summarise_certificate(ctx.catalogue.read_all_certificate_paths(), previous, hash, contact);
+    return frame.unchanged(report, "unchanged: the certificate of " + playback.string() +
+                                       " is up to date (" + plural(report.paths, "path", "paths") +
+                                       ")");
   }
 
-  const StageRunId id = start_stage_run(ctx.catalogue, run);
-  // Until this run ends, the certificate is incomplete (summary says so); the playback file
-  // keeps the headline it had.
-  ctx.catalogue.delete_certificate();
-  return with_run_record(ctx.catalogue, id, [&] {
+  frame.run(report, [&] {
+    // Until this run ends, the certificate is incomplete (summary says so); the playback file
+    // keeps the headline it had.
+    ctx.catalogue.delete_certificate();
     {
       const PlaybackFile file(playback);
-      const auto h = file.grid_spacing();
-      const double step_length = 0.5 * std::min({h[0], h[1], h[2]});
-      Progress progress("hapstate-certify: paths", report.paths, options.progress);
-      const long long stored_before = report.paths - static_cast<long long>(missing.size());
-      progress.set_resumed(stored_before);
-      std::atomic<std::size_t> next{0};
-      std::atomic<bool> failed{false};
-      std::mutex mutex;  // the catalogue, the progress line and the first error
-      std::exception_ptr error;
-      long long failures = 0;
-      auto work = [&] {
-        try {
-          for (std::size_t i = next++; i < missing.size() && !failed; i = next++) {
-            if (stop_requested()) return;
-            const auto t0 = SteadyClock::now();
-            const ProbePath path = precomputed_random_path(file, report.steps, step_length,
-                                                           static_cast<std::uint64_t>(missing[i]));
-            const EvalResult r = evaluate_path(ctx.problem, file, path, nullptr);
-            const double ms =
-                std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
-            const CertificatePath p = certificate_path(file, missing[i], r, ms);
-            std::lock_guard<std::mutex> lock(mutex);
-            ctx.catalogue.insert_certificate_path(p);
-            ++report.solved_now;
-            failures += p.failures;
-            progress.update(stored_before + report.solved_now, failures);
-          }
-        } catch (...) {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (!error) error = std::current_exception();
-          failed = true;
-        }
-      };
-      std::vector<std::thread> pool;
-      try {
-        for (int w = 1; w < options.threads; ++w) pool.emplace_back(work);
-      } catch (...) {  // a thread could not start: the others finish, then the error goes on
-        failed = true;
-        for (std::thread& t : pool) t.join();
-        throw;
-      }
-      work();
-      for (std::thread& t : pool) t.join();
-      if (error) std::rethrow_exception(error);
-      progress.finish();
-      report.interrupted = stop_requested() && report.solved_now < static_cast<int>(missing.size());
-
-      if (!report.interrupted) {
-        CertificateRun measured;
-        measured.playback_hash = hash;
-        measured.paths = report.paths;
-        measured.steps = report.steps;
-        const Distribution d =
-            time_queries(file, ctx.catalogue.read_all_certificate_paths(), &measured.queries);
-        measured.query_median_ns = d.median;
-        measured.query_p999_ns = d.p999;
-        measured.stiffness = largest_stiffness(file) / ctx.scene.mesh.unit;  // N/m
-        measured.ended = std::chrono::time_point_cast<std::chrono::milliseconds>(Clock::now());
-        ctx.catalogue.write_certificate(measured);
-      }
+      measure_paths(file, ctx, missing, options, report);
+      const bool complete = report.solved_now == static_cast<int>(missing.size());
+      if (!complete) StageRunFrame::stop(report);  // only a stop request ends it early
+      if (!report.stopped_by_signal) store_certificate_run(file, ctx, hash, report);
     }  // the file unmapped before it is rewritten
     report.certificate = summarise_certificate(ctx.catalogue.read_all_certificate_paths(),
-                                               ctx.catalogue.read_certificate(), hash,
-                                               ctx.scene.probe.mode == ProbeMode::kContact);
-    if (!report.interrupted) write_playback_certificate(playback, report.certificate);
+                                               ctx.catalogue.read_certificate(), hash, contact);
+    if (!report.stopped_by_signal) write_playback_certificate(playback, report.certificate);
     char line[256];
     std::snprintf(line, sizeof line, "%s: %d of %d paths measured now (%lld stale deleted)",
-                  report.interrupted ? "interrupted" : "certified", report.solved_now,
+                  report.stopped_by_signal ? "interrupted" : "certified", report.solved_now,
                   static_cast<int>(missing.size()), static_cast<long long>(report.stale_deleted));
     report.message = line;
-    report.seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
-    ctx.catalogue.update_stage_run_end(
-        id, report.interrupted ? StageOutcome::kPartial : StageOutcome::kOk, now_ms(),
-        report.message);
-    return report;
   });
+  report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();
+  return report;
 }
 
 }  // namespace hapstate

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "maintenance/certificate_report.h"
+#include "statedir/stage_run.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -26,15 +27,13 @@ struct CertifyOptions {
   void check() const;
 };
 
-struct CertifyReport {
-  bool unchanged = false;    // the certificate was complete and current: nothing done
-  bool interrupted = false;  // stopped by Ctrl-C / SIGTERM: run again to finish
+// outcome: kOk, kPartial (stopped by Ctrl-C / SIGTERM: run again to finish) or kUnchanged
+// (the certificate was complete and current: nothing done).
+struct CertifyReport : StageReport {
   int paths = 0, steps = 0;  // asked for
   int solved_now = 0;        // paths measured by this run
   std::int64_t stale_deleted = 0;
   Certificate certificate;
-  double seconds = 0;
-  std::string message;  // one line for the stage's report
 };
 
 // Needs a playback file built from the state directory (hapstate-index). Records a "certify"

@@ -331,6 +331,121 @@ void ExpandOptions::check() const {
     throw InputError("--max-seconds must be > 0 (got " + std::to_string(*max_seconds) + ")");
 }
 
+namespace {
+
+// The waves of one run, batch by batch, until none is left or a limit (the options' or a stop
+// request) is reached; returns whether one was. One progress line for the whole expansion, its
+// total re-estimated at each wave.
+bool expand_waves(const ExpandOptions& options, SteadyClock::time_point start, Catalogue& cat,
+                  Expander& expander, TransitionEngine& solver, ExpandReport& report) {
+  bool stopped = false;
+  auto limit_reached = [&] {
+    if (StageRunFrame::stop(report)) return true;
+    if (options.max_transitions && report.decided >= *options.max_transitions) return true;
+    return options.max_seconds &&
+           std::chrono::duration<double>(SteadyClock::now() - start).count() >=
+               *options.max_seconds;
+  };
+  const long long decided_before = cat.num_transitions();
+  if (options.progress && decided_before > 0)
+    std::fprintf(options.progress,
+                 "hapstate-expand: resuming: %lld transitions were decided by earlier runs\n",
+                 decided_before);
+  Progress progress("hapstate-expand: transitions", 0, options.progress);
+  ExpansionEta eta;
+  progress.set_resumed(decided_before);
+  while (!stopped) {
+    auto eta_mark = SteadyClock::now();
+    const std::optional<int> wave = expander.next_wave();
+    if (!wave) break;
+    std::vector<ConfigId> complete;
+    const std::vector<TransitionTask> tasks = expander.tasks_of_wave(*wave, &complete);
+    solver.start_wave(tasks);
+    if (!complete.empty()) {
+      Transaction tx(cat);
+      for (ConfigId id : complete) cat.update_configuration_status(id, ConfigStatus::kExpanded);
+      tx.commit();
+    }
+    // The wave's configurations: its tasks' sources (a resumed wave has fewer tasks).
+    std::set<ConfigId> sources;
+    for (const TransitionTask& t : tasks) sources.insert(t.source.id);
+    const long long wave_tasks = static_cast<long long>(tasks.size());
+    const long long later_tasks =
+        options.progress ? expander.estimate_later(*wave, static_cast<long long>(sources.size()))
+                         : 0;
+    const auto update_eta = [&](long long current_left) {
+      progress.set_eta(
+          eta.seconds_left(*wave, current_left, later_tasks,
+                           Direction::kCount * std::max<long long>(1, sources.size())));
+    };
+    // A wave some of whose directions earlier runs decided (a resumed run's first): its cost
+    // per transition, set-up included, is not one of a whole wave.
+    if (!complete.empty() ||
+        wave_tasks < Direction::kCount * static_cast<long long>(sources.size()))
+      eta.mark_partial(*wave);
+    if (options.progress) {
+      progress.set_total(decided_before + report.decided + wave_tasks + later_tasks, true);
+      progress.set_note("expanding wave " + std::to_string(*wave));
+      update_eta(wave_tasks);
+    }
+    for (std::size_t b = 0; b < tasks.size(); b += options.batch_size) {
+      if (limit_reached()) {
+        stopped = true;
+        break;
+      }
+      const std::size_t e = std::min(tasks.size(), b + options.batch_size);
+      const std::vector<TransitionTask> batch(tasks.begin() + b, tasks.begin() + e);
+      const auto solve_start = SteadyClock::now();
+      // Solving ahead is worth it up to where a --max-transitions limit ends the run.
+      std::size_t ahead_end = tasks.size();
+      if (options.max_transitions) {
+        const long long left = std::max(0LL, *options.max_transitions - report.decided);
+        const long long batches = (left + options.batch_size - 1) / options.batch_size;
+        ahead_end = std::min<std::size_t>(
+            tasks.size(), b + static_cast<std::size_t>(batches * options.batch_size));
+      }
+      const std::vector<TransitionSolve> solves = solver.solve_range(b, e, ahead_end);
+      const auto store_start = SteadyClock::now();
+      expander.commit_batch(batch, solves, solver, &report);
+      report.solve_wall_s += std::chrono::duration<double>(store_start - solve_start).count();
+      report.store_wall_s +=
+          std::chrono::duration<double>(SteadyClock::now() - store_start).count();
+      // The wall time since the last batch (or the wave's start): the wave's set-up counted.
+      const auto batch_end = SteadyClock::now();
+      eta.record(*wave, static_cast<long long>(batch.size()),
+                 std::chrono::duration<double>(batch_end - eta_mark).count());
+      eta_mark = batch_end;
+      if (options.progress) update_eta(wave_tasks - static_cast<long long>(e));
+      progress.update(decided_before + report.decided, report.failed);
+    }
+  }
+  if (options.progress) {
+    if (!stopped) progress.set_total(decided_before + report.decided, false);
+    progress.set_note(stopped ? "stopped" : "complete");
+    progress.finish();
+  }
+  return stopped;
+}
+
+// The run's one line: how it ended and what it decided.
+std::string expand_message(const ExpandReport& report, bool stopped, Catalogue& cat) {
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "%s: %lld transitions decided (%lld solved, %lld failed, %lld outside the "
+                "grid), %lld new configurations, %lld arrived at a state already stored; now %lld "
+                "configurations, %lld transitions",
+                report.stopped_by_signal ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
+                : stopped                ? "partial (a limit was reached; run again to continue)"
+                                         : "complete",
+                report.decided, report.solved, report.failed, report.outside,
+                report.new_configurations, report.reused_levels,
+                static_cast<long long>(cat.num_configurations()),
+                static_cast<long long>(cat.num_transitions()));
+  return buf;
+}
+
+}  // namespace
+
 ExpandReport run_expand(const ExpandOptions& options) {
   options.check();
   const auto start = SteadyClock::now();
@@ -353,9 +468,9 @@ ExpandReport run_expand(const ExpandOptions& options) {
   const auto changes = expander.expandable_changes();
   const NamedHashes inputs = {
       {"grid", ctx.grid.hash()}, {"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
-  StageRun run = make_stage_run("expand", inputs,
-                                parameters_of(options, expander.tolerances(),
-                                              ctx.scene.probe.max_force, solver.parameters()));
+  StageRunFrame frame(cat, "expand", inputs,
+                      parameters_of(options, expander.tolerances(), ctx.scene.probe.max_force,
+                                    solver.parameters()));
 
   // The device limit may have changed since the last run: expandable follows max_force.
   if (!changes.empty()) {
@@ -365,131 +480,24 @@ ExpandReport run_expand(const ExpandOptions& options) {
     report.expandable_changed = static_cast<long long>(changes.size());
   }
   if (!expander.next_wave()) {
-    record_unchanged(cat, run, "nothing to do");
-    report.outcome = StageOutcome::kUnchanged;
-    report.message = "nothing to do: every expandable configuration is fully expanded (" +
-                     std::to_string(cat.num_configurations()) + " configurations, " +
-                     std::to_string(cat.num_transitions()) + " transitions)";
-    return report;
+    return frame.unchanged(report,
+                           "nothing to do: every expandable configuration is fully "
+                           "expanded (" +
+                               std::to_string(cat.num_configurations()) + " configurations, " +
+                               std::to_string(cat.num_transitions()) + " transitions)");
   }
 
-  // Resume: drop segments no row references (a crash between a segment's close and its commit),
-  // and close the records of runs that died (we hold the directory's lock: they are not running).
+  // Resume: drop segments no row references (a crash between a segment's close and its commit);
+  // the frame closes the records of runs that died (we hold the directory's lock).
   report.garbage_segments =
       expander.blobs().remove_unreferenced_segments(cat.referenced_segments()).size();
-  const StageRunId run_id = start_stage_run(cat, run, &report.interrupted_runs);
-
-  with_run_record(cat, run_id, [&] {
-    bool stopped = false;
-    auto limit_reached = [&] {
-      if (stop_requested()) {
-        report.stopped_by_signal = true;
-        return true;
-      }
-      if (options.max_transitions && report.decided >= *options.max_transitions) return true;
-      if (options.max_seconds &&
-          std::chrono::duration<double>(SteadyClock::now() - start).count() >= *options.max_seconds)
-        return true;
-      return false;
-    };
-    const long long decided_before = cat.num_transitions();
-    if (options.progress && decided_before > 0)
-      std::fprintf(options.progress,
-                   "hapstate-expand: resuming: %lld transitions were decided by "
-                   "earlier runs\n",
-                   decided_before);
-    // One line for the whole expansion; its total is re-estimated at each wave.
-    Progress progress("hapstate-expand: transitions", 0, options.progress);
-    ExpansionEta eta;
-    progress.set_resumed(decided_before);
-    while (!stopped) {
-      auto eta_mark = SteadyClock::now();
-      const std::optional<int> wave = expander.next_wave();
-      if (!wave) break;
-      std::vector<ConfigId> complete;
-      const std::vector<TransitionTask> tasks = expander.tasks_of_wave(*wave, &complete);
-      solver.start_wave(tasks);
-      if (!complete.empty()) {
-        Transaction tx(cat);
-        for (ConfigId id : complete) cat.update_configuration_status(id, ConfigStatus::kExpanded);
-        tx.commit();
-      }
-      // The wave's configurations: its tasks' sources (a resumed wave has fewer tasks).
-      std::set<ConfigId> sources;
-      for (const TransitionTask& t : tasks) sources.insert(t.source.id);
-      const long long wave_tasks = static_cast<long long>(tasks.size());
-      const long long later_tasks =
-          options.progress ? expander.estimate_later(*wave, static_cast<long long>(sources.size()))
-                           : 0;
-      const auto update_eta = [&](long long current_left) {
-        progress.set_eta(
-            eta.seconds_left(*wave, current_left, later_tasks,
-                             Direction::kCount * std::max<long long>(1, sources.size())));
-      };
-      // A wave some of whose directions earlier runs decided (a resumed run's first): its cost
-      // per transition, set-up included, is not one of a whole wave.
-      if (!complete.empty() ||
-          wave_tasks < Direction::kCount * static_cast<long long>(sources.size()))
-        eta.mark_partial(*wave);
-      if (options.progress) {
-        progress.set_total(decided_before + report.decided + wave_tasks + later_tasks, true);
-        progress.set_note("expanding wave " + std::to_string(*wave));
-        update_eta(wave_tasks);
-      }
-      for (std::size_t b = 0; b < tasks.size(); b += options.batch_size) {
-        if (limit_reached()) {
-          stopped = true;
-          break;
-        }
-        const std::size_t e = std::min(tasks.size(), b + options.batch_size);
-        const std::vector<TransitionTask> batch(tasks.begin() + b, tasks.begin() + e);
-        const auto solve_start = SteadyClock::now();
-        // Solving ahead is worth it up to where a --max-transitions limit ends the run.
-        std::size_t ahead_end = tasks.size();
-        if (options.max_transitions) {
-          const long long left = std::max(0LL, *options.max_transitions - report.decided);
-          const long long batches = (left + options.batch_size - 1) / options.batch_size;
-          ahead_end = std::min<std::size_t>(
-              tasks.size(), b + static_cast<std::size_t>(batches * options.batch_size));
-        }
-        const std::vector<TransitionSolve> solves = solver.solve_range(b, e, ahead_end);
-        const auto store_start = SteadyClock::now();
-        expander.commit_batch(batch, solves, solver, &report);
-        report.solve_wall_s += std::chrono::duration<double>(store_start - solve_start).count();
-        report.store_wall_s +=
-            std::chrono::duration<double>(SteadyClock::now() - store_start).count();
-        // The wall time since the last batch (or the wave's start): the wave's set-up counted.
-        const auto batch_end = SteadyClock::now();
-        eta.record(*wave, static_cast<long long>(batch.size()),
-                   std::chrono::duration<double>(batch_end - eta_mark).count());
-        eta_mark = batch_end;
-        if (options.progress) update_eta(wave_tasks - static_cast<long long>(e));
-        progress.update(decided_before + report.decided, report.failed);
-      }
-    }
-    if (options.progress) {
-      if (!stopped) progress.set_total(decided_before + report.decided, false);
-      progress.set_note(stopped ? "stopped" : "complete");
-      progress.finish();
-    }
+  frame.run(report, [&] {
+    const bool stopped = expand_waves(options, start, cat, expander, solver, report);
     report.outcome = stopped ? StageOutcome::kPartial : StageOutcome::kOk;
     solver.finish();
     report.solver = solver.timings();
     report.engine_summary = solver.summary();
-    char buf[400];
-    std::snprintf(
-        buf, sizeof buf,
-        "%s: %lld transitions decided (%lld solved, %lld failed, %lld outside the "
-        "grid), %lld new configurations, %lld arrived at a state already stored; now %lld "
-        "configurations, %lld transitions",
-        report.stopped_by_signal ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
-        : stopped                ? "partial (a limit was reached; run again to continue)"
-                                 : "complete",
-        report.decided, report.solved, report.failed, report.outside, report.new_configurations,
-        report.reused_levels, static_cast<long long>(cat.num_configurations()),
-        static_cast<long long>(cat.num_transitions()));
-    report.message = buf;
-    cat.update_stage_run_end(run_id, report.outcome, now_ms(), report.message);
+    report.message = expand_message(report, stopped, cat);
   });
   report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();
   return report;

@@ -4,6 +4,7 @@
 
 #include "catalogue/records.h"
 #include "solver/path_solver.h"
+#include "statedir/stage_run.h"
 #include "statespace/expand_batch.h"
 
 #include <cstdint>
@@ -30,11 +31,10 @@ struct ExpandOptions {
   void check() const;
 };
 
-struct ExpandReport {
-  StageOutcome outcome = StageOutcome::kOk;  // kOk (nothing undecided left), kPartial, kUnchanged
-  bool stopped_by_signal = false;            // kPartial because stop_requested() (Ctrl-C, SIGTERM)
-  long long decided = 0;                     // transitions decided in this run
-  long long solved = 0;                      // of which solved (reached or failed)
+// outcome: kOk (nothing undecided left), kPartial (a limit or a stop request), kUnchanged.
+struct ExpandReport : StageReport {
+  long long decided = 0;  // transitions decided in this run
+  long long solved = 0;   // of which solved (reached or failed)
   long long trivial = 0;  // of the solved: contact moves between free check-points at
                           // rest, recorded without a solve
   long long failed = 0;
@@ -44,12 +44,10 @@ struct ExpandReport {
   long long reused_levels = 0;       // reached an existing level
   long long expandable_changed = 0;  // configurations whose expandable flag changed (F_max)
   std::size_t garbage_segments = 0;  // unreferenced segments removed at start
-  int interrupted_runs = 0;          // earlier runs left "running" by a crash, now marked failed
-  std::string message;
-  // Where the time went (this run): wall time of the whole stage, of the parallel solves and of
+  // Where the time went (this run; the whole stage's is wall_s): the parallel solves and
   // deciding + storing batches (level comparison, segment write + fsync, catalogue commit);
   // `solver` sums the workers' assembly / factorisation / solve seconds.
-  double wall_s = 0, solve_wall_s = 0, store_wall_s = 0;
+  double solve_wall_s = 0, store_wall_s = 0;
   SolverTimings solver;
   std::string engine_summary;  // how the work was shared (MPI: per rank); "" for threads
 };

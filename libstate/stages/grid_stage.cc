@@ -33,7 +33,7 @@ Configuration zero_configuration(const StageContext& ctx, CheckpointId checkpoin
   c.checkpoint = checkpoint;
   c.level = Level(0);
   c.wave = 0;
-  c.stiffness = rest_stiffness(ctx.problem).stiffness;
+  c.stiffness = zero_stiffness(ctx.dir, ctx.problem).stiffness;
   c.expandable = 0.0 <= ctx.scene.probe.max_force;
   c.status = ConfigStatus::kOpen;
   c.summary = LevelSketch(ctx.problem).summary(rest_displacements(ctx.problem));
@@ -65,6 +65,126 @@ std::string rest_state_text(const Problem& p) {
   return text;
 }
 
+// The check-points already stored, by grid index, each checked to be where the scene's grid puts
+// it (InputError otherwise: nothing changed).
+std::map<GridIndex, Checkpoint> stored_checkpoints(StageContext& ctx) {
+  std::map<GridIndex, Checkpoint> existing;
+  for (const Checkpoint& c : ctx.catalogue.read_all_checkpoints()) {
+    const Eigen::Vector3d want = ctx.grid.position(c.ijk);
+    const Eigen::Vector3d have(c.position[0], c.position[1], c.position[2]);
+    if ((want - have).cwiseAbs().maxCoeff() > 1e-9 * ctx.grid.spacing.maxCoeff()) {
+      throw InputError(ctx.dir.catalogue().string() + ": check-point " + ijk_text(c.ijk) +
+                       " is stored at a position the scene's grid does not give it (the grid "
+                       "spacing or the probe's rest position changed): re-import with --fresh");
+    }
+    existing.emplace(c.ijk, c);
+  }
+  return existing;
+}
+
+// The grid's workspace check-points after inserting those missing (classified); contact: which
+// are free (the sphere touches nothing there).
+struct WorkspaceCheckpoints {
+  std::map<GridIndex, CheckpointId> ids;
+  std::vector<CheckpointId> free_ids;
+};
+
+WorkspaceCheckpoints insert_checkpoints(StageContext& ctx,
+                                        const std::map<GridIndex, Checkpoint>& existing,
+                                        GridReport& report) {
+  const GridSpec& grid = ctx.grid;
+  const auto probe = make_probe_model(ctx.problem);
+  WorkspaceCheckpoints w;
+  for (int i = grid.lo[0]; i <= grid.hi[0]; ++i)
+    for (int j = grid.lo[1]; j <= grid.hi[1]; ++j)
+      for (int k = grid.lo[2]; k <= grid.hi[2]; ++k) {
+        const GridIndex ijk{i, j, k};
+        Checkpoint c;
+        if (auto it = existing.find(ijk); it != existing.end()) {
+          c = it->second;
+        } else {
+          c.ijk = ijk;
+          const Eigen::Vector3d p = grid.position(ijk);
+          c.position = {p.x(), p.y(), p.z()};
+          c.classification = !grid.in_workspace(p)     ? CheckpointClass::kOutsideWorkspace
+                             : probe->clear_of_body(p) ? CheckpointClass::kFree
+                                                       : CheckpointClass::kWorkspace;
+          c.id = ctx.catalogue.insert_checkpoint(c);
+          ++report.checkpoints_added;
+        }
+        if (in_workspace(c.classification)) w.ids.emplace(ijk, c.id);
+        if (c.classification == CheckpointClass::kFree) w.free_ids.push_back(c.id);
+      }
+  if (!w.free_ids.empty() && w.free_ids.size() == w.ids.size()) {
+    throw InputError(ctx.scene.path.string() + ": grid.box: the sphere (probe.radius " +
+                     std::to_string(ctx.problem.contact->radius) +
+                     ") is clear of the body at every one of the " + std::to_string(w.ids.size()) +
+                     " workspace check-points, so the probe could never touch it; draw the "
+                     "workspace (or move probe.point) over the body's surface");
+  }
+  return w;
+}
+
+// The rest check-point and every free one (contact: the sphere clear of the body) hold the zero
+// configuration (no blob), inserted once.
+void insert_zero_configurations(StageContext& ctx, const WorkspaceCheckpoints& w,
+                                GridReport& report) {
+  const auto rest = w.ids.find(GridIndex{0, 0, 0});
+  if (rest == w.ids.end()) {
+    throw InputError(ctx.dir.root.string() +
+                     ": the rest check-point (0, 0, 0) is not in the "
+                     "workspace (internal inconsistency)");
+  }
+  std::vector<CheckpointId> zero_ids = w.free_ids;
+  if (std::find(zero_ids.begin(), zero_ids.end(), rest->second) == zero_ids.end())
+    zero_ids.insert(zero_ids.begin(), rest->second);
+  std::optional<Configuration> zero;
+  for (CheckpointId id : zero_ids) {
+    if (!ctx.catalogue.configurations_at(id).empty()) continue;
+    if (!zero) zero = zero_configuration(ctx, id);
+    Configuration c = *zero;
+    c.checkpoint = id;
+    ctx.catalogue.insert_configuration(c);
+    ++report.zero_configurations;
+  }
+  report.zero_configuration_added = report.zero_configurations > 0;
+}
+
+// Reopens the decisions "outside the grid" whose neighbour is now a workspace check-point.
+void reopen_outside_transitions(Catalogue& cat, const WorkspaceCheckpoints& w, GridReport& report) {
+  std::map<CheckpointId, GridIndex> index_of;
+  for (const auto& [ijk, id] : w.ids) index_of.emplace(id, ijk);
+  for (const Transition& t : cat.read_all_transitions()) {
+    if (t.outcome != TransitionOutcome::kOutsideGrid) continue;
+    const Configuration source = cat.read_configuration(t.source);
+    const auto at = index_of.find(source.checkpoint);
+    if (at == index_of.end()) continue;
+    const auto off = t.direction.offset();
+    const GridIndex to{at->second[0] + off[0], at->second[1] + off[1], at->second[2] + off[2]};
+    if (!w.ids.count(to)) continue;
+    cat.delete_transition(t.source, t.direction);
+    if (source.status == ConfigStatus::kExpanded)
+      cat.update_configuration_status(source.id, ConfigStatus::kOpen);
+    ++report.transitions_reopened;
+  }
+}
+
+// The run's one line.
+std::string grid_message(const GridReport& report, bool contact_free, const Problem& problem) {
+  std::string m = std::to_string(report.checkpoints_added) + " check-points added (" +
+                  std::to_string(report.checkpoints_total) + " in all)";
+  if (!contact_free && report.zero_configuration_added)
+    m += ", the body at rest stored at the rest check-point (0, 0, 0)";
+  if (contact_free && report.zero_configurations > 0)
+    m += ", " + std::to_string(report.zero_configurations) +
+         " free check-points (sphere clear of the body) with the zero configuration";
+  if (report.transitions_reopened)
+    m += ", " + std::to_string(report.transitions_reopened) +
+         " transitions reopened into the enlarged workspace";
+  if (problem.loads.has_force()) m += "; " + rest_state_text(problem);
+  return m;
+}
+
 }  // namespace
 
 void GridOptions::check() const {
@@ -84,128 +204,25 @@ GridReport run_grid(const GridOptions& options) {
                 grid.spacing.x(), grid.spacing.y(), grid.spacing.z(), grid.workspace.min.x(),
                 grid.workspace.min.y(), grid.workspace.min.z(), grid.workspace.max.x(),
                 grid.workspace.max.y(), grid.workspace.max.z());
-  StageRun run = make_stage_run("grid", inputs, params);
+  StageRunFrame frame(cat, "grid", inputs, params);
   GridReport report;
 
   // Validate the stored check-points against the grid before changing anything.
-  std::map<GridIndex, Checkpoint> existing;
-  for (const Checkpoint& c : cat.read_all_checkpoints()) {
-    const Eigen::Vector3d want = grid.position(c.ijk);
-    const Eigen::Vector3d have(c.position[0], c.position[1], c.position[2]);
-    if ((want - have).cwiseAbs().maxCoeff() > 1e-9 * grid.spacing.maxCoeff()) {
-      throw InputError(ctx.dir.catalogue().string() + ": check-point " + ijk_text(c.ijk) +
-                       " is stored at a position the scene's grid does not give it (the grid "
-                       "spacing or the probe's rest position changed): re-import with --fresh");
-    }
-    existing.emplace(c.ijk, c);
-  }
-  const auto last = cat.last_successful_stage_run("grid");
-  if (last && same_inputs(*last, inputs, {"grid", "problem"}) && !existing.empty()) {
-    record_unchanged(cat, run, "unchanged");
-    report.unchanged = true;
+  const std::map<GridIndex, Checkpoint> existing = stored_checkpoints(ctx);
+  if (frame.same_as_last({"grid", "problem"}) && !existing.empty()) {
     report.checkpoints_total = static_cast<std::int64_t>(existing.size());
-    report.message = "unchanged: the grid is up to date (" + std::to_string(existing.size()) +
-                     " check-points), nothing to do";
-    return report;
+    return frame.unchanged(report, "unchanged: the grid is up to date (" +
+                                       std::to_string(existing.size()) +
+                                       " check-points), nothing to do");
   }
 
   Transaction tx(cat);
-  const auto probe = make_probe_model(ctx.problem);
-  std::map<GridIndex, CheckpointId> workspace_ids;
-  std::vector<CheckpointId> free_ids;  // contact: check-points whose sphere touches nothing
-  for (int i = grid.lo[0]; i <= grid.hi[0]; ++i)
-    for (int j = grid.lo[1]; j <= grid.hi[1]; ++j)
-      for (int k = grid.lo[2]; k <= grid.hi[2]; ++k) {
-        const GridIndex ijk{i, j, k};
-        auto it = existing.find(ijk);
-        if (it != existing.end()) {
-          if (in_workspace(it->second.classification)) workspace_ids.emplace(ijk, it->second.id);
-          if (it->second.classification == CheckpointClass::kFree)
-            free_ids.push_back(it->second.id);
-          continue;
-        }
-        Checkpoint c;
-        c.ijk = ijk;
-        const Eigen::Vector3d p = grid.position(ijk);
-        c.position = {p.x(), p.y(), p.z()};
-        c.classification = !grid.in_workspace(p)     ? CheckpointClass::kOutsideWorkspace
-                           : probe->clear_of_body(p) ? CheckpointClass::kFree
-                                                     : CheckpointClass::kWorkspace;
-        c.id = cat.insert_checkpoint(c);
-        if (in_workspace(c.classification)) workspace_ids.emplace(ijk, c.id);
-        if (c.classification == CheckpointClass::kFree) free_ids.push_back(c.id);
-        ++report.checkpoints_added;
-      }
+  const WorkspaceCheckpoints w = insert_checkpoints(ctx, existing, report);
   report.checkpoints_total = cat.num_checkpoints();
-  if (!free_ids.empty() && free_ids.size() == workspace_ids.size()) {
-    throw InputError(ctx.scene.path.string() + ": grid.box: the sphere (probe.radius " +
-                     std::to_string(ctx.problem.contact->radius) +
-                     ") is clear of the body at "
-                     "every one of the " +
-                     std::to_string(workspace_ids.size()) +
-                     " workspace check-points, so the probe could never touch it; draw the "
-                     "workspace (or move probe.point) over the body's surface");
-  }
-
-  // The zero configuration at the rest check-point.
-  const auto rest = workspace_ids.find(GridIndex{0, 0, 0});
-  if (rest == workspace_ids.end()) {
-    throw InputError(ctx.dir.root.string() +
-                     ": the rest check-point (0, 0, 0) is not in the "
-                     "workspace (internal inconsistency)");
-  }
-  // The rest check-point and every free one (contact: the sphere clear of the body) hold the
-  // zero configuration (no blob), inserted once.
-  std::vector<CheckpointId> zero_ids = free_ids;
-  if (std::find(zero_ids.begin(), zero_ids.end(), rest->second) == zero_ids.end())
-    zero_ids.insert(zero_ids.begin(), rest->second);
-  std::optional<Configuration> zero;
-  for (CheckpointId id : zero_ids) {
-    if (!cat.configurations_at(id).empty()) continue;
-    if (!zero) zero = zero_configuration(ctx, id);
-    Configuration c = *zero;
-    c.checkpoint = id;
-    cat.insert_configuration(c);
-    ++report.zero_configurations;
-  }
-  report.zero_configuration_added = report.zero_configurations > 0;
-
-  // Reopen decisions "outside the grid" whose neighbour is now a workspace check-point.
-  if (report.checkpoints_added > 0) {
-    std::map<CheckpointId, GridIndex> index_of;
-    for (const auto& [ijk, id] : workspace_ids) index_of.emplace(id, ijk);
-    for (const Transition& t : cat.read_all_transitions()) {
-      if (t.outcome != TransitionOutcome::kOutsideGrid) continue;
-      const Configuration source = cat.read_configuration(t.source);
-      const auto at = index_of.find(source.checkpoint);
-      if (at == index_of.end()) continue;
-      const auto off = t.direction.offset();
-      const GridIndex to{at->second[0] + off[0], at->second[1] + off[1], at->second[2] + off[2]};
-      if (!workspace_ids.count(to)) continue;
-      cat.delete_transition(t.source, t.direction);
-      if (source.status == ConfigStatus::kExpanded)
-        cat.update_configuration_status(source.id, ConfigStatus::kOpen);
-      ++report.transitions_reopened;
-    }
-  }
-  run.outcome = StageOutcome::kOk;
-  run.ended = now_ms();
-  report.message =
-      std::to_string(report.checkpoints_added) + " check-points added (" +
-      std::to_string(report.checkpoints_total) + " in all)" +
-      (free_ids.empty() ? (report.zero_configuration_added
-                               ? ", the body at rest stored at the rest check-point (0, 0, 0)"
-                               : "")
-       : report.zero_configurations > 0
-           ? ", " + std::to_string(report.zero_configurations) +
-                 " free check-points (sphere clear of the body) with the zero configuration"
-           : "") +
-      (report.transitions_reopened ? ", " + std::to_string(report.transitions_reopened) +
-                                         " transitions reopened into the enlarged workspace"
-                                   : "");
-  if (ctx.problem.loads.has_force()) report.message += "; " + rest_state_text(ctx.problem);
-  run.message = report.message;
-  cat.insert_stage_run(run);
+  insert_zero_configurations(ctx, w, report);
+  if (report.checkpoints_added > 0) reopen_outside_transitions(cat, w, report);
+  report.message = grid_message(report, !w.free_ids.empty(), ctx.problem);
+  frame.end(report);  // recorded with the grid, in its transaction
   tx.commit();
   return report;
 }

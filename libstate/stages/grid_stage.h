@@ -2,6 +2,8 @@
 // configuration, from the imported scene.
 #pragma once
 
+#include "statedir/stage_run.h"
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -15,15 +17,13 @@ struct GridOptions {
   void check() const;
 };
 
-struct GridReport {
-  bool unchanged = false;
+struct GridReport : StageReport {
   std::int64_t checkpoints_added = 0;
   std::int64_t checkpoints_total = 0;
   bool zero_configuration_added = false;
   // Zero configurations added: at the rest check-point and (contact) at the free check-points.
   std::int64_t zero_configurations = 0;
   std::int64_t transitions_reopened = 0;  // kOutsideGrid decisions now inside the workspace
-  std::string message;
 };
 
 // Creates the check-points of the scene's grid (docs/state-space.md) that do not exist yet, in

@@ -10,6 +10,7 @@
 #include "statedir/state_dir.h"
 #include "statedir/stored_problem.h"
 #include "statedir/stored_scene.h"
+#include "statespace/expand_batch.h"
 #include "util/error.h"
 
 #include <Eigen/Geometry>
@@ -58,22 +59,22 @@ std::string parameters_of(const ImportOptions& o) {
 }
 
 // Imports into a directory without an imported scene (new, emptied, or left by a crash).
+// The import run is recorded in one transaction with the scene: a directory without it was never
+// imported.
+// `rest`: the zero configurations' stiffness (rest_stiffness), computed before anything in the
+// directory is touched.
 void import_new(const StateDir& dir, const ImportOptions& options, const Scene& scene,
-                const Problem& problem, const ContentHash& mesh_hash, const NamedHashes& identity,
-                const std::string& message) {
+                const Problem& problem, const RestStiffness& rest, const ContentHash& mesh_hash,
+                const NamedHashes& identity, ImportReport& report) {
   fs::create_directories(dir.root);
   fs::create_directories(dir.blobs());
   // A problem segment without a scene row is left by a crash: replace it.
   fs::remove_all(dir.problem());
-  write_stored_problem(dir, problem, content_hash(scene.text));
+  write_stored_problem(dir, problem, content_hash(scene.text), rest);
   Catalogue catalogue(dir.catalogue(), OpenMode::kCreate);
   Transaction tx(catalogue);
   catalogue.write_scene(make_scene_record(scene, problem, mesh_hash));
-  StageRun run = make_stage_run("import", identity, parameters_of(options));
-  run.outcome = StageOutcome::kOk;
-  run.ended = now_ms();
-  run.message = message;
-  catalogue.insert_stage_run(run);
+  StageRunFrame(catalogue, "import", identity, parameters_of(options)).end(report);
   tx.commit();
 }
 
@@ -81,6 +82,60 @@ std::string format_force(double f) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6g N", f);
   return buf;
+}
+
+// The parts of the scene that changed since the recorded import (`last`), all of them parts that
+// may change; InputError naming the others if any changed.
+std::vector<std::string> changed_parts(const ImportOptions& options, const StateDir& dir,
+                                       const NamedHashes& identity, const StageRun& last) {
+  std::vector<std::string> refused, changed;
+  for (const auto& [name, hash] : identity) {
+    if (run_input(last, name) == hash) continue;
+    (is_mutable_scene_part(name) ? changed : refused).push_back(name);
+  }
+  if (!refused.empty()) {
+    std::string what;
+    for (const auto& part : refused) what += (what.empty() ? "" : "; ") + describe_scene_part(part);
+    throw InputError(options.scene.string() + ": the state directory " + dir.root.string() +
+                     " was built from another scene; changed: " + what +
+                     ". A state directory belongs to one scene (only probe.max_force and an "
+                     "enlarged grid.box may change): import into another --state directory, or "
+                     "give --fresh to delete this one's configurations and start again");
+  }
+  return changed;
+}
+
+// The workspace may only grow: InputError if a stored workspace check-point is outside `grid`.
+void require_larger_workspace(const ImportOptions& options, const StateDir& dir,
+                              Catalogue& catalogue, const GridSpec& grid) {
+  for (const Checkpoint& c : catalogue.read_all_checkpoints()) {
+    const Eigen::Vector3d p(c.position[0], c.position[1], c.position[2]);
+    if (c.classification == CheckpointClass::kWorkspace && !grid.in_workspace(p)) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "check-point (%d, %d, %d) at (%.9g, %.9g, %.9g)", c.ijk[0],
+                    c.ijk[1], c.ijk[2], p.x(), p.y(), p.z());
+      throw InputError(options.scene.string() + ": [grid] box: the new workspace no longer holds " +
+                       buf + " of the state directory " + dir.root.string() +
+                       ": the workspace may only be enlarged (give --fresh to start again)");
+    }
+  }
+}
+
+// What an allowed change changed, for the message ("probe.max_force 1 N -> 2 N; ...").
+std::string describe_update(const std::vector<std::string>& changed, Catalogue& catalogue,
+                            const StateDir& dir, const Scene& scene) {
+  std::string what;
+  const SceneRecord old_scene = read_stored_scene(catalogue, dir);
+  for (const auto& part : changed) {
+    if (part == "max_force") {
+      const Scene old = parse_stored_scene(old_scene, dir);
+      what += (what.empty() ? "" : "; ") + std::string("probe.max_force ") +
+              format_force(old.probe.max_force) + " -> " + format_force(scene.probe.max_force);
+    } else if (part == "workspace") {
+      what += (what.empty() ? "" : "; ") + std::string("workspace enlarged");
+    }
+  }
+  return what.empty() ? "scene text (nothing the state depends on)" : what;
 }
 
 }  // namespace
@@ -128,11 +183,11 @@ ImportReport run_import(const ImportOptions& options) {
   // 2. --fresh: start over.
   if (options.fresh) {
     const bool existed = has_catalogue;
+    const RestStiffness rest = rest_stiffness(problem);
     remove_state_files(dir);
-    import_new(dir, options, scene, problem, mesh_hash, identity,
-               (existed ? "fresh state directory: " : "new state directory: ") + summary);
-    report.result = existed ? ImportResult::kRecreated : ImportResult::kCreated;
+    report.change = existed ? ImportChange::kRecreated : ImportChange::kCreated;
     report.message = (existed ? "deleted the old state and imported: " : "imported: ") + summary;
+    import_new(dir, options, scene, problem, rest, mesh_hash, identity, report);
     return report;
   }
 
@@ -148,68 +203,26 @@ ImportReport run_import(const ImportOptions& options) {
     }
   }
   if (!last) {
-    import_new(dir, options, scene, problem, mesh_hash, identity,
-               "new state directory: " + summary);
-    report.result = ImportResult::kCreated;
+    report.change = ImportChange::kCreated;
     report.message = "imported: " + summary;
+    import_new(dir, options, scene, problem, rest_stiffness(problem), mesh_hash, identity, report);
     return report;
   }
 
   // 4. Compare with the recorded scene.
-  std::vector<std::string> refused, changed;
-  for (const auto& [name, hash] : identity) {
-    if (run_input(*last, name) == hash) continue;
-    (is_mutable_scene_part(name) ? changed : refused).push_back(name);
-  }
-  if (!refused.empty()) {
-    std::string what;
-    for (const auto& part : refused) what += (what.empty() ? "" : "; ") + describe_scene_part(part);
-    throw InputError(options.scene.string() + ": the state directory " + dir.root.string() +
-                     " was built from another scene; changed: " + what +
-                     ". A state directory belongs to one scene (only probe.max_force and an "
-                     "enlarged grid.box may change): import into another --state directory, or "
-                     "give --fresh to delete this one's configurations and start again");
-  }
+  const std::vector<std::string> changed = changed_parts(options, dir, identity, *last);
   Catalogue catalogue(dir.catalogue(), OpenMode::kMigrate);
-  StageRun run = make_stage_run("import", identity, parameters_of(options));
-  if (changed.empty()) {
-    record_unchanged(catalogue, run, "unchanged");
-    report.result = ImportResult::kUnchanged;
-    report.message = "unchanged: the same scene was imported before, nothing to do";
-    return report;
-  }
-  // The workspace may only grow: every stored check-point must stay inside.
-  for (const Checkpoint& c : catalogue.read_all_checkpoints()) {
-    const Eigen::Vector3d p(c.position[0], c.position[1], c.position[2]);
-    if (c.classification == CheckpointClass::kWorkspace && !grid.in_workspace(p)) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "check-point (%d, %d, %d) at (%.9g, %.9g, %.9g)", c.ijk[0],
-                    c.ijk[1], c.ijk[2], p.x(), p.y(), p.z());
-      throw InputError(options.scene.string() + ": [grid] box: the new workspace no longer holds " +
-                       buf + " of the state directory " + dir.root.string() +
-                       ": the workspace may only be enlarged (give --fresh to start again)");
-    }
-  }
-  std::string what;
-  const SceneRecord old_scene = read_stored_scene(catalogue, dir);
-  for (const auto& part : changed) {
-    if (part == "max_force") {
-      const Scene old = parse_stored_scene(old_scene, dir);
-      what += (what.empty() ? "" : "; ") + std::string("probe.max_force ") +
-              format_force(old.probe.max_force) + " -> " + format_force(scene.probe.max_force);
-    } else if (part == "workspace") {
-      what += (what.empty() ? "" : "; ") + std::string("workspace enlarged");
-    }
-  }
-  if (what.empty()) what = "scene text (nothing the state depends on)";
+  StageRunFrame frame(catalogue, "import", identity, parameters_of(options));
+  if (changed.empty())
+    return frame.unchanged(report, "unchanged: the same scene was imported before, nothing to do");
+  require_larger_workspace(options, dir, catalogue, grid);
+  report.change = ImportChange::kUpdated;
+  report.message =
+      "updated: " + describe_update(changed, catalogue, dir, scene) + " (every configuration kept)";
   Transaction tx(catalogue);
   catalogue.write_scene(make_scene_record(scene, problem, mesh_hash));
-  run.outcome = StageOutcome::kOk;
-  run.message = "updated: " + what;
-  catalogue.insert_stage_run(run);
+  frame.end(report);
   tx.commit();
-  report.result = ImportResult::kUpdated;
-  report.message = "updated: " + what + " (every configuration kept)";
   return report;
 }
 

@@ -1,6 +1,8 @@
 // The import stage (hapstate-import): a scene and its mesh into a state directory.
 #pragma once
 
+#include "statedir/stage_run.h"
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -16,17 +18,17 @@ struct ImportOptions {
   void check() const;
 };
 
-enum class ImportResult {
+// What an import that did something (outcome kOk) did.
+enum class ImportChange {
   kCreated,    // new state directory
-  kUnchanged,  // the same scene was imported before: nothing done
   kUpdated,    // allowed changes recorded (max_force, enlarged workspace, scene text)
   kRecreated,  // --fresh: the old contents were deleted, the scene imported anew
 };
 
-struct ImportReport {
-  ImportResult result = ImportResult::kCreated;
-  std::string message;                // one line for the user
-  std::vector<std::string> warnings;  // mesh repairs and the like
+// outcome kOk or kUnchanged (the same scene was imported before: nothing done); warnings: mesh
+// repairs and the like.
+struct ImportReport : StageReport {
+  ImportChange change = ImportChange::kCreated;
 };
 
 // Validates the scene and mesh (build_problem, grid alignment) before touching the state

@@ -255,6 +255,151 @@ void require_expansion(StageContext& ctx) {
                    ": hapstate-expand has not run in this state directory yet: run it first");
 }
 
+// Where the file's per-configuration sections come from: each configuration's blob (the zero
+// configurations' from the loaded rest state), read while the file is written.
+class BlobSections {
+ public:
+  BlobSections(const StageContext& ctx, const Gathered& g, Progress& progress)
+      : ctx_(ctx),
+        g_(g),
+        blobs_(ctx.dir.blobs()),
+        num_nodes_(ctx.problem.mesh.num_nodes()),
+        view_nodes_(g.content.view_nodes),
+        // The zero configurations' u: the loaded rest state (empty without a body force: zeros).
+        rest_u_(ctx.problem.loads.has_force() ? rest_displacements(ctx.problem)
+                                              : std::vector<double>{}),
+        progress_(progress) {}
+
+  // The view nodes' displacements of configuration k.
+  void displacements(std::int32_t k, std::span<float> out) {
+    const Configuration& conf = g_.configs[k];
+    if (conf.blob) {
+      const std::vector<float> u =
+          blobs_.read_float32(conf.blob->segment, conf.blob->dataset(BlobVector::kU));
+      check_size(u.size(), 3, "displacement values", conf);
+      for (std::size_t v = 0; v < view_nodes_.size(); ++v)
+        for (int r = 0; r < 3; ++r) out[3 * v + r] = u[3 * std::size_t(view_nodes_[v]) + r];
+    } else if (!rest_u_.empty()) {  // a zero configuration: the loaded rest state
+      for (std::size_t v = 0; v < view_nodes_.size(); ++v)
+        for (int r = 0; r < 3; ++r)
+          out[3 * v + r] = static_cast<float>(rest_u_[3 * std::size_t(view_nodes_[v]) + r]);
+    }
+    progress_.update(k + 1);
+  }
+
+  // Whether every configuration has its slopes d u / d p (a state expanded before they were
+  // stored has none: the file then has none and Hermite deformation is trilinear).
+  bool all_have_slopes() const {
+    return std::all_of(g_.configs.begin(), g_.configs.end(), [&](const Configuration& conf) {
+      return !conf.blob ||
+             blobs_.contains(conf.blob->segment, conf.blob->dataset(BlobVector::kDuDp));
+    });
+  }
+
+  // The view nodes' slopes of configuration k (none for a zero configuration not touched).
+  void slopes(std::int32_t k, std::span<float> out) {
+    const Configuration& conf = g_.configs[k];
+    std::vector<float> du_dp;
+    if (conf.blob) {
+      du_dp = blobs_.read_float32(conf.blob->segment, conf.blob->dataset(BlobVector::kDuDp));
+    } else if (std::any_of(conf.stiffness.begin(), conf.stiffness.end(),
+                           [](double v) { return v != 0.0; })) {
+      if (!rest_) rest_ = zero_stiffness(ctx_.dir, ctx_.problem);
+      du_dp = rest_->du_dp;
+    } else {
+      return;  // a zero configuration the probe does not touch: no slopes
+    }
+    check_size(du_dp.size(), 9, "displacement slope values", conf);
+    const std::size_t v = view_nodes_.size();
+    for (int a = 0; a < 3; ++a)
+      for (std::size_t n = 0; n < v; ++n)
+        for (int r = 0; r < 3; ++r)
+          out[3 * (a * v + n) + r] =
+              du_dp[std::size_t(a) * 3 * num_nodes_ + 3 * std::size_t(view_nodes_[n]) + r];
+  }
+
+  // The view nodes' displacements and slopes half-way along configuration k's midpoint
+  // directions, where stored.
+  void midpoints(std::int32_t k, std::span<float> out) {
+    const std::size_t v = view_nodes_.size();
+    for (int d = 0; d < playback::kMidpointDirections; ++d) {
+      const std::optional<BlobRef>& ref =
+          g_.midpoint_blobs[playback::kMidpointDirections * std::size_t(k) + d];
+      if (!ref) continue;
+      const std::vector<float> u = blobs_.read_float32(ref->segment, ref->dataset(BlobVector::kU));
+      const std::vector<float> du_dp =
+          blobs_.read_float32(ref->segment, ref->dataset(BlobVector::kDuDp));
+      if (static_cast<int>(u.size()) != 3 * num_nodes_ ||
+          static_cast<int>(du_dp.size()) != 9 * num_nodes_)
+        throw InputError(ctx_.dir.blobs().string() + ": midpoint vectors " + ref->name + " have " +
+                         std::to_string(u.size()) + " and " + std::to_string(du_dp.size()) +
+                         " values, the mesh needs " + std::to_string(3 * num_nodes_) + " and " +
+                         std::to_string(9 * num_nodes_));
+      float* row = out.data() + 12 * v * d;
+      for (std::size_t n = 0; n < v; ++n)
+        for (int r = 0; r < 3; ++r) {
+          const std::size_t node = 3 * std::size_t(view_nodes_[n]) + r;
+          row[3 * n + r] = u[node];
+          for (int a = 0; a < 3; ++a)
+            row[3 * ((1 + a) * v + n) + r] = du_dp[std::size_t(a) * 3 * num_nodes_ + node];
+        }
+    }
+  }
+
+ private:
+  void check_size(std::size_t have, int per_node, const char* what,
+                  const Configuration& conf) const {
+    if (static_cast<int>(have) != per_node * num_nodes_)
+      throw InputError(ctx_.dir.blobs().string() + ": configuration " +
+                       std::to_string(conf.id.value()) + " has " + std::to_string(have) + " " +
+                       what + ", the mesh needs " + std::to_string(per_node * num_nodes_));
+  }
+
+  const StageContext& ctx_;
+  const Gathered& g_;
+  BlobStore blobs_;
+  int num_nodes_;
+  std::vector<std::int32_t> view_nodes_;
+  std::vector<double> rest_u_;
+  std::optional<RestStiffness> rest_;  // of the zero configurations, read once
+  Progress& progress_;
+};
+
+// Writes the playback file of `g` to report.output; returns the report's message.
+std::string write_playback(const IndexOptions& options, const StageContext& ctx, Gathered& g,
+                           IndexReport& report) {
+  const std::string replaced = describe_existing(report.output);
+  Progress progress("hapstate-index: displacements", static_cast<long long>(g.configs.size()),
+                    options.progress);
+  BlobSections sections(ctx, g, progress);
+  g.content.displacements = [&](std::int32_t k, std::span<float> out) {
+    sections.displacements(k, out);
+  };
+  report.slopes = sections.all_have_slopes();
+  if (report.slopes)
+    g.content.displacement_slopes = [&](std::int32_t k, std::span<float> out) {
+      sections.slopes(k, out);
+    };
+  if (!report.slopes) g.content.midpoint_displacement_mask.clear();  // deform() needs both
+  if (!g.content.midpoint_displacement_mask.empty())
+    g.content.midpoint_displacements = [&](std::int32_t k, std::span<float> out) {
+      sections.midpoints(k, out);
+    };
+  playback::write_file(std::move(g.content), report.output);
+  progress.finish();
+  report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
+  char text[512];
+  std::snprintf(text, sizeof text, "%lld configurations, %lld view nodes, %s%s",
+                static_cast<long long>(report.configurations),
+                static_cast<long long>(report.view_nodes), size_text(report.bytes).c_str(),
+                report.slopes ? ""
+                              : "; no displacement slopes (a state expanded before they "
+                                "were stored): Hermite deformation falls back to trilinear");
+  std::string message = "wrote " + report.output.string() + ": " + text;
+  if (!replaced.empty()) message += " (replaced the previous file: " + replaced + ")";
+  return message;
+}
+
 }  // namespace
 
 void IndexOptions::check() const {
@@ -276,125 +421,18 @@ IndexReport run_index(const IndexOptions& options) {
   report.view_nodes = static_cast<std::int64_t>(g.content.view_nodes.size());
   const std::string params = "output=" + report.output.string() +
                              " nodes=" + (options.view == ViewNodes::kAll ? "all" : "surface");
-  StageRun run = make_stage_run("index",
-                                {{"configurations", g.fingerprint},
-                                 {"problem", ctx.problem_hash},
-                                 {"scene", ctx.scene_record.hash}},
-                                params);
+  StageRunFrame frame(ctx.catalogue, "index",
+                      {{"configurations", g.fingerprint},
+                       {"problem", ctx.problem_hash},
+                       {"scene", ctx.scene_record.hash}},
+                      params);
   if (up_to_date(report.output, g.fingerprint)) {
-    report.unchanged = true;
     report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
-    report.message = "unchanged: " + report.output.string() + " is up to date (" +
-                     std::to_string(report.configurations) + " configurations)";
-    record_unchanged(ctx.catalogue, run, report.message);
-  } else {
-    const std::string replaced = describe_existing(report.output);
-    BlobStore blobs(ctx.dir.blobs());
-    const int num_nodes = ctx.problem.mesh.num_nodes();
-    const std::vector<std::int32_t> view_nodes = g.content.view_nodes;
-    const std::vector<Configuration>& configs = g.configs;
-    // The zero configurations' u: the loaded rest state (empty without a body force: zeros).
-    const std::vector<double> rest_u =
-        ctx.problem.loads.has_force() ? rest_displacements(ctx.problem) : std::vector<double>{};
-    Progress progress("hapstate-index: displacements", static_cast<long long>(configs.size()),
-                      options.progress);
-    g.content.displacements = [&](std::int32_t k, std::span<float> out) {
-      const Configuration& conf = configs[k];
-      if (conf.blob) {
-        const std::vector<float> u =
-            blobs.read_float32(conf.blob->segment, conf.blob->dataset(BlobVector::kU));
-        if (static_cast<int>(u.size()) != 3 * num_nodes)
-          throw InputError(ctx.dir.blobs().string() + ": configuration " +
-                           std::to_string(conf.id.value()) + " has " + std::to_string(u.size()) +
-                           " displacement values, the mesh needs " + std::to_string(3 * num_nodes));
-        for (std::size_t v = 0; v < view_nodes.size(); ++v)
-          for (int r = 0; r < 3; ++r) out[3 * v + r] = u[3 * std::size_t(view_nodes[v]) + r];
-      } else if (!rest_u.empty()) {  // a zero configuration: the loaded rest state
-        for (std::size_t v = 0; v < view_nodes.size(); ++v)
-          for (int r = 0; r < 3; ++r)
-            out[3 * v + r] = static_cast<float>(rest_u[3 * std::size_t(view_nodes[v]) + r]);
-      }
-      progress.update(k + 1);
-    };
-    // The slopes d u / d p, if every configuration has them (a state expanded before they were
-    // stored has none: the file then has none and Hermite deformation is trilinear).
-    report.slopes = std::all_of(configs.begin(), configs.end(), [&](const Configuration& conf) {
-      return !conf.blob ||
-             blobs.contains(conf.blob->segment, conf.blob->dataset(BlobVector::kDuDp));
-    });
-    std::optional<StiffnessResult> rest;  // of the zero configurations, computed once
-    if (report.slopes)
-      g.content.displacement_slopes = [&](std::int32_t k, std::span<float> out) {
-        const Configuration& conf = configs[k];
-        std::vector<float> du_dp;
-        if (conf.blob) {
-          du_dp = blobs.read_float32(conf.blob->segment, conf.blob->dataset(BlobVector::kDuDp));
-        } else if (std::any_of(conf.stiffness.begin(), conf.stiffness.end(),
-                               [](double v) { return v != 0.0; })) {
-          if (!rest) rest = rest_stiffness(ctx.problem);
-          du_dp = rest->du_dp;
-        } else {
-          return;  // a zero configuration the probe does not touch: no slopes
-        }
-        if (static_cast<int>(du_dp.size()) != 9 * num_nodes)
-          throw InputError(
-              ctx.dir.blobs().string() + ": configuration " + std::to_string(conf.id.value()) +
-              " has " + std::to_string(du_dp.size()) +
-              " displacement slope values, the mesh needs " + std::to_string(9 * num_nodes));
-        const std::size_t v = view_nodes.size();
-        for (int a = 0; a < 3; ++a)
-          for (std::size_t n = 0; n < v; ++n)
-            for (int r = 0; r < 3; ++r)
-              out[3 * (a * v + n) + r] =
-                  du_dp[std::size_t(a) * 3 * num_nodes + 3 * std::size_t(view_nodes[n]) + r];
-      };
-    if (!report.slopes) g.content.midpoint_displacement_mask.clear();  // deform() needs both
-    if (!g.content.midpoint_displacement_mask.empty())
-      g.content.midpoint_displacements = [&](std::int32_t k, std::span<float> out) {
-        const std::size_t v = view_nodes.size();
-        for (int d = 0; d < playback::kMidpointDirections; ++d) {
-          const std::optional<BlobRef>& ref =
-              g.midpoint_blobs[playback::kMidpointDirections * std::size_t(k) + d];
-          if (!ref) continue;
-          const std::vector<float> u =
-              blobs.read_float32(ref->segment, ref->dataset(BlobVector::kU));
-          const std::vector<float> du_dp =
-              blobs.read_float32(ref->segment, ref->dataset(BlobVector::kDuDp));
-          if (static_cast<int>(u.size()) != 3 * num_nodes ||
-              static_cast<int>(du_dp.size()) != 9 * num_nodes)
-            throw InputError(ctx.dir.blobs().string() + ": midpoint vectors " + ref->name +
-                             " have " + std::to_string(u.size()) + " and " +
-                             std::to_string(du_dp.size()) + " values, the mesh needs " +
-                             std::to_string(3 * num_nodes) + " and " +
-                             std::to_string(9 * num_nodes));
-          float* row = out.data() + 12 * v * d;
-          for (std::size_t n = 0; n < v; ++n)
-            for (int r = 0; r < 3; ++r) {
-              const std::size_t node = 3 * std::size_t(view_nodes[n]) + r;
-              row[3 * n + r] = u[node];
-              for (int a = 0; a < 3; ++a)
-                row[3 * ((1 + a) * v + n) + r] = du_dp[std::size_t(a) * 3 * num_nodes + node];
-            }
-        }
-      };
-    playback::write_file(std::move(g.content), report.output);
-    progress.finish();
-    report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
-    run.outcome = StageOutcome::kOk;
-    char text[512];
-    std::snprintf(text, sizeof text, "%lld configurations, %lld view nodes, %s%s",
-                  static_cast<long long>(report.configurations),
-                  static_cast<long long>(report.view_nodes), size_text(report.bytes).c_str(),
-                  report.slopes ? ""
-                                : "; no displacement slopes (a state expanded before they "
-                                  "were stored): Hermite deformation falls back to trilinear");
-    report.message = "wrote " + report.output.string() + ": " + text;
-    if (!replaced.empty()) report.message += " (replaced the previous file: " + replaced + ")";
-    run.ended = now_ms();
-    run.message = report.message;
-    ctx.catalogue.insert_stage_run(run);
+    return frame.unchanged(report, "unchanged: " + report.output.string() + " is up to date (" +
+                                       std::to_string(report.configurations) + " configurations)");
   }
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  frame.run(report, [&] { report.message = write_playback(options, ctx, g, report); });
+  report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }
 

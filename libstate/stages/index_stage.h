@@ -2,6 +2,8 @@
 // (docs/playback.md) for the runtime (include/hapstate/playback.h).
 #pragma once
 
+#include "statedir/stage_run.h"
+
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -21,15 +23,13 @@ struct IndexOptions {
   void check() const;
 };
 
-struct IndexReport {
-  bool unchanged = false;
+// outcome: kOk (written) or kUnchanged (the file is up to date).
+struct IndexReport : StageReport {
   std::filesystem::path output;
   std::int64_t configurations = 0;
   std::int64_t view_nodes = 0;
   std::int64_t bytes = 0;
   bool slopes = false;  // the file holds displacement slopes (Hermite deformation)
-  double seconds = 0;
-  std::string message;
 };
 
 // Writes the playback file atomically (an existing file stays intact until the new one is

@@ -229,7 +229,7 @@ RefineReport run_refine(const RefineOptions& options) {
   char parameters[120];
   std::snprintf(parameters, sizeof parameters, "tolerance=%.6g threads=%d", report.tolerance,
                 options.threads);
-  StageRun run = make_stage_run("refine", inputs, parameters);
+  StageRunFrame frame(cat, "refine", inputs, parameters);
   Refiner refiner(ctx, options.threads);
   const std::set<ConfigId> done = cat.refined_cells();
   std::vector<Cell> pending;
@@ -261,24 +261,17 @@ RefineReport run_refine(const RefineOptions& options) {
   std::sort(pending.begin(), pending.end(),
             [&](const Cell& a, const Cell& b) { return scrambled(a) < scrambled(b); });
   if (pending.empty()) {
-    report.outcome = StageOutcome::kUnchanged;
-    report.message = std::string("nothing to do: ") + summary + ", " +
-                     std::to_string(report.refined_before) + " refined";
-    record_unchanged(cat, run, report.message);
-    return report;
+    return frame.unchanged(report, std::string("nothing to do: ") + summary + ", " +
+                                       std::to_string(report.refined_before) + " refined");
   }
-  const StageRunId run_id = start_stage_run(cat, run);
-  with_run_record(cat, run_id, [&] {
+  frame.run(report, [&] {
     const long long per_cell = static_cast<long long>(new_points().size());
     Progress progress("hapstate-refine: points", per_cell * report.flagged, options.progress);
     // Flagged cells refined by earlier runs count as done, not in the rate.
     long long done_points = per_cell * (report.flagged - static_cast<long long>(pending.size()));
     progress.set_resumed(done_points);
     for (const Cell& cell : pending) {
-      if (stop_requested()) {
-        report.stopped_by_signal = true;
-        break;
-      }
+      if (StageRunFrame::stop(report)) break;
       const std::vector<RefinementPoint> points = refiner.solve(cell);
       Transaction tx(cat);
       cat.insert_refinement_points(points);
@@ -297,7 +290,6 @@ RefineReport run_refine(const RefineOptions& options) {
                                              : "complete") +
         ": " + summary + "; refined " + std::to_string(report.refined) + " cells now (" +
         std::to_string(report.points) + " points, " + std::to_string(report.failed) + " failed)";
-    cat.update_stage_run_end(run_id, report.outcome, now_ms(), report.message);
   });
   report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();
   return report;

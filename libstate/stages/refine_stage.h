@@ -4,6 +4,7 @@
 #pragma once
 
 #include "catalogue/records.h"
+#include "statedir/stage_run.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -26,9 +27,8 @@ struct RefineOptions {
   void check() const;
 };
 
-struct RefineReport {
-  StageOutcome outcome = StageOutcome::kOk;  // kOk, kPartial (stopped), kUnchanged
-  bool stopped_by_signal = false;
+// outcome: kOk, kPartial (stopped), kUnchanged.
+struct RefineReport : StageReport {
   double tolerance = 0;              // relative, as used
   long long cells = 0;               // cells with all 8 corners stored
   long long flagged = 0;             // of which above the tolerance
@@ -36,8 +36,6 @@ struct RefineReport {
   long long refined = 0;             // refined in this run
   long long points = 0, failed = 0;  // points solved in this run, of which failed
   double largest_error = 0;          // the largest relative estimate over the cells
-  double wall_s = 0;
-  std::string message;
 };
 
 // Finds the cells (8 stored corners joined by the moves of the lowest one; either probe) whose

@@ -48,6 +48,21 @@ ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c
   return v;
 }
 
+ConfigVectors load_level_vectors(const BlobStore& blobs, const Configuration& c,
+                                 const std::vector<double>& rest_u) {
+  ConfigVectors v;
+  if (!c.blob) {
+    v.u = rest_u;  // the zero configuration: the loaded rest state (empty: u = 0)
+    return v;
+  }
+  v.u = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kU));
+  v.h = blobs.read(c.blob->segment, c.blob->dataset(BlobVector::kH));
+  // Sticking contact: the touched set is part of the configuration (never merge different sets).
+  if (blobs.contains(c.blob->segment, c.blob->dataset(BlobVector::kTouched)))
+    v.touched = read_touched_set(blobs, c, static_cast<int>(v.u.size() / 3));
+  return v;
+}
+
 void write_config_vectors(SegmentWriter& writer, const BlobRef& blob, const ConfigVectors& v,
                           std::span<const float> du_dp, const VectorLayout& layout) {
   writer.write(blob.dataset(BlobVector::kU), v.u);

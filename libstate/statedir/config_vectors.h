@@ -54,6 +54,14 @@ std::vector<int> read_touched_set(const BlobStore& blobs, const Configuration& c
 ConfigVectors load_config_vectors(const BlobStore& blobs, const Configuration& c,
                                   const std::vector<double>& rest_u, const VectorLayout& layout);
 
+// What level comparison (compaction) reads: the vectors u and h of `c` ("<blob>/u", "/h"; t is not
+// compared) and, for a sticking contact probe, its touched set ("/touched", read_touched_set:
+// configurations with different sets are never merged); empty when `c` has no blob (a zero state).
+// Throws InputError naming the segment and vector if one is missing, unreadable or (the touched
+// set) not ascending node ids.
+ConfigVectors load_level_vectors(const BlobStore& blobs, const Configuration& c,
+                                 const std::vector<double>& rest_u);
+
 // Writes a new configuration's vectors under its blob's name (`blob`): u, t, h, the displacement
 // slopes du_dp when given (float32, for the Hermite deformation), and what `layout` says is
 // stored besides (the touched set, the contact multipliers). The inverse of load_config_vectors.

@@ -6,11 +6,13 @@
 
 namespace hapstate {
 
-StageContext open_stage_context(const std::filesystem::path& state) {
+StageContext open_stage_context(const std::filesystem::path& state, StateAccess access) {
   StateDir dir{state};
+  const bool write = access == StateAccess::kWrite;
   std::unique_ptr<StateDirLock> lock;
-  if (std::filesystem::exists(dir.catalogue())) lock = std::make_unique<StateDirLock>(dir);
-  Catalogue catalogue = open_imported_catalogue(dir, OpenMode::kMigrate);
+  if (write && std::filesystem::exists(dir.catalogue())) lock = std::make_unique<StateDirLock>(dir);
+  Catalogue catalogue =
+      open_imported_catalogue(dir, write ? OpenMode::kMigrate : OpenMode::kReadOnly);
   SceneRecord record = read_stored_scene(catalogue, dir);
   const StageRun import = require_stage_run(catalogue, dir, "import");
   const std::optional<ContentHash> expected = run_input(import, "problem");

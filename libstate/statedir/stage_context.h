@@ -14,7 +14,7 @@ namespace hapstate {
 
 struct StageContext {
   StateDir dir;
-  std::unique_ptr<StateDirLock> lock;  // held for the whole stage
+  std::unique_ptr<StateDirLock> lock;  // held for the whole stage (none for a reader)
   Catalogue catalogue;
   SceneRecord scene_record;
   Scene scene;      // parsed from the stored text (files not re-read)
@@ -23,10 +23,16 @@ struct StageContext {
   GridSpec grid;
 };
 
-// Locks the directory (StateDirLock), opens the catalogue (read-write), re-parses the stored
+// How a state directory is opened: by a stage that writes it (under the directory's lock, the
+// catalogue read-write and migrated to the current schema), or by a reader (hapstate-eval: no
+// lock, so it runs beside a stage; the catalogue read-only, at the current schema).
+enum class StateAccess { kWrite, kRead };
+
+// Locks the directory (StateDirLock; kWrite only), opens the catalogue, re-parses the stored
 // scene and loads the stored problem.
 // Throws InputError if the directory is not an imported state directory or anything stored
 // is inconsistent.
-StageContext open_stage_context(const std::filesystem::path& state);
+StageContext open_stage_context(const std::filesystem::path& state,
+                                StateAccess access = StateAccess::kWrite);
 
 }  // namespace hapstate

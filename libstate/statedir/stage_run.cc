@@ -1,7 +1,7 @@
 #include "statedir/stage_run.h"
 
 #include "catalogue/transaction.h"
-#include "statedir/state_dir.h"
+#include "util/stop_request.h"
 
 #include <algorithm>
 
@@ -9,62 +9,84 @@ namespace hapstate {
 
 TimeMs now_ms() { return std::chrono::time_point_cast<std::chrono::milliseconds>(Clock::now()); }
 
-StageRun make_stage_run(const std::string& stage, NamedHashes inputs,
-                        const std::string& parameters) {
+StageRunFrame::StageRunFrame(Catalogue& catalogue, std::string stage, NamedHashes inputs,
+                             std::string parameters)
+    : catalogue_(catalogue), started_(std::chrono::steady_clock::now()) {
   std::sort(inputs.begin(), inputs.end());
-  StageRun run;
-  run.stage = stage;
-  run.inputs = std::move(inputs);
-  run.parameters = parameters;
-  run.started = now_ms();
-  run.outcome = StageOutcome::kRunning;
-  return run;
+  run_.stage = std::move(stage);
+  run_.inputs = std::move(inputs);
+  run_.parameters = std::move(parameters);
+  run_.started = now_ms();
+  run_.outcome = StageOutcome::kRunning;
+  last_ = catalogue_.last_successful_stage_run(run_.stage);
 }
 
-namespace {
+bool StageRunFrame::same_as_last(const std::vector<std::string>& names) const {
+  if (!last_) return false;
+  for (const auto& name : names) {
+    std::optional<ContentHash> mine;
+    for (const auto& [n, h] : run_.inputs)
+      if (n == name) mine = h;
+    if (run_input(*last_, name) != mine) return false;
+  }
+  return true;
+}
 
-// Marks the runs of `stage` a crash left "running" failed (the caller holds the directory's
-// lock, so none is running); returns how many.
-int close_interrupted_runs(Catalogue& catalogue, const std::string& stage) {
+int StageRunFrame::close_interrupted_runs() {
   int closed = 0;
-  for (const StageRun& old : catalogue.read_stage_runs(stage)) {
-    if (old.outcome != StageOutcome::kRunning) continue;
-    catalogue.update_stage_run_end(old.id, StageOutcome::kFailed, now_ms(),
-                                   "interrupted: the process ended before finishing (killed?); "
-                                   "resumed by a later run");
+  for (const StageRun& old : catalogue_.read_stage_runs(run_.stage)) {
+    if (old.outcome != StageOutcome::kRunning || old.id == id_) continue;
+    catalogue_.update_stage_run_end(old.id, StageOutcome::kFailed, now_ms(),
+                                    "interrupted: the process ended before finishing (killed?); "
+                                    "resumed by a later run");
     ++closed;
   }
   return closed;
 }
 
-}  // namespace
+void StageRunFrame::record_unchanged(StageReport& report, const std::string& message) {
+  report.outcome = StageOutcome::kUnchanged;
+  report.message = message;
+  end(report);
+}
 
-void record_unchanged(Catalogue& catalogue, StageRun run, const std::string& message) {
-  Transaction tx(catalogue);
-  close_interrupted_runs(catalogue, run.stage);
-  run.outcome = StageOutcome::kUnchanged;
-  run.ended = now_ms();
-  run.message = message;
-  catalogue.insert_stage_run(run);
+void StageRunFrame::start(StageReport& report) {
+  Transaction tx(catalogue_);
+  report.interrupted_runs += close_interrupted_runs();
+  id_ = catalogue_.insert_stage_run(run_);
   tx.commit();
 }
 
-StageRunId start_stage_run(Catalogue& catalogue, const StageRun& run, int* interrupted) {
-  Transaction tx(catalogue);
-  const int closed = close_interrupted_runs(catalogue, run.stage);
-  if (interrupted) *interrupted += closed;
-  const StageRunId id = catalogue.insert_stage_run(run);
-  tx.commit();
-  return id;
-}
-
-bool same_inputs(const StageRun& a, const NamedHashes& b, const std::vector<std::string>& names) {
-  for (const auto& name : names) {
-    std::optional<ContentHash> hb;
-    for (const auto& [n, h] : b)
-      if (n == name) hb = h;
-    if (run_input(a, name) != hb) return false;
+void StageRunFrame::end(StageReport& report) {
+  report.wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  if (id_.valid()) {
+    catalogue_.update_stage_run_end(id_, report.outcome, now_ms(), report.message);
+    return;
   }
+  // Not started: the ended run, in the caller's transaction if one is open, else in its own.
+  std::optional<Transaction> tx;
+  if (!catalogue_.in_transaction()) tx.emplace(catalogue_);
+  report.interrupted_runs += close_interrupted_runs();
+  StageRun run = run_;
+  run.outcome = report.outcome;
+  run.ended = now_ms();
+  run.message = report.message;
+  catalogue_.insert_stage_run(run);
+  if (tx) tx->commit();
+}
+
+void StageRunFrame::fail(const std::string& message) noexcept {
+  try {
+    if (id_.valid()) catalogue_.update_stage_run_end(id_, StageOutcome::kFailed, now_ms(), message);
+  } catch (...) {
+  }
+}
+
+bool StageRunFrame::stop(StageReport& report) {
+  if (!stop_requested()) return false;
+  report.stopped_by_signal = true;
+  report.outcome = StageOutcome::kPartial;
   return true;
 }
 

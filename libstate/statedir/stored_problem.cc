@@ -5,6 +5,7 @@
 #include "scene/bind.h"
 #include "util/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <vector>
@@ -79,7 +80,7 @@ ProblemVectors problem_vectors(const Problem& p) {
 ContentHash problem_hash(const Problem& problem) { return hash_of(problem_vectors(problem)); }
 
 void write_stored_problem(const StateDir& dir, const Problem& problem,
-                          const ContentHash& scene_hash) {
+                          const ContentHash& scene_hash, const RestStiffness& rest) {
   std::filesystem::create_directories(dir.problem());
   const ProblemVectors v = problem_vectors(problem);
   SegmentWriter writer(dir.problem(), kProblemSegment,
@@ -99,7 +100,30 @@ void write_stored_problem(const StateDir& dir, const Problem& problem,
   if (!v.spring.empty()) writer.write("loads/spring", v.spring);
   if (!v.rest_u.empty()) writer.write("rest/u", v.rest_u);
   if (!v.sag.empty()) writer.write("probe/sag", v.sag);
+  writer.write("rest/stiffness", std::span<const double>(rest.stiffness));
+  if (!rest.du_dp.empty()) writer.write("rest/du_dp", std::span<const float>(rest.du_dp));
   writer.close();
+}
+
+std::optional<RestStiffness> stored_rest_stiffness(const StateDir& dir, int num_nodes) {
+  const std::string where = (dir.problem() / segment_file_name(kProblemSegment)).string();
+  if (!std::filesystem::exists(where)) return std::nullopt;
+  BlobStore store(dir.problem(), 1);
+  if (!store.contains(kProblemSegment, "rest/stiffness")) return std::nullopt;
+  RestStiffness rest;
+  const std::vector<double> k = store.read(kProblemSegment, "rest/stiffness");
+  if (k.size() != rest.stiffness.size())
+    throw InputError(where + ": rest/stiffness has " + std::to_string(k.size()) +
+                     " values, not 9 (damaged?): re-import with --fresh");
+  std::copy(k.begin(), k.end(), rest.stiffness.begin());
+  if (store.contains(kProblemSegment, "rest/du_dp")) {
+    rest.du_dp = store.read_float32(kProblemSegment, "rest/du_dp");
+    if (rest.du_dp.size() != 9 * static_cast<std::size_t>(num_nodes))
+      throw InputError(where + ": rest/du_dp has " + std::to_string(rest.du_dp.size()) +
+                       " values, the mesh needs " + std::to_string(9 * num_nodes) +
+                       " (damaged?): re-import with --fresh");
+  }
+  return rest;
 }
 
 Problem load_stored_problem(const StateDir& dir, const Scene& scene, const ContentHash& expected) {

@@ -5,7 +5,10 @@
 // DOF), constraints/probe_nodes and constraints/probe_components (3 flags);
 // with gravity or supports (fem/loads.h) also loads/force (N per DOF), loads/spring (N/m per
 // DOF), rest/u (the loaded rest state, metres per DOF) and probe/sag (3, mesh units), each only
-// where it is not empty (a scene without loads stores and hashes what it always did).
+// where it is not empty (a scene without loads stores and hashes what it always did); and the
+// zero configurations' haptic stiffness rest/stiffness (9, row-major, N per mesh unit) and
+// displacement slopes rest/du_dp (float32, d u / d p: 3 columns of one value per DOF), computed
+// once by the import (a state directory imported before they were stored has neither).
 #pragma once
 
 #include "blobs/segment.h"
@@ -14,6 +17,8 @@
 #include "statedir/state_dir.h"
 #include "util/hash.h"
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,10 +38,22 @@ inline constexpr SegmentId kProblemSegment{1};
 // the solver's answer to those inputs.
 ContentHash problem_hash(const Problem& problem);
 
-// Writes the problem segment into dir.problem() (which must not hold one yet), closed and
-// fsynced when this returns.
+// The zero configurations' haptic stiffness and displacement slopes: the body at rest, the probe
+// at rest (they store no blob of their own). Like rest/u, not hashed: the solver's answer.
+struct RestStiffness {
+  std::array<double, 9> stiffness{};  // row-major, N per mesh unit
+  std::vector<float> du_dp;           // 3 columns of one value per DOF (empty: none)
+};
+
+// Writes the problem segment, with the rest state's stiffness, into dir.problem() (which must
+// not hold one yet), closed and fsynced when this returns.
 void write_stored_problem(const StateDir& dir, const Problem& problem,
-                          const ContentHash& scene_hash);
+                          const ContentHash& scene_hash, const RestStiffness& rest);
+
+// The rest state's stiffness as the import stored it; nullopt for a state directory imported
+// before it was stored (the caller then computes it). Throws InputError naming the segment if
+// it is stored with the wrong size.
+std::optional<RestStiffness> stored_rest_stiffness(const StateDir& dir, int num_nodes);
 
 // Rebuilds the Problem from the stored segment and the scene's material, unit, solver options
 // and max_force. Throws InputError naming the segment if it is missing or unreadable, or if

@@ -349,11 +349,17 @@ StiffnessResult stiffness_result(const Eigen::Matrix3d& stiffness, const Eigen::
   return out;
 }
 
-StiffnessResult rest_stiffness(const Problem& problem) {
+RestStiffness rest_stiffness(const Problem& problem) {
   PathSolver solver(problem);
   Eigen::MatrixX3d du_dp;
   const Eigen::Matrix3d k = solver.haptic_stiffness(&du_dp);
-  return stiffness_result(k, du_dp);
+  StiffnessResult r = stiffness_result(k, du_dp);
+  return RestStiffness{r.stiffness, std::move(r.du_dp)};
+}
+
+RestStiffness zero_stiffness(const StateDir& dir, const Problem& problem) {
+  if (auto stored = stored_rest_stiffness(dir, problem.mesh.num_nodes())) return *stored;
+  return rest_stiffness(problem);
 }
 
 StiffnessResult TransitionSolver::stiffness_one(int worker, const StiffnessTask& task) {

@@ -9,6 +9,7 @@
 #include "catalogue/records.h"
 #include "solver/path_solver.h"
 #include "statedir/config_vectors.h"
+#include "statedir/stored_problem.h"
 #include "statespace/level_match.h"
 #include "statespace/probe_model.h"
 
@@ -75,8 +76,12 @@ struct StiffnessResult {
 // playback file its slopes.
 StiffnessResult stiffness_result(const Eigen::Matrix3d& stiffness, const Eigen::MatrixX3d& du_dp);
 // The stiffness and displacement slopes of the body at rest, the probe at rest: the zero
-// configurations' (they store no blob; one factorisation).
-StiffnessResult rest_stiffness(const Problem& problem);
+// configurations' (they store no blob; one factorisation). The import computes it once and
+// stores it with the problem (stored_rest_stiffness); zero_stiffness reads it.
+RestStiffness rest_stiffness(const Problem& problem);
+// The zero configurations' stiffness and slopes of a state directory: as its import stored them,
+// or, for one imported before they were stored, computed (rest_stiffness).
+RestStiffness zero_stiffness(const StateDir& dir, const Problem& problem);
 
 // Who solves the expand stage's transitions. The stage hands it a wave's tasks (canonical
 // order), then asks for the results of consecutive ranges of them (its batches), and for the

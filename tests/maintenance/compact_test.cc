@@ -22,6 +22,12 @@ namespace {
 
 using test_util::TempDir;
 
+// hapstate-compact on `state` with `options` (run_compact with options.state set).
+CompactReport compact_state(const std::filesystem::path& state, CompactOptions options) {
+  options.state = state;
+  return run_compact(options);
+}
+
 struct SimulatedCrash : std::runtime_error {
   SimulatedCrash() : std::runtime_error("simulated crash") {}
 };
@@ -105,7 +111,7 @@ TEST(Compact, MergesRewritesRepacksAndShrinks) {
   TempDir dir("compact");
   test_util::write_synthetic_state(dir.path());
   const CompactReport r = compact_state(dir.path(), {});
-  EXPECT_FALSE(r.nothing_to_do);
+  EXPECT_FALSE(r.unchanged());
   EXPECT_EQ(r.merged_levels, 2);
   EXPECT_EQ(r.retargeted_transitions, 3);  // c2->c4, c6->c4, c4->c8
   EXPECT_EQ(r.moved_transitions, 1);       // c4's outside-grid direction 13 given to c3
@@ -159,7 +165,7 @@ TEST(Compact, SecondRunHasNothingToDo) {
   test_util::write_synthetic_state(dir.path());
   compact_state(dir.path(), {});
   const CompactReport r = compact_state(dir.path(), {});
-  EXPECT_TRUE(r.nothing_to_do);
+  EXPECT_TRUE(r.unchanged());
   EXPECT_EQ(r.merged_levels, 0);
   EXPECT_EQ(r.new_segments, 0);
   EXPECT_EQ(r.garbage_segments, 0);
@@ -284,7 +290,7 @@ TEST(Compact, SmallSegmentCapGivesSeveralSegments) {
   EXPECT_EQ(r.new_segments, 3);  // {c2, c3}, {c5, c6}, {c7}
   EXPECT_EQ(r.after.segments, 3);
   expect_all_blobs_readable(dir.path());
-  EXPECT_TRUE(compact_state(dir.path(), o).nothing_to_do);
+  EXPECT_TRUE(compact_state(dir.path(), o).unchanged());
 }
 
 // The midpoint vectors of a transition move with it: repacked beside the configurations and
@@ -332,7 +338,7 @@ TEST(Compact, MidpointVectorsAreRepackedWithTheirTransitions) {
   EXPECT_EQ(blobs.read_float32(packed, "m4_13/u"), kept_u);
   expect_all_blobs_readable(dir.path());
   expect_consistent(dir.path());
-  EXPECT_TRUE(compact_state(dir.path(), {}).nothing_to_do);
+  EXPECT_TRUE(compact_state(dir.path(), {}).unchanged());
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 #include "blobs/blob_store.h"
 #include "catalogue/catalogue.h"
 #include "scene/grid_spec.h"
+#include "statedir/stage_context.h"
+#include "statedir/stored_problem.h"
 #include "statespace/expand_batch.h"
 #include "statespace/level_match.h"
 
@@ -166,6 +168,31 @@ TEST_F(Pipeline, ZeroConfigurationAtTheRestCheckpoint) {
     EXPECT_NEAR(c.position[0], 4.0 + 0.1 * c.ijk[0], 1e-12);
     EXPECT_NEAR(c.position[2], 1.0 + 0.1 * c.ijk[2], 1e-12);
   }
+}
+
+// The zero configurations' stiffness and slopes are computed once, by the import, and stored
+// with the problem: the grid stage's zero configuration carries that stiffness, and a solve at
+// rest gives the same numbers bit for bit. A directory imported before they were stored (no
+// rest/stiffness) still gets them, computed.
+TEST_F(Pipeline, TheRestStiffnessIsComputedOnceAtImport) {
+  StageContext ctx = open_stage_context(reference(), StateAccess::kRead);
+  const int nodes = ctx.problem.mesh.num_nodes();
+  const std::optional<RestStiffness> stored = stored_rest_stiffness(ctx.dir, nodes);
+  ASSERT_TRUE(stored);
+  EXPECT_EQ(stored->du_dp.size(), 9u * static_cast<std::size_t>(nodes));
+  const RestStiffness solved = rest_stiffness(ctx.problem);
+  EXPECT_EQ(stored->stiffness, solved.stiffness);
+  EXPECT_EQ(stored->du_dp, solved.du_dp);
+  const auto rest = ctx.catalogue.find_checkpoint({0, 0, 0});
+  ASSERT_TRUE(rest);
+  EXPECT_EQ(ctx.catalogue.configurations_at(rest->id).at(0).stiffness, stored->stiffness);
+
+  const StateDir old{dir_ / "imported-before"};  // no problem segment: nothing stored
+  fs::create_directories(old.root);
+  EXPECT_FALSE(stored_rest_stiffness(old, nodes));
+  const RestStiffness computed = zero_stiffness(old, ctx.problem);
+  EXPECT_EQ(computed.stiffness, stored->stiffness);
+  EXPECT_EQ(computed.du_dp, stored->du_dp);
 }
 
 TEST_F(Pipeline, RerunningUnchangedStagesDoesNothing) {
