@@ -8,6 +8,7 @@
 #include "eval/evaluation.h"
 #include "hapstate/playback.h"
 #include "state_suite.h"
+#include "statedir/state_dir.h"
 #include "util/error.h"
 #include "util/text.h"
 #include "walk_bound.h"
@@ -208,6 +209,20 @@ TEST(Percent, NeverZeroForANonZeroError) {
     EXPECT_EQ(text.find_first_of("123456789<"), text.find_first_of("123456789<")) << v;
     EXPECT_NE(text.find_first_of("123456789<"), std::string::npos) << v << " -> " << text;
   }
+}
+
+// hapstate-eval only reads: it runs while a stage holds the state directory's lock (the lock is
+// the writers'), and the catalogue it read is unchanged.
+TEST_F(BeamPlayback, EvalReadsWhileAStageHoldsTheLock) {
+  const auto before = fs::last_write_time(*state_ / "catalogue.sqlite");
+  const StateDirLock stage(StateDir{*state_});
+  EXPECT_TRUE(state_dir_busy(StateDir{*state_}));
+  EvalOptions o;
+  o.state = *state_;
+  o.steps = 4;
+  const EvalResult r = run_eval(o);
+  EXPECT_EQ(r.steps.size(), 4u);
+  EXPECT_EQ(fs::last_write_time(*state_ / "catalogue.sqlite"), before);
 }
 
 TEST_F(BeamPlayback, EvalRefusesAPlaybackFileOfAnotherScene) {
