@@ -84,7 +84,7 @@ void print_report(const hapstate::ExpandReport& r) {
                  "hapstate-expand: removed %zu unreferenced segment(s) left by an "
                  "interrupted run\n",
                  r.garbage_segments);
-  if (r.interrupted_runs)
+  if (r.interrupted_runs && !r.unchanged())
     std::fprintf(stderr, "hapstate-expand: resuming after %d interrupted run(s)\n",
                  r.interrupted_runs);
   std::printf("hapstate-expand: %s\n", r.message.c_str());
@@ -172,7 +172,7 @@ int main(int argc, char** argv) {
     if (mpi.distributed()) o.engine = mpi_engine_factory(mpi, o.threads, o.algorithm);
     const ExpandReport r = run_expand(o);
     print_report(r);
-    if (timings && r.wall_s > 0)
+    if (timings && !r.unchanged() && r.wall_s > 0)
       print_timings(r, mpi.distributed() ? (mpi.size() - 1) * o.threads : o.threads,
                     mpi.distributed());
     if (!r.engine_summary.empty() && (timings || !quiet))

@@ -183,10 +183,11 @@ std::string summary_text(const Json& j) {
   for (const auto& st : j["stages"]) {
     s << "  " << st["stage"].get<std::string>() << ": " << st["runs"] << " runs, last #"
       << st["last"]["id"] << " " << st["last"]["outcome"].get<std::string>();
-    const std::string message = st["last"]["message"].get<std::string>();
-    // "unchanged: unchanged" said nothing twice.
-    if (!message.empty() && message != st["last"]["outcome"].get<std::string>())
-      s << ": " << message;
+    const std::string outcome = st["last"]["outcome"].get<std::string>();
+    std::string message = st["last"]["message"].get<std::string>();
+    // "unchanged: unchanged: the grid is up to date" would say it twice.
+    if (message.rfind(outcome + ": ", 0) == 0) message.erase(0, outcome.size() + 2);
+    if (!message.empty() && message != outcome) s << ": " << message;
     s << "\n";
   }
   s << "check-points: " << j["checkpoints"]["total"] << " (grid points where states are stored";

@@ -22,9 +22,9 @@ struct SolverOptions {
   int substeps = 4;         // incremental-load steps per move (kReference, sticking
                             // contact; kFast's smallest sub-step derives from it)
   double tolerance = 1e-8;  // Newton: relative residual (w.r.t. the reference force scale)
-  double absolute_tolerance = 1e-12;   // Newton: absolute residual floor [N]
-  int max_iterations = 30;             // Newton iterations per sub-step target (up to 4x as many
-                                       // while the residual still halves every 10; path_solver.cc)
+  double absolute_tolerance = 1e-12;  // Newton: absolute residual floor [N]
+  int max_iterations = 30;            // Newton iterations per sub-step target (up to 4x as many
+                            // while the residual still halves every 10; path_solver_newton.cc)
   int max_cutbacks = 8;                // halvings of a sub-step after a failed Newton solve
   int max_active_set_iterations = 20;  // contact: touched-set changes (stick) or multiplier
                                        // updates (frictionless) per sub-step
@@ -34,7 +34,7 @@ struct SolverOptions {
   double gap_tolerance = 1e-6;
   // Frictionless contact: the augmented Lagrangian's penalty, as a multiple of the median
   // diagonal stiffness of the free surface DOFs at rest, for a nearly incompressible material
-  // (nu > 0.45) of its shear share (not a scene key; see path_solver.cc).
+  // (nu > 0.45) of its shear share (not a scene key; see solver/sliding_boundary.cc).
   double contact_penalty = 300;
 };
 

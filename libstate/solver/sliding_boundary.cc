@@ -49,7 +49,7 @@ constexpr double kStiffnessPenaltyFactor = 1e2;
 // starts shortened): an iterate that has just lost contact sees only the elastic tangent, whose
 // soft modes (a lobe held at one ligament) ask for steps of several centimetres straight into
 // the sphere. Measured with hapstate-solve on pipelines/liver-contact (--random 1000 --seed 3,
-// 486 steps in contact, together with the longer line search of path_solver.cc): 29.7 ms per
+// 486 steps in contact, together with the longer line search of path_solver_newton.cc): 29.7 ms per
 // contact step without this bound, 25.3 ms with it; 0.25 r: 26.1 ms, 0.05 r: 33.7 ms.
 constexpr double kMaxStepPerRadius = 0.5;
 // The last sub-step's first Newton solve, before the multiplier updates, stops at this relative
@@ -60,7 +60,7 @@ constexpr double kMaxStepPerRadius = 0.5;
 // loaded between the fast and the reference algorithm. Measured on pipelines/liver-contact's
 // random walk (hapstate-solve --random 1000 --seed 3, 486 steps in contact): linear solves per
 // contact step 15.0 with the first solve to the full tolerance, 12.9 with this (and
-// path_solver.cc's kElasticDrift); the felt forces differ by at most 1.1e-7 N (of 0.087 N).
+// path_solver_newton.cc's kElasticDrift); the felt forces differ by at most 1.1e-7 N (of 0.087 N).
 // Only up to nu = 0.45 (incompressible_share 1): past it, in hapstate-stress's contact cases
 // (--full --filter contact), it made 3 more nearly incompressible StVK cases fail at
 // max_iterations (51 of 60 StVK contact cases converged, 54 without it); with this rule 233 of

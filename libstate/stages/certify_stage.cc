@@ -251,7 +251,7 @@ CertifyReport run_certify(const CertifyOptions& options) {
                              " steps=" + std::to_string(report.steps) +
                              " threads=" + std::to_string(options.threads);
   StageRunFrame frame(ctx.catalogue, "certify",
-                      {{"playback", hash}, {"scene", ctx.scene_record.hash}}, params);
+                      {{"playback", hash}, {"scene", ctx.scene_record.hash}}, params, start);
   const bool contact = ctx.scene.probe.mode == ProbeMode::kContact;
 
   report.stale_deleted = ctx.catalogue.delete_stale_certificate(hash, report.steps, report.paths);
@@ -291,7 +291,6 @@ CertifyReport run_certify(const CertifyOptions& options) {
                   static_cast<int>(missing.size()), static_cast<long long>(report.stale_deleted));
     report.message = line;
   });
-  report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();
   return report;
 }
 

@@ -468,9 +468,10 @@ ExpandReport run_expand(const ExpandOptions& options) {
   const auto changes = expander.expandable_changes();
   const NamedHashes inputs = {
       {"grid", ctx.grid.hash()}, {"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
-  StageRunFrame frame(cat, "expand", inputs,
-                      parameters_of(options, expander.tolerances(), ctx.scene.probe.max_force,
-                                    solver.parameters()));
+  StageRunFrame frame(
+      cat, "expand", inputs,
+      parameters_of(options, expander.tolerances(), ctx.scene.probe.max_force, solver.parameters()),
+      start);
 
   // The device limit may have changed since the last run: expandable follows max_force.
   if (!changes.empty()) {
@@ -499,7 +500,6 @@ ExpandReport run_expand(const ExpandOptions& options) {
     report.engine_summary = solver.summary();
     report.message = expand_message(report, stopped, cat);
   });
-  report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();
   return report;
 }
 

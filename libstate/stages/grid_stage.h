@@ -28,7 +28,7 @@ struct GridReport : StageReport {
 
 // Creates the check-points of the scene's grid (docs/state-space.md) that do not exist yet, in
 // (i, j, k) order; the zero configuration at the rest check-point (0, 0, 0) if missing (u = 0,
-// force 0, level 0, wave 0, no blob; stiffness from the solver at rest); and, after the
+// force 0, level 0, wave 0, no blob; the stiffness at rest the import stored); and, after the
 // workspace was enlarged, deletes the kOutsideGrid transitions whose neighbour is now a
 // workspace check-point and reopens their sources. Contact probe: a workspace check-point whose
 // sphere touches no surface node of the rest shape is kFree and holds the zero configuration

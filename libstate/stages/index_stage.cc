@@ -425,14 +425,13 @@ IndexReport run_index(const IndexOptions& options) {
                       {{"configurations", g.fingerprint},
                        {"problem", ctx.problem_hash},
                        {"scene", ctx.scene_record.hash}},
-                      params);
+                      params, start);
   if (up_to_date(report.output, g.fingerprint)) {
     report.bytes = static_cast<std::int64_t>(std::filesystem::file_size(report.output));
     return frame.unchanged(report, "unchanged: " + report.output.string() + " is up to date (" +
                                        std::to_string(report.configurations) + " configurations)");
   }
   frame.run(report, [&] { report.message = write_playback(options, ctx, g, report); });
-  report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }
 

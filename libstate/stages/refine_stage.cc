@@ -229,7 +229,7 @@ RefineReport run_refine(const RefineOptions& options) {
   char parameters[120];
   std::snprintf(parameters, sizeof parameters, "tolerance=%.6g threads=%d", report.tolerance,
                 options.threads);
-  StageRunFrame frame(cat, "refine", inputs, parameters);
+  StageRunFrame frame(cat, "refine", inputs, parameters, start);
   Refiner refiner(ctx, options.threads);
   const std::set<ConfigId> done = cat.refined_cells();
   std::vector<Cell> pending;
@@ -291,7 +291,6 @@ RefineReport run_refine(const RefineOptions& options) {
         ": " + summary + "; refined " + std::to_string(report.refined) + " cells now (" +
         std::to_string(report.points) + " points, " + std::to_string(report.failed) + " failed)";
   });
-  report.wall_s = std::chrono::duration<double>(SteadyClock::now() - start).count();
   return report;
 }
 

@@ -1,5 +1,6 @@
-// What the grid and expand stages load from an imported state directory: the stored scene,
-// the stored problem (verified against the import's record) and the resolved grid.
+// What a stage (grid, expand, refine, index, certify) or a reader (hapstate-eval) loads from an
+// imported state directory: the stored scene, the stored problem (verified against the import's
+// record) and the resolved grid.
 #pragma once
 
 #include "catalogue/catalogue.h"

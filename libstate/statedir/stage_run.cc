@@ -4,14 +4,15 @@
 #include "util/stop_request.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace hapstate {
 
 TimeMs now_ms() { return std::chrono::time_point_cast<std::chrono::milliseconds>(Clock::now()); }
 
 StageRunFrame::StageRunFrame(Catalogue& catalogue, std::string stage, NamedHashes inputs,
-                             std::string parameters)
-    : catalogue_(catalogue), started_(std::chrono::steady_clock::now()) {
+                             std::string parameters, std::chrono::steady_clock::time_point started)
+    : catalogue_(catalogue), started_(started) {
   std::sort(inputs.begin(), inputs.end());
   run_.stage = std::move(stage);
   run_.inputs = std::move(inputs);
@@ -58,6 +59,8 @@ void StageRunFrame::start(StageReport& report) {
 }
 
 void StageRunFrame::end(StageReport& report) {
+  if (ended_) throw std::logic_error("StageRunFrame::end: the run " + run_.stage + " ended twice");
+  ended_ = true;
   report.wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
   if (id_.valid()) {
@@ -78,6 +81,7 @@ void StageRunFrame::end(StageReport& report) {
 
 void StageRunFrame::fail(const std::string& message) noexcept {
   try {
+    // Not started: the ended row (import, grid) is rolled back with the stage's transaction.
     if (id_.valid()) catalogue_.update_stage_run_end(id_, StageOutcome::kFailed, now_ms(), message);
   } catch (...) {
   }

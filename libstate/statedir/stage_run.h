@@ -44,8 +44,9 @@ TimeMs now_ms();
 // run is missing was never imported).
 class StageRunFrame {
  public:
-  StageRunFrame(Catalogue& catalogue, std::string stage, NamedHashes inputs,
-                std::string parameters);
+  // `started`: when the stage began (its report's wall_s counts from there).
+  StageRunFrame(Catalogue& catalogue, std::string stage, NamedHashes inputs, std::string parameters,
+                std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now());
 
   // The newest successful run of this stage before this one, if any.
   const std::optional<StageRun>& last() const { return last_; }
@@ -70,21 +71,22 @@ class StageRunFrame {
 
   // Records the end: the report's outcome and message, ended now; sets report.wall_s. Updates
   // the row start() inserted, or (not started) inserts the ended run, closing interrupted ones.
+  // Once per run (std::logic_error otherwise).
   void end(StageReport& report);
 
-  // start(), body(), end(); if body throws, the run is recorded as failed with the exception's
-  // message (best effort: a catalogue that cannot be written is not hidden behind a second
-  // error) and the exception goes on.
+  // start(), body(), end(); if body (or the end's record) throws, the run is recorded as failed
+  // with the exception's message (best effort: a catalogue that cannot be written is not hidden
+  // behind a second error) and the exception goes on.
   template <typename Body>
   void run(StageReport& report, Body&& body) {
     start(report);
     try {
       body();
+      end(report);
     } catch (const std::exception& e) {
       fail(e.what());
       throw;
     }
-    end(report);
   }
 
   // Whether a stop was requested (Ctrl-C, SIGTERM: util/stop_request.h); if so the report
@@ -99,7 +101,8 @@ class StageRunFrame {
   Catalogue& catalogue_;
   StageRun run_;
   std::optional<StageRun> last_;
-  StageRunId id_;  // invalid until start()
+  StageRunId id_;       // invalid until start()
+  bool ended_ = false;  // end() was called
   std::chrono::steady_clock::time_point started_;
 };
 
