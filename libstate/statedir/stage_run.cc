@@ -24,13 +24,9 @@ StageRunFrame::StageRunFrame(Catalogue& catalogue, std::string stage, NamedHashe
 
 bool StageRunFrame::same_as_last(const std::vector<std::string>& names) const {
   if (!last_) return false;
-  for (const auto& name : names) {
-    std::optional<ContentHash> mine;
-    for (const auto& [n, h] : run_.inputs)
-      if (n == name) mine = h;
-    if (run_input(*last_, name) != mine) return false;
-  }
-  return true;
+  return std::all_of(names.begin(), names.end(), [&](const std::string& name) {
+    return run_input(*last_, name) == run_input(run_, name);
+  });
 }
 
 int StageRunFrame::close_interrupted_runs() {

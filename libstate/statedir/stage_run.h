@@ -48,8 +48,6 @@ class StageRunFrame {
   StageRunFrame(Catalogue& catalogue, std::string stage, NamedHashes inputs, std::string parameters,
                 std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now());
 
-  // The newest successful run of this stage before this one, if any.
-  const std::optional<StageRun>& last() const { return last_; }
   // Whether the last successful run recorded the same hash as this one for every name in
   // `names` (false without a last run).
   bool same_as_last(const std::vector<std::string>& names) const;
@@ -100,9 +98,9 @@ class StageRunFrame {
 
   Catalogue& catalogue_;
   StageRun run_;
-  std::optional<StageRun> last_;
-  StageRunId id_;       // invalid until start()
-  bool ended_ = false;  // end() was called
+  std::optional<StageRun> last_;  // the newest successful run of this stage before this one
+  StageRunId id_;                 // invalid until start()
+  bool ended_ = false;            // end() was called
   std::chrono::steady_clock::time_point started_;
 };
 
