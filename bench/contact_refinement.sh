@@ -2,10 +2,11 @@
 # The contact study of docs/contact.md ("Accuracy against spacing, radius and refinement"): one
 # organ (bench/scenes/liver-coarse-contact.toml: liverCoarse.vtu touched on its far lobe) with
 # the sphere radius r and the grid spacing h varied; each state is built with `hapstate run`
-# (the refine stage included), then played back with and without its refined cells (the same
-# state re-indexed with its refinement rows deleted) against the precise solver on the paper's
-# experiment (hapstate-eval, seeds 1-6 of 30 steps). Prints one line per variant; the per-path
-# numbers stay in DIR/<variant>/.
+# (the refine stage included: a contact scene refines to depth 2), then played back with its
+# refined cells at depth 2, at depth 1 (the same state re-indexed with its eighth-spacing rows
+# deleted) and without them (all its refinement rows deleted) against the precise solver on the
+# paper's experiment (hapstate-eval, seeds 1-6 of 30 steps). Prints one line per variant, the
+# numbers as "depth 2 [depth 1] (none)"; the per-path numbers stay in DIR/<variant>/.
 #   bash bench/contact_refinement.sh DIR [BUILD_DIR]     # about 15 min on 2 cores
 #   VARIANTS="2.5 0.5 1.0 0.25" bash bench/contact_refinement.sh DIR   # one variant, 2 min
 # A variant is "radius spacing half-width step": the workspace is the cube of that half-width
@@ -20,8 +21,8 @@ mkdir -p "$out"
 out=$(cd "$out" && pwd)
 variants=${VARIANTS:-"2.5 0.5 1.0 0.25|2.5 0.25 1.0 0.25|1.25 0.5 1.0 0.25|0.3 0.1 0.2 0.05"}
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
-printf '%-12s %7s %8s %8s %7s %17s  %-25s %-25s\n' variant run_s expand_s refine_s refined \
-  "file MiB (plain)" "hermite med/max (plain)" "trilinear med/max (plain)"
+printf '%-12s %7s %8s %8s %7s %24s  %-35s %-35s\n' variant run_s expand_s refine_s refined \
+  "file MiB 2 [1] (none)" "hermite med/max 2 [1] (none)" "trilinear med/max 2 [1] (none)"
 IFS='|' read -ra list <<<"$variants"
 for v in "${list[@]}"; do
   read -r radius spacing half step <<<"$v"
@@ -57,14 +58,17 @@ PY
   refine_s=$(stage_s refine)
   cells=$(sqlite3 "$dir/state/catalogue.sqlite" "select count(distinct cell) from refinement")
   cp "$dir/state/playback.bin" "$dir/refined.bin"
-  cp -a "$dir/state" "$dir/plain_state"
-  sqlite3 "$dir/plain_state/catalogue.sqlite" "delete from refinement"
-  "$build/stages/hapstate-index" --state "$dir/plain_state" > /dev/null 2>&1
-  cp "$dir/plain_state/playback.bin" "$dir/plain.bin"
-  size=$(/usr/bin/python3 -c "import os, sys; print('%.1f (%.1f)' % tuple(os.path.getsize(f) / 2**20 for f in sys.argv[1:]))" \
-    "$dir/refined.bin" "$dir/plain.bin")
-  rm -rf "$dir/plain_state"
-  for file in refined plain; do
+  for file in quarter plain; do
+    cp -a "$dir/state" "$dir/${file}_state"
+    where=$([[ $file == quarter ]] && echo "where point >= 125" || echo "")
+    sqlite3 "$dir/${file}_state/catalogue.sqlite" "delete from refinement $where"
+    "$build/stages/hapstate-index" --state "$dir/${file}_state" > /dev/null 2>&1
+    cp "$dir/${file}_state/playback.bin" "$dir/$file.bin"
+    rm -rf "$dir/${file}_state"
+  done
+  size=$(/usr/bin/python3 -c "import os, sys; print('%.1f [%.1f] (%.1f)' % tuple(os.path.getsize(f) / 2**20 for f in sys.argv[1:]))" \
+    "$dir/refined.bin" "$dir/quarter.bin" "$dir/plain.bin")
+  for file in refined quarter plain; do
     "$build/tools/hapstate-eval" --state "$dir/state" --playback "$dir/$file.bin" --steps 30 \
       --seeds 6 --step-length "$step" --csv "$dir/eval_$file.csv" > "$dir/eval_$file.log" 2>&1
   done
@@ -76,10 +80,12 @@ def stats(file, column):
 d = sys.argv[1]
 out = []
 for col in ("hermite_force_error_max", "trilinear_force_error_max"):
-    out.append("%s (%s)" % (stats(d + "/eval_refined.csv", col), stats(d + "/eval_plain.csv", col)))
+    out.append("%s [%s] (%s)" % (stats(d + "/eval_refined.csv", col),
+                                 stats(d + "/eval_quarter.csv", col),
+                                 stats(d + "/eval_plain.csv", col)))
 print("  ".join("%-25s" % o for o in out))
 PY
 )
-  printf '%-12s %7s %8s %8s %7s %17s  %s\n' "$name" "$run_s" "$expand_s" "$refine_s" "$cells" \
+  printf '%-12s %7s %8s %8s %7s %24s  %s\n' "$name" "$run_s" "$expand_s" "$refine_s" "$cells" \
     "$size" "$summary"
 done

@@ -20,10 +20,12 @@ int main(int argc, char** argv) {
   RefineOptions options;
   std::string state;
   std::optional<double> tolerance;
+  std::optional<int> depth;
   bool quiet = false;
   CLI::App app{
       "hapstate-refine: after hapstate-expand, solve the force and haptic stiffness at the "
-      "quarter-spacing points of every cell whose estimated interpolation error exceeds the "
+      "quarter-spacing (and eighth-spacing) points of every cell whose estimated interpolation "
+      "error exceeds the "
       "tolerance (grab or contact probe). Resumable: each refined cell is committed whole.\n"
       "Exit codes: 0 done or nothing to do; 1 internal error; 2 bad options or state directory; "
       "130 stopped by Ctrl-C or SIGTERM (run again to resume)."};
@@ -38,6 +40,11 @@ int main(int argc, char** argv) {
                  "refine a cell whose estimated error exceeds this fraction of its largest force "
                  "(default: the scene's grid.refine_tolerance, else 1e-3)")
       ->check(positive());
+  app.add_option("--depth", depth,
+                 "1: solve a flagged cell's quarter-spacing points; 2: also its eighth-spacing "
+                 "ones (default: the scene's grid.refine_depth, else 2 with a contact probe, 1 "
+                 "with the grab probe)")
+      ->check(CLI::Range(1, 2));
   app.add_flag("-q,--quiet", quiet, "no progress line");
   try {
     app.parse(argc, argv);
@@ -46,6 +53,7 @@ int main(int argc, char** argv) {
   }
   options.state = state;
   options.tolerance = tolerance;
+  options.depth = depth;
   options.progress = quiet ? nullptr : stderr;
   install_stop_request_handler(
       "\nhapstate-refine: stopping after the current cell (Ctrl-C again stops at once; either "

@@ -126,7 +126,8 @@ class Catalogue {
   // Inserts the points of one cell (all in one savepoint). Throws if a (cell, point) exists.
   void insert_refinement_points(const std::vector<RefinementPoint>& points);
   std::vector<RefinementPoint> read_all_refinement_points();  // by (cell, point)
-  std::set<ConfigId> refined_cells();
+  // The cells with rows at depth 1 (quarter-spacing points) or 2 (eighth-spacing ones).
+  std::set<ConfigId> refined_cells(int depth = 1);
   std::int64_t num_refinement_points();
 
   // --- certificate (hapstate-certify; certificate_table.cc) ---

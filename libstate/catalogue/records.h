@@ -158,10 +158,13 @@ struct Transition {
   bool operator==(const Transition&) const = default;
 };
 
-// Table refinement (schema 6): one solved point of a refined cell's quarter-spacing lattice.
+// Table refinement (schema 6): one solved point of a refined cell's quarter-spacing lattice, or of
+// its eighth-spacing one (refinement depth 2).
 struct RefinementPoint {
   ConfigId cell;  // the configuration at the cell's lowest corner
-  int point = 0;  // 25 i + 5 j + k, quarter steps from that corner (0..124)
+  // 25 i + 5 j + k for quarter steps (i, j, k) from that corner (0..124); 125 + 81 i + 9 j + k for
+  // eighth steps (125..853, at least one of them odd).
+  int point = 0;
   bool reached = false;
   std::array<double, 3> force{};      // felt by the user, N (when reached)
   std::array<double, 9> stiffness{};  // row-major, N per mesh unit (when reached)

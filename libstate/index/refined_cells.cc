@@ -66,96 +66,129 @@ class Cells {
 
 }  // namespace
 
+namespace {
+
+// A lattice's data in the file: points per axis, a cell's slot column in section 20 and its
+// points.
+struct LatticeLevel {
+  int n;           // points per axis (5 or 9)
+  int slot;        // the column of section 20 with the slot; its constraints the next one
+  double* points;  // 12 x n^3 per cell
+};
+
+// Sets the constraint bits of `level` for cell k and gives the points of the faces it shares
+// with a neighbour that has the same lattice one value.
+void constrain(const Cells& grid, playback::Content& c, const LatticeLevel& level, std::int32_t k) {
+  constexpr int ints = playback::kRefinedCellInts;
+  const int n = level.n, last = n - 1;
+  auto refined = [&](std::int32_t cell) {
+    return cell >= 0 && c.refined_cells[ints * cell + level.slot] >= 0;
+  };
+  auto point = [&](std::int32_t cell, int i, int j, int l) {
+    return level.points +
+           12 * (std::size_t(n) * n * n * std::size_t(c.refined_cells[ints * cell + level.slot]) +
+                 std::size_t(n) * n * i + std::size_t(n) * j + l);
+  };
+  const std::array<std::int32_t, 8> own = grid.corners(k);
+  const auto base = grid.base_of(k);
+  // A face or an edge is constrained where a cell of the grid beside it is not a refined cell
+  // with this lattice showing the same corners (as the cursor would show it walking there).
+  auto unrefined = [&](const Offset& d) {
+    return grid.cell_exists(base, d) && !refined(grid.neighbour(own, d));
+  };
+  std::int32_t bits = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int s = 0; s < 2; ++s) {
+      Offset d{};
+      d[a] = s ? 1 : -1;
+      if (unrefined(d)) bits |= 1 << playback::refined_face_bit(a, s);
+    }
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, e = (a + 2) % 3;
+    for (int s1 = 0; s1 < 2; ++s1)
+      for (int s2 = 0; s2 < 2; ++s2) {
+        Offset db{}, de{}, dbe{};
+        db[b] = dbe[b] = s1 ? 1 : -1;
+        de[e] = dbe[e] = s2 ? 1 : -1;
+        if (unrefined(db) || unrefined(de) || unrefined(dbe))
+          bits |= 1 << playback::refined_edge_bit(a, s1, s2);
+      }
+  }
+  c.refined_cells[ints * k + level.slot + 1] = bits;
+  // The points of a face shared with a refined neighbour were solved by both: one value for
+  // both (this cell's where it has one, else the neighbour's), so the force stays continuous
+  // even where one of the two solves failed.
+  for (int a = 0; a < 3; ++a) {
+    Offset d{};
+    d[a] = 1;
+    const std::int32_t other = grid.neighbour(own, d);
+    if (!refined(other)) continue;
+    for (int u = 0; u < n; ++u)
+      for (int v = 0; v < n; ++v) {
+        int mine[3], theirs[3];
+        mine[a] = last, theirs[a] = 0;
+        mine[(a + 1) % 3] = theirs[(a + 1) % 3] = u;
+        mine[(a + 2) % 3] = theirs[(a + 2) % 3] = v;
+        double* x = point(k, mine[0], mine[1], mine[2]);
+        double* y = point(other, theirs[0], theirs[1], theirs[2]);
+        if (std::isfinite(x[0]))
+          std::copy_n(x, 12, y);
+        else
+          std::copy_n(y, 12, x);
+      }
+  }
+}
+
+}  // namespace
+
 void add_refined_cells(const std::vector<RefinementPoint>& rows,
                        const std::map<std::int64_t, std::int32_t>& index_of,
                        playback::Content* content) {
   playback::Content& c = *content;
   if (c.midpoint_stiffness.empty()) return;
+  constexpr int ints = playback::kRefinedCellInts;
+  constexpr int kQuarterRows = 125 - 27, kEighthRows = 729 - 125;  // the points the stage stores
   const std::size_t n = c.config_checkpoint.size();
-  // Complete cells: every point the stage stores (those with an odd quarter index).
-  int expected = 0;
-  for (int p = 0; p < playback::kRefinedPoints; ++p)
-    expected += (p / 25) % 2 || (p / 5 % 5) % 2 || (p % 5) % 2;
-  std::map<std::int32_t, std::vector<const RefinementPoint*>> cells;  // file index -> points
+  // file index -> its rows at depth 1 (point < 125) and at depth 2
+  std::map<std::int32_t, std::vector<const RefinementPoint*>> quarter, eighth;
   for (const RefinementPoint& r : rows) {
     const auto it = index_of.find(r.cell.value());
-    if (it != index_of.end()) cells[it->second].push_back(&r);
+    if (it != index_of.end()) (r.point < 125 ? quarter : eighth)[it->second].push_back(&r);
   }
-  for (auto it = cells.begin(); it != cells.end();)
-    it = static_cast<int>(it->second.size()) == expected ? std::next(it) : cells.erase(it);
-  if (cells.empty()) return;
-  c.refined_cells.assign(2 * n, 0);
-  for (std::size_t k = 0; k < n; ++k) c.refined_cells[2 * k] = -1;
-  c.refined_points.assign(12 * playback::kRefinedPoints * cells.size(),
-                          std::numeric_limits<double>::quiet_NaN());
-  std::int32_t slot = 0;
-  for (const auto& [k, points] : cells) {
-    c.refined_cells[2 * k] = slot;
-    for (const RefinementPoint* p : points) {
-      if (!p->reached) continue;
-      double* out =
-          &c.refined_points[12 * (playback::kRefinedPoints * std::size_t(slot) + p->point)];
-      std::copy(p->force.begin(), p->force.end(), out);
-      std::copy(p->stiffness.begin(), p->stiffness.end(), out + 3);
-    }
-    ++slot;
-  }
-  const Cells grid(c);
-  auto refined = [&](std::int32_t k) { return k >= 0 && c.refined_cells[2 * k] >= 0; };
-  auto point = [&](std::int32_t k, int i, int j, int l) {
-    return &c.refined_points[12 * (playback::kRefinedPoints * std::size_t(c.refined_cells[2 * k]) +
-                                   25 * i + 5 * j + l)];
-  };
-  for (const auto& [k, points] : cells) {
-    const std::array<std::int32_t, 8> own = grid.corners(k);
-    const auto base = grid.base_of(k);
-    // A face or an edge is constrained where a cell of the grid beside it is not a refined cell
-    // showing the same corners (as the cursor would show it walking there from this cell).
-    auto unrefined = [&](const Offset& d) {
-      return grid.cell_exists(base, d) && !refined(grid.neighbour(own, d));
-    };
-    std::int32_t bits = 0;
-    for (int a = 0; a < 3; ++a)
-      for (int s = 0; s < 2; ++s) {
-        Offset d{};
-        d[a] = s ? 1 : -1;
-        if (unrefined(d)) bits |= 1 << playback::refined_face_bit(a, s);
+  // Complete cells only; an eighth-spacing lattice only where the quarter-spacing one is.
+  for (auto it = quarter.begin(); it != quarter.end();)
+    it = static_cast<int>(it->second.size()) == kQuarterRows ? std::next(it) : quarter.erase(it);
+  for (auto it = eighth.begin(); it != eighth.end();)
+    it = static_cast<int>(it->second.size()) == kEighthRows && quarter.count(it->first)
+             ? std::next(it)
+             : eighth.erase(it);
+  if (quarter.empty()) return;
+  c.refined_cells.assign(ints * n, 0);
+  for (std::size_t k = 0; k < n; ++k)
+    c.refined_cells[ints * k] = c.refined_cells[ints * k + 2] = -1;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  c.refined_points.assign(12 * playback::kRefinedPoints * quarter.size(), nan);
+  c.eighth_points.assign(12 * playback::kEighthPoints * eighth.size(), nan);
+  auto fill = [&](const std::map<std::int32_t, std::vector<const RefinementPoint*>>& cells,
+                  int column, int points_per_cell, int first, std::vector<double>* out) {
+    std::int32_t slot = 0;
+    for (const auto& [k, points] : cells) {
+      c.refined_cells[ints * k + column] = slot;
+      for (const RefinementPoint* p : points) {
+        if (!p->reached) continue;
+        double* to = &(*out)[12 * (std::size_t(points_per_cell) * slot + (p->point - first))];
+        std::copy(p->force.begin(), p->force.end(), to);
+        std::copy(p->stiffness.begin(), p->stiffness.end(), to + 3);
       }
-    for (int a = 0; a < 3; ++a) {
-      const int b = (a + 1) % 3, e = (a + 2) % 3;
-      for (int s1 = 0; s1 < 2; ++s1)
-        for (int s2 = 0; s2 < 2; ++s2) {
-          Offset db{}, de{}, dbe{};
-          db[b] = dbe[b] = s1 ? 1 : -1;
-          de[e] = dbe[e] = s2 ? 1 : -1;
-          if (unrefined(db) || unrefined(de) || unrefined(dbe))
-            bits |= 1 << playback::refined_edge_bit(a, s1, s2);
-        }
+      ++slot;
     }
-    c.refined_cells[2 * k + 1] = bits;
-    // The points of a face shared with a refined neighbour were solved by both: one value for
-    // both (this cell's where it has one, else the neighbour's), so the force stays continuous
-    // even where one of the two solves failed.
-    for (int a = 0; a < 3; ++a) {
-      Offset d{};
-      d[a] = 1;
-      const std::int32_t other = grid.neighbour(own, d);
-      if (!refined(other)) continue;
-      for (int u = 0; u < 5; ++u)
-        for (int v = 0; v < 5; ++v) {
-          int mine[3], theirs[3];
-          mine[a] = 4, theirs[a] = 0;
-          mine[(a + 1) % 3] = theirs[(a + 1) % 3] = u;
-          mine[(a + 2) % 3] = theirs[(a + 2) % 3] = v;
-          double* x = point(k, mine[0], mine[1], mine[2]);
-          double* y = point(other, theirs[0], theirs[1], theirs[2]);
-          if (std::isfinite(x[0]))
-            std::copy_n(x, 12, y);
-          else
-            std::copy_n(y, 12, x);
-        }
-    }
-  }
+  };
+  fill(quarter, 0, playback::kRefinedPoints, 0, &c.refined_points);
+  fill(eighth, 2, playback::kEighthPoints, 125, &c.eighth_points);
+  const Cells grid(c);
+  for (const auto& entry : quarter)
+    constrain(grid, c, {5, 0, c.refined_points.data()}, entry.first);
+  for (const auto& entry : eighth) constrain(grid, c, {9, 2, c.eighth_points.data()}, entry.first);
 }
 
 }  // namespace hapstate

@@ -1,4 +1,4 @@
-// The refined cells of a playback file (sections 20 and 21, docs/playback.md "Refined cells"):
+// The refined cells of a playback file (sections 20, 21 and 23, docs/playback.md "Refined cells"):
 // the refine stage's points per cell, and which faces and edges of each border a cell that is
 // not refined.
 #pragma once
@@ -12,8 +12,9 @@
 
 namespace hapstate {
 
-// Fills content->refined_cells and refined_points from the complete refined cells among `rows`
-// (every point of the cell present; cells whose lowest corner is not in the file are left out).
+// Fills content->refined_cells, refined_points and eighth_points from the complete refined cells
+// among `rows` (every point of a lattice present; an eighth-spacing lattice only with its
+// quarter-spacing one; cells whose lowest corner is not in the file are left out).
 // index_of maps a configuration id to its index in the file; content's configurations, grid and
 // midpoint stiffness must be filled in (a file without midpoint stiffness gets no refined cell).
 void add_refined_cells(const std::vector<RefinementPoint>& rows,

@@ -135,10 +135,12 @@ void add_transitions(Catalogue& cat, Json* out) {
   }
   j["failures_by_reason"] = failures;
   const QueryResult refined = cat.query_read_only(
-      "SELECT count(DISTINCT cell), count(*), count(*) FILTER (WHERE outcome = 2) FROM refinement");
+      "SELECT count(DISTINCT cell), count(*), count(*) FILTER (WHERE outcome = 2), "
+      "count(DISTINCT cell) FILTER (WHERE point >= 125) FROM refinement");
   j["refinement"] = {{"cells", int_at(refined.rows.front(), 0)},
                      {"points", int_at(refined.rows.front(), 1)},
-                     {"failed", int_at(refined.rows.front(), 2)}};
+                     {"failed", int_at(refined.rows.front(), 2)},
+                     {"depth2_cells", int_at(refined.rows.front(), 3)}};
 }
 
 Json summary_json(const StateDir& dir, Catalogue& cat) {
@@ -233,8 +235,8 @@ std::string summary_text(const Json& j) {
     s << "  failed " << f["count"] << "x: " << f["reason"].get<std::string>() << "\n";
   }
   const Json& r = j["refinement"];
-  s << "refined cells: " << r["cells"] << " (" << r["points"] << " points at quarter spacings, "
-    << r["failed"] << " failed)\n";
+  s << "refined cells: " << r["cells"] << ", " << r["depth2_cells"]
+    << " of them to eighth spacings (" << r["points"] << " points, " << r["failed"] << " failed)\n";
   const Json& d = j["disk"];
   s << "disk: " << size_text(d["total_bytes"].get<std::int64_t>()) << " (catalogue "
     << size_text(d["catalogue_bytes"].get<std::int64_t>()) << ", vectors "

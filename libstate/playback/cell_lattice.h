@@ -3,6 +3,7 @@
 #pragma once
 
 #include "playback/cell_math.h"
+#include "playback/lattice.h"
 
 #include <algorithm>
 
@@ -12,22 +13,13 @@ namespace hapstate::playback {
 // Hermite query measured 5-10 % slower: bench/cursor_ab.sh).
 namespace {
 
-// The data at the points of a cell's lattice with N points per axis (N = 3: the half-spacing
-// lattice, 5: a refined cell's quarter-spacing one): value, gradient (row-major, 3 r + a) and
-// the cross derivatives [r][pair] (kPair).
+// The cross derivatives at every point of L (but those where `keep` is true): along each lattice
+// line, the slope of the parabola through 3 neighbouring gradients (second order, where
+// differences between 2 points are first order). Those in a face's plane use only that face's
+// points: the force stays continuous. Zero for the triple derivative, as in the corners' cubic.
+// h: the cell's spacing.
 template <int N>
-struct Lattice {
-  double value[N][N][N][3];
-  double gradient[N][N][N][9];
-  double cross[N][N][N][3][3];
-};
-
-// The cross derivatives at every point of L: along each lattice line, the slope of the parabola
-// through 3 neighbouring gradients (second order, where differences between 2 points are first
-// order). Those in a face's plane use only that face's points: the force stays continuous. Zero
-// for the triple derivative, as in the corners' cubic. h: the cell's spacing.
-template <int N>
-void lattice_cross(const double* h, Lattice<N>* L) {
+void lattice_cross(const double* h, Lattice<N>* L, const bool (*keep)[N][N] = nullptr) {
   auto along = [&](const int(&p)[3], int axis, int component) {
     const int first = std::clamp(p[axis] - 1, 0, N - 3);
     int q[3] = {p[0], p[1], p[2]};
@@ -42,6 +34,7 @@ void lattice_cross(const double* h, Lattice<N>* L) {
     for (int y = 0; y < N; ++y)
       for (int z = 0; z < N; ++z) {
         const int p[3] = {x, y, z};
+        if (keep && keep[x][y][z]) continue;
         for (int r = 0; r < 3; ++r)
           for (int q = 0; q < 3; ++q) {
             const int a = kPair[q][0], b = kPair[q][1];
@@ -50,32 +43,37 @@ void lattice_cross(const double* h, Lattice<N>* L) {
       }
 }
 
-// The Hermite coefficients of the (N - 1)^3 sub-cells of L, sub-cell (x, y, z) at
-// (x (N - 1) + y) (N - 1) + z, each from the data at its 8 lattice points.
+// The Hermite coefficients of sub-cell `sub` of L, (x, y, z) at (x (N - 1) + y) (N - 1) + z,
+// from the data at its 8 lattice points.
+template <int N, class Coefficients>
+void sub_cell_coefficient(const Lattice<N>& L, int sub, Coefficients* out) {
+  const int so[3] = {sub / ((N - 1) * (N - 1)), sub / (N - 1) % (N - 1), sub % (N - 1)};
+  auto point = [&](int c) {
+    const auto o = corner_offset(c);
+    return std::array<int, 3>{so[0] + o[0], so[1] + o[1], so[2] + o[2]};
+  };
+  for (int r = 0; r < 3; ++r)
+    hermite_coefficients(
+        [&](int c) {
+          const auto p = point(c);
+          return L.value[p[0]][p[1]][p[2]][r];
+        },
+        [&](int c, int a) {
+          const auto p = point(c);
+          return L.gradient[p[0]][p[1]][p[2]][3 * r + a];
+        },
+        [&](int c, int a, int b) {
+          const auto p = point(c);
+          return L.cross[p[0]][p[1]][p[2]][r][a + b - 1];
+        },
+        [&](int x, int y, int z) -> double& { return (*out)[x][y][r][z]; });
+}
+
+// The Hermite coefficients of the (N - 1)^3 sub-cells of L (sub_cell_coefficient).
 template <int N, class Coefficients>
 void sub_cell_coefficients(const Lattice<N>& L, Coefficients* out) {
-  for (int sub = 0; sub < (N - 1) * (N - 1) * (N - 1); ++sub) {
-    const int so[3] = {sub / ((N - 1) * (N - 1)), sub / (N - 1) % (N - 1), sub % (N - 1)};
-    auto point = [&](int c) {
-      const auto o = corner_offset(c);
-      return std::array<int, 3>{so[0] + o[0], so[1] + o[1], so[2] + o[2]};
-    };
-    for (int r = 0; r < 3; ++r)
-      hermite_coefficients(
-          [&](int c) {
-            const auto p = point(c);
-            return L.value[p[0]][p[1]][p[2]][r];
-          },
-          [&](int c, int a) {
-            const auto p = point(c);
-            return L.gradient[p[0]][p[1]][p[2]][3 * r + a];
-          },
-          [&](int c, int a, int b) {
-            const auto p = point(c);
-            return L.cross[p[0]][p[1]][p[2]][r][a + b - 1];
-          },
-          [&](int x, int y, int z) -> double& { return out[sub][x][y][r][z]; });
-  }
+  for (int sub = 0; sub < (N - 1) * (N - 1) * (N - 1); ++sub)
+    sub_cell_coefficient(L, sub, &out[sub]);
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ void HapticCursor::snapshot(Snapshot* out) const { core_->snapshot(out); }
 namespace playback {
 
 CursorCore::CursorCore(const PlaybackFile& file, Scheme scheme) : file_(file), scheme_(scheme) {
+  if (file.impl().eighth_points) eighth_ = std::make_unique<EighthCell>();
   reset();
 }
 
@@ -74,23 +75,26 @@ void CursorCore::corner_blend(const std::array<double, 3>& s, std::array<double,
   }
 }
 
-// A refined cell with kTrilinear: the quarter-spacing cell holding s, its 8 lattice points'
-// force and stiffness interpolated trilinearly (docs/playback.md, "Refined cells").
-void CursorCore::quarter_trilinear_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+// A refined cell with kTrilinear: the cell of its lattice with n steps per axis (4: quarter
+// spacings, 8: eighth ones; `lattice` (n + 1)^3 points, x-major) holding s, its 8 points' force
+// and stiffness interpolated trilinearly (docs/playback.md, "Refined cells").
+void CursorCore::lattice_trilinear_at(const std::array<double, 3>& s, int n,
+                                      const std::array<double, 12>* lattice,
+                                      std::array<double, 3>* value,
                                       std::array<double, 9>* k) const {
   *value = {};
   *k = {};
   int q[3];
   double w[3][2];
   for (int a = 0; a < 3; ++a) {
-    q[a] = std::min(static_cast<int>(4.0 * s[a]), 3);
-    const double t = std::min(4.0 * s[a] - q[a], 1.0);
+    q[a] = std::min(static_cast<int>(n * s[a]), n - 1);
+    const double t = std::min(n * s[a] - q[a], 1.0);
     w[a][0] = 1.0 - t, w[a][1] = t;
   }
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     const double wc = w[0][o[0]] * w[1][o[1]] * w[2][o[2]];
-    const auto& d = quarter_trilinear_[25 * (q[0] + o[0]) + 5 * (q[1] + o[1]) + q[2] + o[2]];
+    const auto& d = lattice[((q[0] + o[0]) * (n + 1) + q[1] + o[1]) * (n + 1) + q[2] + o[2]];
     for (int r = 0; r < 3; ++r) (*value)[r] += wc * d[r];
     for (int r = 0; r < 9; ++r) (*k)[r] += wc * d[3 + r];
   }
@@ -154,7 +158,12 @@ Force CursorCore::force(const std::array<double, 3>& probe) {
     corner_blend(s, &value, &k_blend);
   if (!fitted_) fit_cell();
   if (refined_ && scheme_ == Scheme::kTrilinear) {
-    quarter_trilinear_at(s, &value, &k_blend);
+    if (deep_)
+      lattice_trilinear_at(s, 8, eighth_->trilinear.data(), &value, &k_blend);
+    else
+      lattice_trilinear_at(s, 4, quarter_trilinear_.data(), &value, &k_blend);
+  } else if (refined_ && deep_) {
+    eighth_at(s, &value, &slope);
   } else if (refined_) {
     sub_cell_at(s, 4, &value, &slope);
   } else if (lattice_) {

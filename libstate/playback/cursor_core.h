@@ -8,10 +8,12 @@
 
 #include "hapstate/playback.h"
 #include "playback/format.h"
+#include "playback/lattice.h"
 
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 
 namespace hapstate::playback {
 
@@ -71,7 +73,8 @@ class CursorCore {
                                std::array<double, 3>* clamped);
   void corner_blend(const std::array<double, 3>& s, std::array<double, 3>* value,
                     std::array<double, 9>* k) const;
-  void quarter_trilinear_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+  void lattice_trilinear_at(const std::array<double, 3>& s, int n,
+                            const std::array<double, 12>* lattice, std::array<double, 3>* value,
                             std::array<double, 9>* k) const;
   void sub_cell_at(const std::array<double, 3>& s, int n, std::array<double, 3>* value,
                    std::array<double, 9>* slope) const;
@@ -118,6 +121,18 @@ class CursorCore {
   // A refined cell with kTrilinear: the force and the stiffness (row-major) at the 125 points of
   // its quarter-spacing lattice, 25 i + 5 j + k, interpolated trilinearly on each quarter cell.
   std::array<std::array<double, 12>, 125> quarter_trilinear_{};
+  // A refined cell with an eighth-spacing lattice (refinement depth 2): allocated at
+  // construction when the file has any, used when deep_.
+  struct EighthCell {
+    Lattice<9> lattice;     // Hermite: the data at its 729 points
+    bool exact[9][9][9];    // a point that keeps the quarter cells' interpolant's cross derivatives
+    CellCoefficients coef;  // of eighth-spacing sub-cell `sub`, fitted when the probe enters it
+    int sub = -1;
+    // kTrilinear: the force and the stiffness at its points, 81 i + 9 j + k.
+    std::array<std::array<double, 12>, 729> trilinear;
+  };
+  std::unique_ptr<EighthCell> eighth_;
+  bool deep_ = false;  // the refined cell has an eighth-spacing lattice, fitted into eighth_
   std::array<std::int32_t, 27> midpoint_code_{};            // Snapshot::midpoint of this cell
   std::array<std::array<double, 6>, 27> midpoint_blend_{};  // Snapshot::midpoint_blend
   std::uint64_t blend_generation_ = 0;  // changes with midpoint_blend_ (copied to a slot then)
@@ -128,8 +143,13 @@ class CursorCore {
   void fit_cell_lattice(const MidpointTarget* targets);
   std::int32_t refined_cell() const;
   void fit_refined_cell(std::int32_t slot);
-  bool refined_target(const int (&p)[3], const double* data, double* out) const;
+  bool refined_target(const int (&p)[3], double step, const double* data, double* out) const;
   void fit_refined_trilinear(std::int32_t slot);
+  std::int32_t eighth_slot() const;
+  void fit_eighth_cell(std::int32_t slot);
+  void fit_eighth_trilinear(std::int32_t slot);
+  void eighth_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+                 std::array<double, 9>* slope);
   void trilinear_at(const std::array<double, 3>& s, double* value, double* stiffness) const;
   void find_midpoint_displacements(const MidpointTarget* targets);
   void fit_cell_bubbles(const MidpointTarget* targets);

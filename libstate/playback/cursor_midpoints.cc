@@ -70,6 +70,7 @@ void CursorCore::midpoint_target(int k, MidpointTarget* out) const {
 void CursorCore::fit_cell() {
   fitted_ = true;
   refined_ = false;
+  deep_ = false;
   num_bubbles_ = 0;
   MidpointTarget targets[playback::kCellBubbles];
   for (int k = 0; k < playback::kCellBubbles; ++k) midpoint_target(k, &targets[k]);

@@ -1,5 +1,5 @@
 // The cursor in a refined cell (docs/playback.md, "Refined cells"): the quarter-spacing lattice
-// of solved points, Hermite or trilinear.
+// of solved points, and the eighth-spacing one where the cell has it, Hermite or trilinear.
 #include "playback/cursor_core.h"
 
 #include "playback/cell_lattice.h"
@@ -11,25 +11,67 @@ namespace hapstate::playback {
 
 namespace {
 
-// Whether quarter-lattice point (i, j, k) of a refined cell lies on a face or an edge set in
-// `constraints` (playback/format.h bits).
-bool constrained(const int (&p)[3], std::int32_t constraints) {
+// Whether point (i, j, k) of a refined cell's lattice with `last` + 1 points per axis lies on a
+// face or an edge set in `constraints` (playback/format.h bits).
+bool constrained(const int (&p)[3], int last, std::int32_t constraints) {
   for (int a = 0; a < 3; ++a)
     for (int side = 0; side < 2; ++side) {
-      if (p[a] != 4 * side) continue;
+      if (p[a] != last * side) continue;
       if (constraints >> playback::refined_face_bit(a, side) & 1) return true;
       const int b = (a + 1) % 3, c = (a + 2) % 3;
       // the edges along b and along c on this face
       for (int s2 = 0; s2 < 2; ++s2) {
         // along b: sides of c (next of b) and a (next of c)
-        if (p[c] == 4 * s2 && (constraints >> playback::refined_edge_bit(b, s2, side) & 1))
+        if (p[c] == last * s2 && (constraints >> playback::refined_edge_bit(b, s2, side) & 1))
           return true;
         // along c: sides of a (next of c) and b
-        if (p[b] == 4 * s2 && (constraints >> playback::refined_edge_bit(c, side, s2) & 1))
+        if (p[b] == last * s2 && (constraints >> playback::refined_edge_bit(c, side, s2) & 1))
           return true;
       }
     }
   return false;
+}
+
+// The slopes of an eighth-spacing lattice's solved points limited by the values around them
+// (docs/playback.md, "Refined cells"): a solved stiffness is the derivative on one side of a kink
+// of the contact force (a triangle starting to carry force), which can be several times the
+// force's slope a lattice step away, and a cubic through it overshoots by about that difference
+// times the step. Each entry (component r, axis a) of a solved point's gradient is clamped into
+// the interval spanned by the backward and the forward difference of the values along a, widened
+// each way by half its width plus a tenth of the largest difference at the point: for a smooth
+// force the derivative lies in it (the differences err by the step squared), so the points keep
+// their solved stiffness there. Points on the lattice's boundary along a, those of the
+// quarter-spacing lattice and those without a solve (`exact`) keep theirs.
+void limit_eighth_slopes(const double* h, Lattice<9>* L, const bool (&exact)[9][9][9]) {
+  double step[3];
+  for (int a = 0; a < 3; ++a) step[a] = h[a] / 8.0;
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      for (int k = 0; k < 9; ++k) {
+        if ((i % 2 == 0 && j % 2 == 0 && k % 2 == 0) || exact[i][j][k]) continue;
+        const int p[3] = {i, j, k};
+        double back[3][3] = {}, ahead[3][3] = {}, scale = 0;  // [r][a]
+        for (int a = 0; a < 3; ++a) {
+          if (p[a] == 0 || p[a] == 8) continue;
+          int lo[3] = {i, j, k}, hi[3] = {i, j, k};
+          --lo[a], ++hi[a];
+          for (int r = 0; r < 3; ++r) {
+            const double v = L->value[i][j][k][r];
+            back[r][a] = (v - L->value[lo[0]][lo[1]][lo[2]][r]) / step[a];
+            ahead[r][a] = (L->value[hi[0]][hi[1]][hi[2]][r] - v) / step[a];
+            scale = std::max({scale, std::abs(back[r][a]), std::abs(ahead[r][a])});
+          }
+        }
+        for (int a = 0; a < 3; ++a) {
+          if (p[a] == 0 || p[a] == 8) continue;
+          for (int r = 0; r < 3; ++r) {
+            const double slack = 0.5 * std::abs(ahead[r][a] - back[r][a]) + 0.1 * scale;
+            double& g = L->gradient[i][j][k][3 * r + a];  // values only are read: in place
+            g = std::clamp(g, std::min(back[r][a], ahead[r][a]) - slack,
+                           std::max(back[r][a], ahead[r][a]) + slack);
+          }
+        }
+      }
 }
 
 }  // namespace
@@ -41,7 +83,7 @@ std::int32_t CursorCore::refined_cell() const {
   const PlaybackFile::Impl& f = file_.impl();
   const std::int32_t c0 = corners_[0].configuration;
   if (!f.refined_cells || c0 < 0) return -1;
-  const std::int32_t slot = f.refined_cells[2 * std::int64_t(c0)];
+  const std::int32_t slot = f.refined_cells[playback::kRefinedCellInts * std::int64_t(c0)];
   if (slot < 0 || slot >= f.num_refined_cells) return -1;
   for (int c = 1; c < 8; ++c) {
     const auto o = corner_offset(c);
@@ -52,16 +94,27 @@ std::int32_t CursorCore::refined_cell() const {
   return slot;
 }
 
-// What a refined cell's fit aims at quarter-lattice point p, whose solved force and stiffness
-// are `data` (12 values): those, or in a cell near the contact onset those the blend turns into
-// them (onset_target), as for the midpoints. False where the blend allows no fit there
-// (onset_blend_at): the point then keeps the half cells' interpolant.
-bool CursorCore::refined_target(const int (&p)[3], const double* data, double* out) const {
+// The eighth-spacing lattice (an index into section 23) of the current cell, a refined cell, or
+// -1.
+std::int32_t CursorCore::eighth_slot() const {
+  const PlaybackFile::Impl& f = file_.impl();
+  if (!eighth_ || !f.eighth_points) return -1;
+  const std::int32_t slot =
+      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 2];
+  return slot >= 0 && slot < f.num_eighth_cells ? slot : -1;
+}
+
+// What a refined cell's fit aims at lattice point p (`step` cell spacings apart: 1/4 or 1/8),
+// whose solved force and stiffness are `data` (12 values): those, or in a cell near the contact
+// onset those the blend turns into them (onset_target), as for the midpoints. False where the
+// blend allows no fit there (onset_blend_at): the point then keeps the coarser interpolant.
+bool CursorCore::refined_target(const int (&p)[3], double step, const double* data,
+                                double* out) const {
   if (!onset_) {
     std::copy_n(data, 12, out);
     return true;
   }
-  const std::array<double, 3> t = {0.25 * p[0], 0.25 * p[1], 0.25 * p[2]};
+  const std::array<double, 3> t = {step * p[0], step * p[1], step * p[2]};
   OnsetPoint o;
   return onset_blend_at(t, &o) && onset_target(t, o, data, data + 3, out, out + 3);
 }
@@ -79,7 +132,8 @@ bool CursorCore::refined_target(const int (&p)[3], const double* data, double* o
 void CursorCore::fit_refined_cell(std::int32_t slot) {
   const PlaybackFile::Impl& f = file_.impl();
   const playback::Meta& m = *f.meta;
-  const std::int32_t constraints = f.refined_cells[2 * std::int64_t(corners_[0].configuration) + 1];
+  const std::int32_t constraints =
+      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 1];
   const double* stored = f.refined_points + 12 * playback::kRefinedPoints * std::int64_t(slot);
   const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
   const double half[3] = {0.5 * m.spacing[0], 0.5 * m.spacing[1], 0.5 * m.spacing[2]};
@@ -102,11 +156,12 @@ void CursorCore::fit_refined_cell(std::int32_t slot) {
         std::copy_n(hv[sub][x][y][z], 3, v);  // at a half-lattice point: that point's data
         std::copy_n(hg[sub][x][y][z], 9, g);
         const double* data = stored + 12 * (25 * i + 5 * j + k);
+        for (int r = 0; r < 3; ++r) std::copy_n(hc[sub][x][y][z][r], 3, Q.cross[i][j][k][r]);
         const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
-        exact[i][j][k] = constrained(p, constraints) || (!lattice && !finite(data, 12));
+        exact[i][j][k] = constrained(p, 4, constraints) || (!lattice && !finite(data, 12));
         if (lattice || exact[i][j][k]) continue;
         double target[12];
-        if (!refined_target(p, data, target)) {
+        if (!refined_target(p, 0.25, data, target)) {
           exact[i][j][k] = true;
           continue;
         }
@@ -114,17 +169,95 @@ void CursorCore::fit_refined_cell(std::int32_t slot) {
         for (int e = 0; e < 9; ++e)
           g[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
       }
-  lattice_cross(m.spacing, &Q);
-  for (int i = 0; i < 5; ++i)
-    for (int j = 0; j < 5; ++j)
-      for (int k = 0; k < 5; ++k) {
-        if (!exact[i][j][k]) continue;
-        const int sub = (i >= 2 ? 4 : 0) | (j >= 2 ? 2 : 0) | (k >= 2 ? 1 : 0);
-        const auto& c = hc[sub][in_half(i)][in_half(j)][in_half(k)];
-        for (int r = 0; r < 3; ++r) std::copy_n(c[r], 3, Q.cross[i][j][k][r]);
-      }
+  lattice_cross(m.spacing, &Q, exact);
   sub_cell_coefficients(Q, quarter_coef_.data());
   refined_ = true;
+  const std::int32_t deep = eighth_slot();
+  if (deep >= 0) fit_eighth_cell(deep);
+}
+
+// A refined cell's eighth-spacing lattice (depth 2): the quarter cells' construction one level
+// down. Its 729 points take the quarter cells' interpolant's value, gradient and cross
+// derivatives; the points of the quarter-spacing lattice keep their value and gradient, the
+// others take the solved force and stiffness (clamped and fitted through the onset blend as in
+// fit_refined_cell); the cross derivatives are recomputed along the lattice lines but at the
+// points that keep the quarter cells' interpolant (on a face or an edge whose neighbour has no
+// eighth-spacing lattice, a point without a solve): the eighth cells there reproduce the quarter
+// cells' cubic, so the force stays continuous. The eighth cells' coefficients are fitted one at
+// a time as the probe enters them (eighth_at).
+void CursorCore::fit_eighth_cell(std::int32_t slot) {
+  const PlaybackFile::Impl& f = file_.impl();
+  const playback::Meta& m = *f.meta;
+  const std::int32_t constraints =
+      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 3];
+  const double* stored = f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(slot);
+  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
+  const double quarter[3] = {0.25 * m.spacing[0], 0.25 * m.spacing[1], 0.25 * m.spacing[2]};
+  EighthCell& E = *eighth_;
+  Lattice<9>& L = E.lattice;
+  // The quarter cells' interpolant at their own 3^3 lattices, which together are this one (a
+  // point shared by quarter cells has the same data in each: the interpolant's value, gradient
+  // and cross derivatives are continuous across their faces).
+  for (int sub = 0; sub < 64; ++sub) {
+    const int q[3] = {sub / 16, sub / 4 % 4, sub % 4};
+    double v[3][3][3][3], g[3][3][3][9], c[3][3][3][3][3];
+    hermite_lattice(quarter_coef_[sub], quarter, v, g, &c);
+    for (int x = 0; x < 3; ++x)
+      for (int y = 0; y < 3; ++y)
+        for (int z = 0; z < 3; ++z) {
+          const int i = 2 * q[0] + x, j = 2 * q[1] + y, k = 2 * q[2] + z;
+          std::copy_n(v[x][y][z], 3, L.value[i][j][k]);
+          std::copy_n(g[x][y][z], 9, L.gradient[i][j][k]);
+          for (int r = 0; r < 3; ++r) std::copy_n(c[x][y][z][r], 3, L.cross[i][j][k][r]);
+        }
+  }
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      for (int k = 0; k < 9; ++k) {
+        const int p[3] = {i, j, k};
+        const double* data = stored + 12 * (81 * i + 9 * j + k);
+        const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
+        bool& exact = E.exact[i][j][k];
+        exact = constrained(p, 8, constraints) || (!lattice && !finite(data, 12));
+        if (lattice || exact) continue;
+        double target[12];
+        if (!refined_target(p, 0.125, data, target)) {
+          exact = true;
+          continue;
+        }
+        double* v = L.value[i][j][k];
+        double* g = L.gradient[i][j][k];
+        for (int r = 0; r < 3; ++r) v[r] += std::clamp(target[r] - v[r], -limit, limit);
+        for (int e = 0; e < 9; ++e)
+          g[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+      }
+  limit_eighth_slopes(m.spacing, &L, E.exact);
+  lattice_cross(m.spacing, &L, E.exact);
+  E.sub = -1;
+  deep_ = true;
+}
+
+// The eighth-spacing Hermite cell holding s in a deep refined cell: its value and derivative (its
+// coefficients fitted when the probe enters it).
+void CursorCore::eighth_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+                           std::array<double, 9>* slope) {
+  const double* h = file_.impl().meta->spacing;
+  EighthCell& E = *eighth_;
+  int sub = 0;
+  std::array<double, 3> t{};
+  double spacing[3], B[3][4], dB[3][4];
+  for (int a = 0; a < 3; ++a) {
+    const int i = std::min(static_cast<int>(8.0 * s[a]), 7);
+    sub = 8 * sub + i;
+    t[a] = std::min(8.0 * s[a] - i, 1.0);
+    spacing[a] = h[a] / 8.0;
+  }
+  if (sub != E.sub) {
+    sub_cell_coefficient(E.lattice, sub, &E.coef);
+    E.sub = sub;
+  }
+  hermite_bases(t, spacing, B, dB);
+  hermite_contract(E.coef, B, dB, value, slope);
 }
 
 // A refined cell with kTrilinear: each point of the quarter-spacing lattice takes the solved
@@ -138,7 +271,8 @@ void CursorCore::fit_refined_cell(std::int32_t slot) {
 void CursorCore::fit_refined_trilinear(std::int32_t slot) {
   const PlaybackFile::Impl& f = file_.impl();
   const playback::Meta& m = *f.meta;
-  const std::int32_t constraints = f.refined_cells[2 * std::int64_t(corners_[0].configuration) + 1];
+  const std::int32_t constraints =
+      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 1];
   const double* stored = f.refined_points + 12 * playback::kRefinedPoints * std::int64_t(slot);
   const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
   for (int i = 0; i < 5; ++i)
@@ -150,13 +284,51 @@ void CursorCore::fit_refined_trilinear(std::int32_t slot) {
         const double* data = stored + 12 * (25 * i + 5 * j + k);
         const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
         double target[12];
-        if (lattice || constrained(p, constraints) || !finite(data, 12) ||
-            !refined_target(p, data, target))
+        if (lattice || constrained(p, 4, constraints) || !finite(data, 12) ||
+            !refined_target(p, 0.25, data, target))
           continue;
         for (int r = 0; r < 3; ++r) out[r] += std::clamp(target[r] - out[r], -limit, limit);
         for (int e = 0; e < 9; ++e)
           out[3 + e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
       }
   refined_ = true;
+  const std::int32_t deep = eighth_slot();
+  if (deep >= 0) fit_eighth_trilinear(deep);
+}
+
+// A deep refined cell with kTrilinear: each point of the eighth-spacing lattice takes the solved
+// force and stiffness (as in fit_refined_trilinear, against the quarter-spacing trilinear
+// interpolant), or where there is none, at the points of the quarter-spacing lattice and on a
+// face or an edge whose neighbour has no eighth-spacing lattice, that interpolant's value and
+// stiffness: trilinear on each quarter cell, so the eighth cells reproduce it there.
+void CursorCore::fit_eighth_trilinear(std::int32_t slot) {
+  const PlaybackFile::Impl& f = file_.impl();
+  const playback::Meta& m = *f.meta;
+  const std::int32_t constraints =
+      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 3];
+  const double* stored = f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(slot);
+  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      for (int k = 0; k < 9; ++k) {
+        const int p[3] = {i, j, k};
+        std::array<double, 12>& out = eighth_->trilinear[81 * i + 9 * j + k];
+        std::array<double, 3> value{};
+        std::array<double, 9> stiffness{};
+        lattice_trilinear_at({0.125 * i, 0.125 * j, 0.125 * k}, 4, quarter_trilinear_.data(),
+                             &value, &stiffness);
+        std::copy(value.begin(), value.end(), out.begin());
+        std::copy(stiffness.begin(), stiffness.end(), out.begin() + 3);
+        const double* data = stored + 12 * (81 * i + 9 * j + k);
+        const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
+        double target[12];
+        if (lattice || constrained(p, 8, constraints) || !finite(data, 12) ||
+            !refined_target(p, 0.125, data, target))
+          continue;
+        for (int r = 0; r < 3; ++r) out[r] += std::clamp(target[r] - out[r], -limit, limit);
+        for (int e = 0; e < 9; ++e)
+          out[3 + e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+      }
+  deep_ = true;
 }
 }  // namespace hapstate::playback

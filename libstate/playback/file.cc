@@ -66,6 +66,8 @@ std::string section_name(SectionId id) {
       return "refined points";
     case SectionId::kCertificate:
       return "certificate";
+    case SectionId::kEighthPoints:
+      return "eighth-spacing points";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -212,14 +214,21 @@ void check_section_sizes(const playback::Meta& m2, const Sections& sections) {
   const std::uint64_t refined_cell_bytes = bytes[static_cast<int>(SectionId::kRefinedCells)];
   const std::uint64_t refined_bytes = bytes[static_cast<int>(SectionId::kRefinedPoints)];
   const std::uint64_t cell_bytes = 96 * playback::kRefinedPoints;
-  if (refined_cell_bytes != 0 && (refined_cell_bytes != 8 * n || midpoint_k_bytes == 0))
+  const std::uint64_t cell_ints = 4 * playback::kRefinedCellInts;
+  if (refined_cell_bytes != 0 && (refined_cell_bytes != cell_ints * n || midpoint_k_bytes == 0))
     unusable("section 'refined cells' has " + std::to_string(refined_cell_bytes) +
              " bytes, the header implies 0 or " +
-             std::to_string(midpoint_k_bytes == 0 ? 0 : 8 * n));
+             std::to_string(midpoint_k_bytes == 0 ? 0 : cell_ints * n));
   if (refined_bytes % cell_bytes != 0 || (refined_bytes != 0 && refined_cell_bytes == 0))
     unusable("section 'refined points' has " + std::to_string(refined_bytes) +
              " bytes, not a multiple of " + std::to_string(cell_bytes) +
              (refined_cell_bytes == 0 ? " with section 'refined cells'" : ""));
+  const std::uint64_t eighth_bytes = bytes[static_cast<int>(SectionId::kEighthPoints)];
+  const std::uint64_t eighth_cell_bytes = 96 * playback::kEighthPoints;
+  if (eighth_bytes % eighth_cell_bytes != 0 || (eighth_bytes != 0 && refined_bytes == 0))
+    unusable("section 'eighth-spacing points' has " + std::to_string(eighth_bytes) +
+             " bytes, not a multiple of " + std::to_string(eighth_cell_bytes) +
+             (refined_bytes == 0 ? " with section 'refined points'" : ""));
   const std::uint64_t certificate_bytes = bytes[static_cast<int>(SectionId::kCertificate)];
   if (certificate_bytes != 0 && certificate_bytes != sizeof(playback::CertificateRecord))
     unusable("section 'certificate' has " + std::to_string(certificate_bytes) +
@@ -294,6 +303,7 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   const std::uint64_t refined_cell_bytes = sections.size(SectionId::kRefinedCells);
   const std::uint64_t refined_bytes = sections.size(SectionId::kRefinedPoints);
   const std::uint64_t cell_bytes = 96 * playback::kRefinedPoints;
+  const std::uint64_t eighth_bytes = sections.size(SectionId::kEighthPoints);
   const std::uint64_t certificate_bytes = sections.size(SectionId::kCertificate);
   f.checkpoints = reinterpret_cast<const std::int32_t*>(section(SectionId::kCheckpoints));
   f.config_checkpoint =
@@ -323,6 +333,11 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     f.refined_cells = reinterpret_cast<const std::int32_t*>(section(SectionId::kRefinedCells));
     f.refined_points = reinterpret_cast<const double*>(section(SectionId::kRefinedPoints));
     f.num_refined_cells = static_cast<std::int32_t>(refined_bytes / cell_bytes);
+    if (eighth_bytes != 0) {
+      f.eighth_points = reinterpret_cast<const double*>(section(SectionId::kEighthPoints));
+      f.num_eighth_cells =
+          static_cast<std::int32_t>(eighth_bytes / (96 * std::uint64_t(playback::kEighthPoints)));
+    }
   }
   if (certificate_bytes != 0)
     f.certificate =
@@ -395,16 +410,22 @@ void PlaybackFile::verify() const {
     if (f.midpoint_mask[c] < 0 || f.midpoint_mask[c] >= (1 << playback::kMidpointDirections))
       fail("configuration " + std::to_string(c) + ": midpoint displacement mask " +
            std::to_string(f.midpoint_mask[c]) + " out of range");
-  for (std::int64_t c = 0; f.refined_cells && c < n; ++c)
-    if (f.refined_cells[2 * c] < -1 || f.refined_cells[2 * c] >= f.num_refined_cells ||
-        f.refined_cells[2 * c + 1] < 0 || f.refined_cells[2 * c + 1] >= (1 << 18))
-      fail("configuration " + std::to_string(c) + ": refined cell " +
-           std::to_string(f.refined_cells[2 * c]) + " or its constraints " +
-           std::to_string(f.refined_cells[2 * c + 1]) + " out of range");
+  for (std::int64_t c = 0; f.refined_cells && c < n; ++c) {
+    const std::int32_t* r = f.refined_cells + playback::kRefinedCellInts * c;
+    if (r[0] < -1 || r[0] >= f.num_refined_cells || r[1] < 0 || r[1] >= (1 << 18) || r[2] < -1 ||
+        r[2] >= f.num_eighth_cells || (r[2] >= 0 && r[0] < 0) || r[3] < 0 || r[3] >= (1 << 18))
+      fail("configuration " + std::to_string(c) + ": refined cell " + std::to_string(r[0]) +
+           ", its eighth-spacing lattice " + std::to_string(r[2]) + " or their constraints " +
+           std::to_string(r[1]) + ", " + std::to_string(r[3]) + " out of range");
+  }
   for (std::int64_t k = 0; k < 12 * playback::kRefinedPoints * std::int64_t(f.num_refined_cells);
        ++k)
     if (std::isinf(f.refined_points[k]))
       fail("refined cell " + std::to_string(k / (12 * playback::kRefinedPoints)) +
+           ": a force or stiffness is infinite");
+  for (std::int64_t k = 0; k < 12 * playback::kEighthPoints * std::int64_t(f.num_eighth_cells); ++k)
+    if (std::isinf(f.eighth_points[k]))
+      fail("eighth-spacing lattice " + std::to_string(k / (12 * playback::kEighthPoints)) +
            ": a force or stiffness is infinite");
   for (std::int64_t g = 0; f.clearance && g < points; ++g)
     if (!finite(f.clearance + 4 * g, 4))

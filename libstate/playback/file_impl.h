@@ -39,11 +39,15 @@ struct PlaybackFile::Impl {
   const std::int32_t* midpoint_mask = nullptr;
   // 12 x kMidpointDirections per view node per configuration (section 19); with the mask.
   const float* midpoint_displacements = nullptr;
-  // 2 per configuration: refined cell (-1: none) and constraint bits; nullptr: none refined.
+  // kRefinedCellInts per configuration: refined cell (-1: none) and constraint bits, its
+  // eighth-spacing lattice (-1: none) and constraint bits; nullptr: none refined.
   const std::int32_t* refined_cells = nullptr;
   // 12 x kRefinedPoints per refined cell (section 21), with refined_cells.
   const double* refined_points = nullptr;
   std::int32_t num_refined_cells = 0;
+  // 12 x kEighthPoints per eighth-spacing lattice (section 23); nullptr: none.
+  const double* eighth_points = nullptr;
+  std::int32_t num_eighth_cells = 0;
   const playback::CertificateRecord* certificate = nullptr;  // section 22, nullptr: none
   // The displacements (kind 0) or their slope along axis kind - 1 at configuration c's
   // midpoint in direction d: 3 per view node.

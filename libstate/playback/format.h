@@ -20,8 +20,8 @@ static_assert(std::endian::native == std::endian::little,
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
 // 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness, 7: midpoint
 // displacements, 8: the change bound of the half cells' second-order cross derivatives,
-// 9: refined cells, 10: the certificate
-inline constexpr std::uint32_t kVersion = 10;
+// 9: refined cells, 10: the certificate, 11: refined cells' eighth-spacing points
+inline constexpr std::uint32_t kVersion = 11;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -76,9 +76,10 @@ enum class SectionId : std::uint32_t {
   // dimensionless): 12 x kMidpointDirections per view node; zero where the mask bit is clear;
   // empty with the mask.
   kMidpointDisplacements = 19,
-  // int32 x 2 per configuration: the refined cell whose lowest corner it is (an index into
-  // section 21, -1: none) and that cell's constrained faces and edges (kRefinedFace, kRefinedEdge
-  // bits); empty when no cell is refined.
+  // int32 x kRefinedCellInts per configuration: the refined cell whose lowest corner it is (an
+  // index into section 21, -1: none) and that cell's constrained faces and edges (kRefinedFace,
+  // kRefinedEdge bits); then its eighth-spacing lattice (an index into section 23, -1: none) and
+  // the faces and edges where that lattice is constrained; empty when no cell is refined.
   kRefinedCells = 20,
   // float64 x 12 x kRefinedPoints per refined cell: at each point of the cell's quarter-spacing
   // lattice (25 i + 5 j + k), the force (N) and the haptic stiffness (row-major, N per mesh unit);
@@ -87,15 +88,25 @@ enum class SectionId : std::uint32_t {
   // One CertificateRecord: what hapstate-certify measured on this file (docs/certificate.md);
   // empty until it has run (hapstate-index writes it empty).
   kCertificate = 22,
+  // float64 x 12 x kEighthPoints per refined cell of depth 2: at each point of the cell's
+  // eighth-spacing lattice (81 i + 9 j + k), the force and the haptic stiffness as in section 21;
+  // NaN where none was solved (the quarter-spacing lattice's points, a failed solve).
+  kEighthPoints = 23,
 };
-inline constexpr int kSectionCount = 22;
+inline constexpr int kSectionCount = 23;
 
 // A refined cell's lattice: 5 points per axis at quarter spacings.
 inline constexpr int kRefinedPoints = 125;
+// Its eighth-spacing lattice (refinement depth 2): 9 points per axis.
+inline constexpr int kEighthPoints = 729;
+// Section 20's values per configuration: quarter slot, its constraints, eighth slot, its
+// constraints.
+inline constexpr int kRefinedCellInts = 4;
 // Constraint bits of a refined cell (section 20): face (axis a, side s) at bit 2 a + s; the edge
 // along axis a at side s1 of the next axis (a + 1) % 3 and s2 of the one after at bit
 // 6 + 4 a + 2 s1 + s2. A constrained face or edge borders a cell that is not refined: the cursor
-// interpolates there as that cell does (docs/playback.md, "Refined cells").
+// interpolates there as that cell does (docs/playback.md, "Refined cells"). The eighth-spacing
+// lattice's bits mean the same for a neighbour without an eighth-spacing lattice.
 constexpr int refined_face_bit(int axis, int side) { return 2 * axis + side; }
 constexpr int refined_edge_bit(int axis, int side1, int side2) {
   return 6 + 4 * axis + 2 * side1 + side2;

@@ -130,16 +130,23 @@ void check_content(const Content& c, const std::filesystem::path& file) {
   for (double v : c.midpoint_stiffness)
     if (std::isinf(v)) bad("a midpoint stiffness is infinite");
   const std::size_t refined = c.refined_points.size() / (12 * kRefinedPoints);
+  const std::size_t eighth = c.eighth_points.size() / (12 * kEighthPoints);
   if (c.refined_points.size() != 12 * kRefinedPoints * refined ||
-      (!c.refined_cells.empty() && c.refined_cells.size() != 2 * n) ||
+      c.eighth_points.size() != 12 * kEighthPoints * eighth ||
+      (!c.refined_cells.empty() && c.refined_cells.size() != kRefinedCellInts * n) ||
       (!c.refined_cells.empty() && c.midpoint_stiffness.empty()) ||
-      (refined > 0 && c.refined_cells.empty()))
+      (refined > 0 && c.refined_cells.empty()) || (eighth > 0 && refined == 0))
     bad("refined cell table sizes (refined cells need the midpoint stiffness)");
-  for (std::size_t k = 0; k < c.refined_cells.size(); k += 2)
-    if (c.refined_cells[k] < -1 || c.refined_cells[k] >= static_cast<std::int32_t>(refined))
+  for (std::size_t k = 0; k < c.refined_cells.size(); k += kRefinedCellInts)
+    if (c.refined_cells[k] < -1 || c.refined_cells[k] >= static_cast<std::int32_t>(refined) ||
+        c.refined_cells[k + 2] < -1 ||
+        c.refined_cells[k + 2] >= static_cast<std::int32_t>(eighth) ||
+        (c.refined_cells[k + 2] >= 0 && c.refined_cells[k] < 0))
       bad("a refined cell index is out of range");
   for (double v : c.refined_points)
     if (std::isinf(v)) bad("a refined point's force or stiffness is infinite");
+  for (double v : c.eighth_points)
+    if (std::isinf(v)) bad("an eighth-spacing point's force or stiffness is infinite");
 }
 
 // The clamp limits of the bubbles' corrections (edge, face, cell; N per component).
@@ -184,9 +191,10 @@ double stiffness_limit(const Content& c) {
   for (double k : c.stiffness) limit = std::max(limit, std::abs(k));
   for (double k : c.midpoint_stiffness)
     if (std::isfinite(k)) limit = std::max(limit, std::abs(k));
-  for (std::size_t k = 0; k < c.refined_points.size(); ++k)
-    if (k % 12 >= 3 && std::isfinite(c.refined_points[k]))
-      limit = std::max(limit, std::abs(c.refined_points[k]));
+  for (const std::vector<double>* points : {&c.refined_points, &c.eighth_points})
+    for (std::size_t k = 0; k < points->size(); ++k)
+      if (k % 12 >= 3 && std::isfinite((*points)[k]))
+        limit = std::max(limit, std::abs((*points)[k]));
   return limit;
 }
 
@@ -254,7 +262,13 @@ double force_change_bound(const Content& c) {
   const double quarter_stiffness = std::max(3.0 * c.meta.stiffness_limit, half_cells);
   const double quarter_cells =
       5.25 * std::sqrt(3.0) * (quarter_slope + quarter_stiffness) * rho * rho;
-  return std::max({corners + bubbles, half_cells, quarter_cells});
+  if (c.eighth_points.empty()) return std::max({corners + bubbles, half_cells, quarter_cells});
+  // Eighth-spacing lattices: the same argument once more, from the quarter cells' interpolant
+  // (slope at most quarter_cells), points at least h_min / 8 apart.
+  const double eighth_slope = quarter_cells + 16.0 * std::sqrt(3.0) * lambda / hmin;
+  const double eighth_stiffness = std::max(3.0 * c.meta.stiffness_limit, quarter_cells);
+  const double eighth_cells = 5.25 * std::sqrt(3.0) * (eighth_slope + eighth_stiffness) * rho * rho;
+  return std::max({corners + bubbles, half_cells, quarter_cells, eighth_cells});
 }
 
 namespace {
@@ -366,9 +380,12 @@ void write_file(Content c, const std::filesystem::path& file) {
        4 * midpoint_floats * n,
        &c.midpoint_displacements,
        midpoint_floats},
-      {SectionId::kRefinedCells, 8, bytes_of(c.refined_cells), 4 * c.refined_cells.size()},
+      {SectionId::kRefinedCells, 4 * kRefinedCellInts, bytes_of(c.refined_cells),
+       4 * c.refined_cells.size()},
       {SectionId::kRefinedPoints, 96 * kRefinedPoints, bytes_of(c.refined_points),
        8 * c.refined_points.size()},
+      {SectionId::kEighthPoints, 96 * kEighthPoints, bytes_of(c.eighth_points),
+       8 * c.eighth_points.size()},
       {SectionId::kCertificate, sizeof(CertificateRecord), {}, 0},  // write_certificate()
   };
 

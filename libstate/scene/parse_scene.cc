@@ -354,9 +354,10 @@ std::optional<std::array<int, 3>> read_dims(const TableReader& r) {
 }
 
 SceneGrid parse_grid(const TableReader& r) {
-  r.allow_only({"spacing", "dims", "box", "refine_tolerance"});
+  r.allow_only({"spacing", "dims", "box", "refine_tolerance", "refine_depth"});
   SceneGrid grid;
   grid.refine_tolerance = r.number("refine_tolerance", positive());
+  grid.refine_depth = r.integer("refine_depth", closed(1, 2));
   if (const toml::node* node = r.get("spacing")) {
     if (node->is_array()) {
       auto h = r.point("spacing");

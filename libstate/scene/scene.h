@@ -102,6 +102,9 @@ struct SceneGrid {
   // > 0: the refine stage refines a cell whose estimated interpolation error exceeds it times
   // the largest force in the cell (default 1e-3; docs/scene.md).
   std::optional<double> refine_tolerance;
+  // 1 or 2: how far the refine stage refines a flagged cell, 1 the quarter-spacing lattice, 2
+  // also the eighth-spacing one (default: 2 with a contact probe, 1 with the grab probe).
+  std::optional<int> refine_depth;
 };
 
 // [levels]: when two configurations at a check-point are the same level. See level_tolerances.

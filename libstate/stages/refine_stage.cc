@@ -38,23 +38,39 @@ struct Cell {
   double scale = 0;  // the largest |force| at its corners and midpoints, N
 };
 
+// A point to solve: its catalogue index (RefinementPoint::point), its steps from the cell's
+// lowest corner and the steps per spacing (4 or 8).
+struct LatticePoint {
+  int index = 0;
+  std::array<int, 3> q{};
+  int n = 4;
+};
+
 // The corner a lattice point is solved from: the nearest (the lower one at a tie).
-int nearest_corner(int point) {
-  const int q[3] = {point / 25, point / 5 % 5, point % 5};
+int nearest_corner(const LatticePoint& p) {
   int c = 0;
-  for (int a = 0; a < 3; ++a) c |= (q[a] > 2 ? 1 : 0) << (2 - a);
+  for (int a = 0; a < 3; ++a) c |= (2 * p.q[a] > p.n ? 1 : 0) << (2 - a);
   return c;
 }
 
-// The stored points of a refined cell: the lattice points with an odd quarter index (the
-// others are the corners and the moves' midpoints), grouped by the corner they are solved from
-// (a worker then reloads a source state and its factorisation less often).
-std::vector<int> new_points() {
-  std::vector<int> out;
+// The points a refined cell stores at `depth` (1: the quarter-spacing lattice points with an odd
+// quarter index, the others being the corners and the moves' midpoints; 2: the eighth-spacing
+// ones with an odd eighth index), grouped by the corner they are solved from (a worker then
+// reloads a source state and its factorisation less often).
+std::vector<LatticePoint> new_points(int depth) {
+  const int n = depth >= 2 ? 8 : 4;
+  std::vector<LatticePoint> all;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+      for (int k = 0; k <= n; ++k) {
+        if (i % 2 == 0 && j % 2 == 0 && k % 2 == 0) continue;
+        const int index = n == 4 ? 25 * i + 5 * j + k : 125 + 81 * i + 9 * j + k;
+        all.push_back({index, {i, j, k}, n});
+      }
+  std::vector<LatticePoint> out;
   for (int c = 0; c < 8; ++c)
-    for (int p = 0; p < 125; ++p)
-      if (((p / 25) % 2 || (p / 5 % 5) % 2 || (p % 5) % 2) && nearest_corner(p) == c)
-        out.push_back(p);
+    for (const LatticePoint& p : all)
+      if (nearest_corner(p) == c) out.push_back(p);
   return out;
 }
 
@@ -117,9 +133,8 @@ class Refiner {
     return out;
   }
 
-  // Solves the new points of `cell` in parallel, each from its nearest corner.
-  std::vector<RefinementPoint> solve(const Cell& cell) {
-    static const std::vector<int> points = new_points();
+  // Solves `points` of `cell` in parallel, each from its nearest corner.
+  std::vector<RefinementPoint> solve(const Cell& cell, const std::vector<LatticePoint>& points) {
     std::vector<RefinementPoint> out(points.size());
     const Eigen::Vector3d h = ctx_.grid.spacing;
     std::atomic<std::size_t> next{0};
@@ -131,17 +146,16 @@ class Refiner {
         if (!solvers_[worker]) solvers_[worker] = std::make_unique<PathSolver>(ctx_.problem);
         PathSolver& solver = *solvers_[worker];
         for (std::size_t n = next++; n < points.size(); n = next++) {
-          const int p = points[n];
-          const int q[3] = {p / 25, p / 5 % 5, p % 5};
+          const LatticePoint& p = points[n];
           const int c = nearest_corner(p);
           const auto o = corner_offset(c);
           Eigen::Vector3d from = cell.origin, to = cell.origin;
-          for (int a = 0; a < 3; ++a) from[a] += o[a] * h[a], to[a] += 0.25 * q[a] * h[a];
+          for (int a = 0; a < 3; ++a) from[a] += o[a] * h[a], to[a] += p.q[a] * h[a] / p.n;
           probe_->set_state(solver, vectors(worker, *cell.corner[c]), from);
           const MoveResult move = probe_->move_to(solver, to);
           RefinementPoint& r = out[n];
           r.cell = cell.corner[0]->id;
-          r.point = p;
+          r.point = p.index;
           r.newton_iterations = move.iterations;
           r.wall_ms = move.wall_ms;
           if (!move.ok) {
@@ -214,6 +228,8 @@ void RefineOptions::check() const {
   if (threads < 1) throw InputError("--threads must be >= 1 (got " + std::to_string(threads) + ")");
   if (tolerance && !(*tolerance > 0))
     throw InputError("refinement tolerance must be > 0 (got " + std::to_string(*tolerance) + ")");
+  if (depth && (*depth < 1 || *depth > 2))
+    throw InputError("refinement depth must be 1 or 2 (got " + std::to_string(*depth) + ")");
 }
 
 RefineReport run_refine(const RefineOptions& options) {
@@ -225,29 +241,47 @@ RefineReport run_refine(const RefineOptions& options) {
   RefineReport report;
   report.tolerance =
       options.tolerance.value_or(ctx.scene.grid.refine_tolerance.value_or(kDefaultRefineTolerance));
+  report.depth =
+      options.depth.value_or(ctx.scene.grid.refine_depth.value_or(ctx.problem.contact ? 2 : 1));
   const NamedHashes inputs = {{"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
   char parameters[120];
-  std::snprintf(parameters, sizeof parameters, "tolerance=%.6g threads=%d", report.tolerance,
-                options.threads);
+  std::snprintf(parameters, sizeof parameters, "tolerance=%.6g depth=%d threads=%d",
+                report.tolerance, report.depth, options.threads);
   StageRunFrame frame(cat, "refine", inputs, parameters, start);
   Refiner refiner(ctx, options.threads);
-  const std::set<ConfigId> done = cat.refined_cells();
-  std::vector<Cell> pending;
+  const std::vector<LatticePoint> quarter = new_points(1), eighth = new_points(2);
+  const std::set<ConfigId> done1 = cat.refined_cells(1);
+  const std::set<ConfigId> done2 = report.depth >= 2 ? cat.refined_cells(2) : std::set<ConfigId>{};
+  struct Work {
+    Cell cell;
+    std::vector<LatticePoint> points;  // the depths it lacks
+  };
+  std::vector<Work> pending;
+  long long total_points = 0, done_points = 0;
   for (const Cell& cell : refiner.cells()) {
     ++report.cells;
     const double relative = cell.scale > 0 ? cell.error / cell.scale : 0.0;
     report.largest_error = std::max(report.largest_error, relative);
-    const bool refined = done.count(cell.corner[0]->id) > 0;
-    report.refined_before += refined;
+    const bool has1 = done1.count(cell.corner[0]->id) > 0;
+    const bool has2 = report.depth < 2 || done2.count(cell.corner[0]->id) > 0;
+    report.refined_before += has1;
     if (!(relative > report.tolerance)) continue;
     ++report.flagged;
-    if (!refined) pending.push_back(cell);
+    Work work{cell, {}};
+    if (!has1) work.points = quarter;
+    if (!has2) work.points.insert(work.points.end(), eighth.begin(), eighth.end());
+    total_points += static_cast<long long>(quarter.size());
+    if (report.depth >= 2) total_points += static_cast<long long>(eighth.size());
+    if (work.points.empty()) continue;
+    done_points -= static_cast<long long>(work.points.size());
+    pending.push_back(std::move(work));
   }
+  done_points += total_points;  // flagged cells' points solved by earlier runs
   char summary[300];
   std::snprintf(summary, sizeof summary,
                 "%lld cells, %lld above the tolerance %.3g (estimated interpolation error / "
-                "the cell's largest force; largest %.3g)",
-                report.cells, report.flagged, report.tolerance, report.largest_error);
+                "the cell's largest force; largest %.3g), depth %d",
+                report.cells, report.flagged, report.tolerance, report.largest_error, report.depth);
   // The cells in a scrambled but fixed order (by a hash of their lowest corner's id): near a
   // contact the points beside the body cost several times those farther out, and in id order
   // they would come last, so the progress line's rate, and its ETA, would be the cheap cells'.
@@ -259,27 +293,24 @@ RefineReport run_refine(const RefineOptions& options) {
     return x ^ (x >> 31);
   };
   std::sort(pending.begin(), pending.end(),
-            [&](const Cell& a, const Cell& b) { return scrambled(a) < scrambled(b); });
+            [&](const Work& a, const Work& b) { return scrambled(a.cell) < scrambled(b.cell); });
   if (pending.empty()) {
     return frame.unchanged(report, std::string("nothing to do: ") + summary + ", " +
                                        std::to_string(report.refined_before) + " refined");
   }
   frame.run(report, [&] {
-    const long long per_cell = static_cast<long long>(new_points().size());
-    Progress progress("hapstate-refine: points", per_cell * report.flagged, options.progress);
-    // Flagged cells refined by earlier runs count as done, not in the rate.
-    long long done_points = per_cell * (report.flagged - static_cast<long long>(pending.size()));
-    progress.set_resumed(done_points);
-    for (const Cell& cell : pending) {
+    Progress progress("hapstate-refine: points", total_points, options.progress);
+    progress.set_resumed(done_points);  // flagged cells refined by earlier runs: not in the rate
+    for (const Work& work : pending) {
       if (StageRunFrame::stop(report)) break;
-      const std::vector<RefinementPoint> points = refiner.solve(cell);
+      const std::vector<RefinementPoint> points = refiner.solve(work.cell, work.points);
       Transaction tx(cat);
       cat.insert_refinement_points(points);
       tx.commit();
       ++report.refined;
-      report.points += per_cell;
+      report.points += static_cast<long long>(points.size());
       for (const RefinementPoint& p : points) report.failed += !p.reached;
-      done_points += per_cell;
+      done_points += static_cast<long long>(points.size());
       progress.update(done_points, report.failed);
     }
     progress.set_note(report.stopped_by_signal ? "stopped" : "complete");

@@ -21,7 +21,10 @@ struct RefineOptions {
   std::filesystem::path state;
   int threads = 1;                  // worker threads, one PathSolver each
   std::optional<double> tolerance;  // relative, > 0; default: the scene's
-  std::FILE* progress = stderr;     // progress line; nullptr: none
+  // 1: a flagged cell's quarter-spacing lattice; 2: also its eighth-spacing one. Default: the
+  // scene's grid.refine_depth, else 2 with a contact probe and 1 with the grab probe.
+  std::optional<int> depth;
+  std::FILE* progress = stderr;  // progress line; nullptr: none
 
   // Throws InputError naming the first option out of range (run_refine calls it first).
   void check() const;
@@ -30,10 +33,11 @@ struct RefineOptions {
 // outcome: kOk, kPartial (stopped), kUnchanged.
 struct RefineReport : StageReport {
   double tolerance = 0;              // relative, as used
+  int depth = 1;                     // as used
   long long cells = 0;               // cells with all 8 corners stored
   long long flagged = 0;             // of which above the tolerance
-  long long refined_before = 0;      // flagged or not, refined by earlier runs
-  long long refined = 0;             // refined in this run
+  long long refined_before = 0;      // flagged or not, refined (depth 1) by earlier runs
+  long long refined = 0;             // cells refined (further) in this run
   long long points = 0, failed = 0;  // points solved in this run, of which failed
   double largest_error = 0;          // the largest relative estimate over the cells
 };
@@ -41,7 +45,8 @@ struct RefineReport : StageReport {
 // Finds the cells (8 stored corners joined by the moves of the lowest one; either probe) whose
 // estimated error (refine_indicator.h, the largest over the cell's 19 recorded moves) exceeds the
 // tolerance times the largest force at the cell's corners and midpoints, and solves the 98 new
-// points of each that has none yet, one cell per catalogue transaction, so a run killed or stopped
+// points of each that has none yet (depth 1) and, at depth 2, the 604 points of its eighth-spacing
+// lattice that it lacks, one cell per catalogue transaction, so a run killed or stopped
 // (stop_requested) resumes with the next cell. Each point is solved from the nearest corner's
 // stored state. Records a "refine" stage run; "unchanged" when no flagged cell is left.
 // With a contact probe each point is a contact solve from that corner, as the expansion's moves

@@ -517,7 +517,8 @@ TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
   test_util::add_refined_cells(&refined, field, {{0, 0, 0}, {-1, 0, 0}});
   ASSERT_EQ(refined.refined_points.size(), 2u * 12 * playback::kRefinedPoints);
   // Cell (0, 0, 0) borders the refined cell (-1, 0, 0) on its face x = 0 only.
-  const std::int32_t bits = refined.refined_cells[2 * refined.checkpoints[2 * 62] + 1];
+  const std::int32_t bits =
+      refined.refined_cells[playback::kRefinedCellInts * refined.checkpoints[2 * 62] + 1];
   EXPECT_EQ(bits & (1 << playback::refined_face_bit(0, 0)), 0);
   EXPECT_NE(bits & (1 << playback::refined_face_bit(0, 1)), 0);
   PlaybackFile with(write(std::move(refined), "refined.bin"));

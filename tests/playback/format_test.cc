@@ -101,9 +101,9 @@ TEST_F(PlaybackFormat, DamagedHeaderIsRefusedAtOpen) {
   b[0] = 'X';
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "bad magic");
   b = bytes_;
-  b[8] = 9;  // version 9: no certificate section
+  b[8] = 10;  // version 10: no eighth-spacing points
   expect_input_error([&] { PlaybackFile p(damaged(b)); },
-                     "format version 9, this build reads version 10 (run hapstate-index again)");
+                     "format version 10, this build reads version 11 (run hapstate-index again)");
   b = bytes_;
   b[30] ^= 1;  // section table offset, covered by the header checksum
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "header checksum mismatch");

@@ -1,5 +1,6 @@
 // The refine stage on a contact scene (tests/scenes/beam_contact.toml: the beam touched from
-// above by a sphere): hapstate-refine -> hapstate-index -> runtime. Truths: the refine rows
+// above by a sphere): hapstate-refine (first to depth 1, then resumed to the contact default,
+// depth 2) -> hapstate-index -> runtime. Truths: the refine rows
 // against the playback (the cursor passes through the solved points, also in cells near the
 // contact onset, where it fits them through the onset blend), and the precise path solver of
 // hapstate-eval (the refined file is no less accurate than the one without the refinement).
@@ -28,27 +29,41 @@ class RefineContact : public StateSuite {
     build_beam(*state_, kScene, 2, *root_);
     index_all_nodes();
     fs::copy_file(*state_ / "playback.bin", *root_ / "plain.bin");
-    first_ = new StageResult(run_stage(
+    first_ = new StageResult(
+        run_stage(HAPSTATE_REFINE_EXE,
+                  {"--state", state_->string(), "--threads", "2", "-q", "--depth", "1"}, *root_));
+    second_ = new StageResult(run_stage(
         HAPSTATE_REFINE_EXE, {"--state", state_->string(), "--threads", "2", "-q"}, *root_));
     index_all_nodes();
   }
   static void TearDownTestSuite() {
     delete first_;
+    delete second_;
     StateSuite::TearDownTestSuite();
   }
-  inline static StageResult* first_ = nullptr;
+  inline static StageResult* first_ = nullptr;   // --depth 1
+  inline static StageResult* second_ = nullptr;  // the contact default: depth 2
 };
 
 // The cells the sphere touches are refined at the default tolerance (their force has kinks
-// where the touched triangles change); the cells clear of the beam have nothing to refine.
+// where the touched triangles change); the cells clear of the beam have nothing to refine. The
+// run to depth 1 solves their quarter-spacing points; the next run, at the contact default
+// (depth 2), only their eighth-spacing ones.
 TEST_F(RefineContact, TheTouchedCellsAreRefined) {
   ASSERT_EQ(first_->exit_code, 0) << first_->err;
+  ASSERT_EQ(second_->exit_code, 0) << second_->err;
   Catalogue cat(*state_ / "catalogue.sqlite", OpenMode::kReadOnly);
-  const std::size_t refined = cat.refined_cells().size();
-  std::printf("[ info ] %s\n", first_->out.c_str());
+  const std::size_t refined = cat.refined_cells(1).size();
+  std::printf("[ info ] %s[ info ] %s\n", first_->out.c_str(), second_->out.c_str());
   EXPECT_GE(refined, 4u) << first_->out;
+  EXPECT_EQ(cat.refined_cells(2), cat.refined_cells(1));
+  EXPECT_NE(first_->out.find("(" + std::to_string(refined * 98) + " points"), std::string::npos)
+      << first_->out;
+  EXPECT_NE(second_->out.find("depth 2"), std::string::npos) << second_->out;
+  EXPECT_NE(second_->out.find("(" + std::to_string(refined * 604) + " points"), std::string::npos)
+      << second_->out;
   const std::vector<RefinementPoint> rows = cat.read_all_refinement_points();
-  EXPECT_EQ(rows.size(), refined * 98u);
+  EXPECT_EQ(rows.size(), refined * (98u + 604u));
   for (const RefinementPoint& r : rows) EXPECT_TRUE(r.reached) << r.failure_reason;
 }
 
@@ -72,8 +87,9 @@ TEST_F(RefineContact, PlaybackPassesThroughTheRefinedPointsInContact) {
   double worst = 0;
   for (std::size_t n = 0; n < rows.size(); ++n) {
     const RefinementPoint& r = rows[n];
-    const int q[3] = {r.point / 25, r.point / 5 % 5, r.point % 5};
-    if (!(q[0] % 4 && q[1] % 4 && q[2] % 4)) continue;  // on a face: the neighbour's solve too
+    const LatticeStep s = lattice_step(r.point);
+    if (!(s.q[0] % s.n && s.q[1] % s.n && s.q[2] % s.n))
+      continue;  // on a face: the neighbour's too
     if (std::hypot(r.force[0], r.force[1], r.force[2]) < 1e-3 * scale) continue;
     const Force f = force_walked_from_rest(cursor, file, at[n]);
     double error = 0;

@@ -11,8 +11,20 @@
 
 namespace hapstate::test_util {
 
-// The position (mesh units) of each row's point: its cell's lowest check-point plus its quarter
-// spacings, in the order of `rows`.
+// A row's point as steps from its cell's lowest corner: q and the steps per spacing n (4 for the
+// quarter-spacing lattice, 8 for the eighth-spacing one: RefinementPoint::point).
+struct LatticeStep {
+  std::array<int, 3> q{};
+  int n = 4;
+};
+inline LatticeStep lattice_step(int point) {
+  if (point < 125) return {{point / 25, point / 5 % 5, point % 5}, 4};
+  const int e = point - 125;
+  return {{e / 81, e / 9 % 9, e % 9}, 8};
+}
+
+// The position (mesh units) of each row's point: its cell's lowest check-point plus its lattice
+// steps, in the order of `rows`.
 inline std::vector<std::array<double, 3>> refined_point_positions(
     Catalogue& cat, const PlaybackFile& file, const std::vector<RefinementPoint>& rows) {
   std::map<std::int64_t, Checkpoint> checkpoint_of;
@@ -22,9 +34,9 @@ inline std::vector<std::array<double, 3>> refined_point_positions(
   std::vector<std::array<double, 3>> out;
   for (const RefinementPoint& r : rows) {
     const Checkpoint& cp = checkpoint_of.at(r.cell.value());
-    const int q[3] = {r.point / 25, r.point / 5 % 5, r.point % 5};
+    const LatticeStep s = lattice_step(r.point);
     std::array<double, 3> p{};
-    for (int a = 0; a < 3; ++a) p[a] = cp.position[a] + 0.25 * q[a] * h[a];
+    for (int a = 0; a < 3; ++a) p[a] = cp.position[a] + s.q[a] * h[a] / s.n;
     out.push_back(p);
   }
   return out;

@@ -231,12 +231,14 @@ inline void add_midpoint_displacements(playback::Content* c, const Field& field)
 
 // Refines the cells whose lowest corner is at each of `bases` (grid indices): the force and
 // stiffness of `field` at every point of their quarter-spacing lattice the refine stage solves,
-// through the index stage's add_refined_cells (which sets the constraint bits). Call after
-// add_midpoint_forces with stiffness.
+// and of the eighth-spacing one for those in `deep` (refinement depth 2), through the index
+// stage's add_refined_cells (which sets the constraint bits). `failed`: (base, catalogue point
+// index) pairs whose solve failed. Call after add_midpoint_forces with stiffness.
 template <class ForceField>
 void add_refined_cells(playback::Content* c, const ForceField& field,
                        const std::vector<std::array<int, 3>>& bases,
-                       const std::vector<std::pair<std::array<int, 3>, int>>& failed = {}) {
+                       const std::vector<std::pair<std::array<int, 3>, int>>& failed = {},
+                       const std::vector<std::array<int, 3>>& deep = {}) {
   const playback::Meta& m = c->meta;
   std::vector<RefinementPoint> rows;
   std::map<std::int64_t, std::int32_t> index_of;
@@ -245,11 +247,13 @@ void add_refined_cells(playback::Content* c, const ForceField& field,
   for (const auto& b : bases) {
     const int g = ((b[0] - m.lo[0]) * m.dims[1] + (b[1] - m.lo[1])) * m.dims[2] + (b[2] - m.lo[2]);
     const int config = c->checkpoints[2 * g];
-    for (int p = 0; p < playback::kRefinedPoints; ++p) {
-      const int q[3] = {p / 25, p / 5 % 5, p % 5};
+    const bool is_deep = std::find(deep.begin(), deep.end(), b) != deep.end();
+    for (int p = 0; p < (is_deep ? 125 + 729 : 125); ++p) {
+      const int n = p < 125 ? 5 : 9, e = p < 125 ? p : p - 125;
+      const int q[3] = {e / (n * n), e / n % n, e % n};
       if (q[0] % 2 == 0 && q[1] % 2 == 0 && q[2] % 2 == 0) continue;
       Eigen::Vector3d x;
-      for (int a = 0; a < 3; ++a) x[a] = m.origin[a] + (b[a] + 0.25 * q[a]) * m.spacing[a];
+      for (int a = 0; a < 3; ++a) x[a] = m.origin[a] + (b[a] + q[a] / (n - 1.0)) * m.spacing[a];
       RefinementPoint row;
       row.cell = ConfigId(config);
       row.point = p;
