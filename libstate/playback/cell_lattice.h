@@ -13,14 +13,14 @@ namespace hapstate::playback {
 // Hermite query measured 5-10 % slower: bench/cursor_ab.sh).
 namespace {
 
-// The cross derivatives at every point of L (but those where `keep` is true): along each lattice
-// line, the slope of the parabola through 3 neighbouring gradients (second order, where
-// differences between 2 points are first order). Those in a face's plane use only that face's
-// points: the force stays continuous. Zero for the triple derivative, as in the corners' cubic.
-// h: the cell's spacing.
+// The cross derivatives at point (x, y, z) of L: along each lattice line, the slope of the
+// parabola through 3 neighbouring gradients (second order, where differences between 2 points
+// are first order). Those in a face's plane use only that face's points: the force stays
+// continuous. Zero for the triple derivative, as in the corners' cubic. h: the cell's spacing.
 template <int N>
-void lattice_cross(const double* h, Lattice<N>* L, const bool (*keep)[N][N] = nullptr) {
-  auto along = [&](const int(&p)[3], int axis, int component) {
+void lattice_point_cross(const double* h, Lattice<N>* L, int x, int y, int z) {
+  const int p[3] = {x, y, z};
+  auto along = [&](int axis, int component) {
     const int first = std::clamp(p[axis] - 1, 0, N - 3);
     int q[3] = {p[0], p[1], p[2]};
     double g[3];
@@ -30,17 +30,54 @@ void lattice_cross(const double* h, Lattice<N>* L, const bool (*keep)[N][N] = nu
     }
     return lattice_derivative(g[0], g[1], g[2], p[axis] - first, 2.0 * h[axis] / (N - 1));
   };
+  for (int r = 0; r < 3; ++r)
+    for (int q = 0; q < 3; ++q) {
+      const int a = kPair[q][0], b = kPair[q][1];
+      L->cross[x][y][z][r][q] = 0.5 * (along(b, 3 * r + a) + along(a, 3 * r + b));
+    }
+}
+
+// The cross derivatives at every point of L but those where `keep` is true
+// (lattice_point_cross).
+template <int N>
+void lattice_cross(const double* h, Lattice<N>* L, const bool (*keep)[N][N] = nullptr) {
   for (int x = 0; x < N; ++x)
     for (int y = 0; y < N; ++y)
-      for (int z = 0; z < N; ++z) {
-        const int p[3] = {x, y, z};
-        if (keep && keep[x][y][z]) continue;
-        for (int r = 0; r < 3; ++r)
-          for (int q = 0; q < 3; ++q) {
-            const int a = kPair[q][0], b = kPair[q][1];
-            L->cross[x][y][z][r][q] = 0.5 * (along(p, b, 3 * r + a) + along(p, a, 3 * r + b));
-          }
+      for (int z = 0; z < N; ++z)
+        if (!keep || !keep[x][y][z]) lattice_point_cross(h, L, x, y, z);
+}
+
+// A Hermite cell's value, gradient (row-major) and cross derivatives [r][pair] (kPair) at cell
+// position t (the lattice's data at one point; hermite_lattice at 27 at once).
+template <class Coefficients>
+void hermite_point(const Coefficients& coef, const double* h, const std::array<double, 3>& t,
+                   double* value, double* gradient, double (*cross)[3]) {
+  double B[3][4], dB[3][4];
+  hermite_bases(t, h, B, dB);
+  for (int r = 0; r < 3; ++r) {
+    value[r] = 0;
+    for (int a = 0; a < 3; ++a) gradient[3 * r + a] = 0, cross[r][a] = 0;
+  }
+  for (int ix = 0; ix < 4; ++ix)
+    for (int r = 0; r < 3; ++r) {
+      double v = 0, vy = 0, vz = 0, vyz = 0;  // y and z contracted
+      for (int iy = 0; iy < 4; ++iy) {
+        const std::array<double, 4>& c = coef[ix][iy][r];
+        const double w = B[2][0] * c[0] + B[2][1] * c[1] + B[2][2] * c[2] + B[2][3] * c[3];
+        const double dw = dB[2][0] * c[0] + dB[2][1] * c[1] + dB[2][2] * c[2] + dB[2][3] * c[3];
+        v += B[1][iy] * w;
+        vy += dB[1][iy] * w;
+        vz += B[1][iy] * dw;
+        vyz += dB[1][iy] * dw;
       }
+      value[r] += B[0][ix] * v;
+      gradient[3 * r] += dB[0][ix] * v;
+      gradient[3 * r + 1] += B[0][ix] * vy;
+      gradient[3 * r + 2] += B[0][ix] * vz;
+      cross[r][0] += dB[0][ix] * vy;
+      cross[r][1] += dB[0][ix] * vz;
+      cross[r][2] += B[0][ix] * vyz;
+    }
 }
 
 // The Hermite coefficients of sub-cell `sub` of L, (x, y, z) at (x (N - 1) + y) (N - 1) + z,

@@ -159,7 +159,7 @@ Force CursorCore::force(const std::array<double, 3>& probe) {
   if (!fitted_) fit_cell();
   if (refined_ && scheme_ == Scheme::kTrilinear) {
     if (deep_)
-      lattice_trilinear_at(s, 8, eighth_->trilinear.data(), &value, &k_blend);
+      eighth_trilinear_at(s, &value, &k_blend);
     else
       lattice_trilinear_at(s, 4, quarter_trilinear_.data(), &value, &k_blend);
   } else if (refined_ && deep_) {

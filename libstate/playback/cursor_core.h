@@ -122,14 +122,21 @@ class CursorCore {
   // its quarter-spacing lattice, 25 i + 5 j + k, interpolated trilinearly on each quarter cell.
   std::array<std::array<double, 12>, 125> quarter_trilinear_{};
   // A refined cell with an eighth-spacing lattice (refinement depth 2): allocated at
-  // construction when the file has any, used when deep_.
+  // construction when the file has any, used when deep_. Its points are fitted lazily, those an
+  // eighth cell needs when the probe enters it (fit_eighth_cell).
   struct EighthCell {
-    Lattice<9> lattice;     // Hermite: the data at its 729 points
-    bool exact[9][9][9];    // a point that keeps the quarter cells' interpolant's cross derivatives
+    Lattice<9> lattice;   // Hermite: the data at its 729 points
+    bool exact[9][9][9];  // a point that keeps the quarter cells' interpolant's data
+    // Hermite, per point: 0 nothing yet, 1 value and gradient, 2 the gradient limited, 3 the
+    // cross derivatives (eighth_point).
+    std::uint8_t stage[9][9][9];
+    const double* stored = nullptr;  // the cell's solved points (section 23)
+    std::int32_t constraints = 0;    // its eighth-level constraint bits
     CellCoefficients coef;  // of eighth-spacing sub-cell `sub`, fitted when the probe enters it
     int sub = -1;
-    // kTrilinear: the force and the stiffness at its points, 81 i + 9 j + k.
+    // kTrilinear: the force and the stiffness at its points, 81 i + 9 j + k, where ready.
     std::array<std::array<double, 12>, 729> trilinear;
+    bool trilinear_ready[9][9][9];
   };
   std::unique_ptr<EighthCell> eighth_;
   bool deep_ = false;  // the refined cell has an eighth-spacing lattice, fitted into eighth_
@@ -148,8 +155,13 @@ class CursorCore {
   std::int32_t eighth_slot() const;
   void fit_eighth_cell(std::int32_t slot);
   void fit_eighth_trilinear(std::int32_t slot);
+  void eighth_point(int i, int j, int k, int stage);
+  void eighth_base(int i, int j, int k);
+  void eighth_trilinear_point(int i, int j, int k);
   void eighth_at(const std::array<double, 3>& s, std::array<double, 3>* value,
                  std::array<double, 9>* slope);
+  void eighth_trilinear_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+                           std::array<double, 9>* k);
   void trilinear_at(const std::array<double, 3>& s, double* value, double* stiffness) const;
   void find_midpoint_displacements(const MidpointTarget* targets);
   void fit_cell_bubbles(const MidpointTarget* targets);

@@ -32,46 +32,40 @@ bool constrained(const int (&p)[3], int last, std::int32_t constraints) {
   return false;
 }
 
-// The slopes of an eighth-spacing lattice's solved points limited by the values around them
-// (docs/playback.md, "Refined cells"): a solved stiffness is the derivative on one side of a kink
-// of the contact force (a triangle starting to carry force), which can be several times the
+// The slope of an eighth-spacing lattice's solved point (i, j, k) limited by the values around
+// it (docs/playback.md, "Refined cells"): a solved stiffness is the derivative on one side of a
+// kink of the contact force (a triangle starting to carry force), which can be several times the
 // force's slope a lattice step away, and a cubic through it overshoots by about that difference
-// times the step. Each entry (component r, axis a) of a solved point's gradient is clamped into
-// the interval spanned by the backward and the forward difference of the values along a, widened
-// each way by half its width plus a tenth of the largest difference at the point: for a smooth
-// force the derivative lies in it (the differences err by the step squared), so the points keep
-// their solved stiffness there. Points on the lattice's boundary along a, those of the
-// quarter-spacing lattice and those without a solve (`exact`) keep theirs.
-void limit_eighth_slopes(const double* h, Lattice<9>* L, const bool (&exact)[9][9][9]) {
-  double step[3];
-  for (int a = 0; a < 3; ++a) step[a] = h[a] / 8.0;
-  for (int i = 0; i < 9; ++i)
-    for (int j = 0; j < 9; ++j)
-      for (int k = 0; k < 9; ++k) {
-        if ((i % 2 == 0 && j % 2 == 0 && k % 2 == 0) || exact[i][j][k]) continue;
-        const int p[3] = {i, j, k};
-        double back[3][3] = {}, ahead[3][3] = {}, scale = 0;  // [r][a]
-        for (int a = 0; a < 3; ++a) {
-          if (p[a] == 0 || p[a] == 8) continue;
-          int lo[3] = {i, j, k}, hi[3] = {i, j, k};
-          --lo[a], ++hi[a];
-          for (int r = 0; r < 3; ++r) {
-            const double v = L->value[i][j][k][r];
-            back[r][a] = (v - L->value[lo[0]][lo[1]][lo[2]][r]) / step[a];
-            ahead[r][a] = (L->value[hi[0]][hi[1]][hi[2]][r] - v) / step[a];
-            scale = std::max({scale, std::abs(back[r][a]), std::abs(ahead[r][a])});
-          }
-        }
-        for (int a = 0; a < 3; ++a) {
-          if (p[a] == 0 || p[a] == 8) continue;
-          for (int r = 0; r < 3; ++r) {
-            const double slack = 0.5 * std::abs(ahead[r][a] - back[r][a]) + 0.1 * scale;
-            double& g = L->gradient[i][j][k][3 * r + a];  // values only are read: in place
-            g = std::clamp(g, std::min(back[r][a], ahead[r][a]) - slack,
-                           std::max(back[r][a], ahead[r][a]) + slack);
-          }
-        }
-      }
+// times the step. Each entry (component r, axis a) of the gradient is clamped into the interval
+// spanned by the backward and the forward difference of the values along a, widened each way by
+// half its width plus a tenth of the largest difference at the point: for a smooth force the
+// derivative lies in it (the differences err by the step squared), so the point keeps its solved
+// stiffness there. Along an axis where the point is on the lattice's boundary it keeps it too.
+// Reads the values of the point and its 6 neighbours.
+void limit_eighth_slope(const double* h, Lattice<9>* L, int i, int j, int k) {
+  const int p[3] = {i, j, k};
+  double back[3][3] = {}, ahead[3][3] = {}, scale = 0;  // [r][a]
+  for (int a = 0; a < 3; ++a) {
+    if (p[a] == 0 || p[a] == 8) continue;
+    int lo[3] = {i, j, k}, hi[3] = {i, j, k};
+    --lo[a], ++hi[a];
+    const double step = h[a] / 8.0;
+    for (int r = 0; r < 3; ++r) {
+      const double v = L->value[i][j][k][r];
+      back[r][a] = (v - L->value[lo[0]][lo[1]][lo[2]][r]) / step;
+      ahead[r][a] = (L->value[hi[0]][hi[1]][hi[2]][r] - v) / step;
+      scale = std::max({scale, std::abs(back[r][a]), std::abs(ahead[r][a])});
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (p[a] == 0 || p[a] == 8) continue;
+    for (int r = 0; r < 3; ++r) {
+      const double slack = 0.5 * std::abs(ahead[r][a] - back[r][a]) + 0.1 * scale;
+      double& g = L->gradient[i][j][k][3 * r + a];
+      g = std::clamp(g, std::min(back[r][a], ahead[r][a]) - slack,
+                     std::max(back[r][a], ahead[r][a]) + slack);
+    }
+  }
 }
 
 }  // namespace
@@ -180,79 +174,122 @@ void CursorCore::fit_refined_cell(std::int32_t slot) {
 // down. Its 729 points take the quarter cells' interpolant's value, gradient and cross
 // derivatives; the points of the quarter-spacing lattice keep their value and gradient, the
 // others take the solved force and stiffness (clamped and fitted through the onset blend as in
-// fit_refined_cell); the cross derivatives are recomputed along the lattice lines but at the
-// points that keep the quarter cells' interpolant (on a face or an edge whose neighbour has no
-// eighth-spacing lattice, a point without a solve): the eighth cells there reproduce the quarter
-// cells' cubic, so the force stays continuous. The eighth cells' coefficients are fitted one at
-// a time as the probe enters them (eighth_at).
+// fit_refined_cell), their slopes limited by the values around them (limit_eighth_slope); the
+// cross derivatives are recomputed along the lattice lines but at the points that keep the
+// quarter cells' interpolant (on a face or an edge whose neighbour has no eighth-spacing
+// lattice, a point without a solve): the eighth cells there reproduce the quarter cells' cubic,
+// so the force stays continuous. Entering the cell fits nothing yet: an eighth cell's points,
+// and the points their cross derivatives and slopes read, are fitted when the probe enters it
+// (eighth_at), so a query pays for a few dozen points, not 729.
 void CursorCore::fit_eighth_cell(std::int32_t slot) {
   const PlaybackFile::Impl& f = file_.impl();
-  const playback::Meta& m = *f.meta;
-  const std::int32_t constraints =
-      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 3];
-  const double* stored = f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(slot);
-  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
-  const double quarter[3] = {0.25 * m.spacing[0], 0.25 * m.spacing[1], 0.25 * m.spacing[2]};
   EighthCell& E = *eighth_;
-  Lattice<9>& L = E.lattice;
-  // The quarter cells' interpolant at their own 3^3 lattices, which together are this one (a
-  // point shared by quarter cells has the same data in each: the interpolant's value, gradient
-  // and cross derivatives are continuous across their faces).
-  for (int sub = 0; sub < 64; ++sub) {
-    const int q[3] = {sub / 16, sub / 4 % 4, sub % 4};
-    double v[3][3][3][3], g[3][3][3][9], c[3][3][3][3][3];
-    hermite_lattice(quarter_coef_[sub], quarter, v, g, &c);
-    for (int x = 0; x < 3; ++x)
-      for (int y = 0; y < 3; ++y)
-        for (int z = 0; z < 3; ++z) {
-          const int i = 2 * q[0] + x, j = 2 * q[1] + y, k = 2 * q[2] + z;
-          std::copy_n(v[x][y][z], 3, L.value[i][j][k]);
-          std::copy_n(g[x][y][z], 9, L.gradient[i][j][k]);
-          for (int r = 0; r < 3; ++r) std::copy_n(c[x][y][z][r], 3, L.cross[i][j][k][r]);
-        }
-  }
-  for (int i = 0; i < 9; ++i)
-    for (int j = 0; j < 9; ++j)
-      for (int k = 0; k < 9; ++k) {
-        const int p[3] = {i, j, k};
-        const double* data = stored + 12 * (81 * i + 9 * j + k);
-        const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
-        bool& exact = E.exact[i][j][k];
-        exact = constrained(p, 8, constraints) || (!lattice && !finite(data, 12));
-        if (lattice || exact) continue;
-        double target[12];
-        if (!refined_target(p, 0.125, data, target)) {
-          exact = true;
-          continue;
-        }
-        double* v = L.value[i][j][k];
-        double* g = L.gradient[i][j][k];
-        for (int r = 0; r < 3; ++r) v[r] += std::clamp(target[r] - v[r], -limit, limit);
-        for (int e = 0; e < 9; ++e)
-          g[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
-      }
-  limit_eighth_slopes(m.spacing, &L, E.exact);
-  lattice_cross(m.spacing, &L, E.exact);
+  E.constraints =
+      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 3];
+  E.stored = f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(slot);
+  std::fill_n(&E.stage[0][0][0], 729, std::uint8_t{0});
   E.sub = -1;
   deep_ = true;
 }
 
+// Point (i, j, k) of the eighth-spacing lattice: the quarter cells' interpolant there (any quarter
+// cell holding the point gives the same data: value, gradient and cross derivatives are
+// continuous across their faces) and, at a solved point, the solve's force and stiffness.
+void CursorCore::eighth_base(int i, int j, int k) {
+  const playback::Meta& m = *file_.impl().meta;
+  EighthCell& E = *eighth_;
+  Lattice<9>& L = E.lattice;
+  const int p[3] = {i, j, k};
+  const double quarter[3] = {0.25 * m.spacing[0], 0.25 * m.spacing[1], 0.25 * m.spacing[2]};
+  int sub = 0;
+  std::array<double, 3> t{};
+  for (int a = 0; a < 3; ++a) {
+    const int q = std::min(p[a] / 2, 3);
+    sub = 4 * sub + q;
+    t[a] = 0.5 * (p[a] - 2 * q);
+  }
+  hermite_point(quarter_coef_[sub], quarter, t, L.value[i][j][k], L.gradient[i][j][k],
+                L.cross[i][j][k]);
+  const double* data = E.stored + 12 * (81 * i + 9 * j + k);
+  const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
+  bool& exact = E.exact[i][j][k];
+  exact = constrained(p, 8, E.constraints) || (!lattice && !finite(data, 12));
+  if (lattice || exact) return;
+  double target[12];
+  if (!refined_target(p, 0.125, data, target)) {
+    exact = true;
+    return;
+  }
+  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
+  double* v = L.value[i][j][k];
+  double* g = L.gradient[i][j][k];
+  for (int r = 0; r < 3; ++r) v[r] += std::clamp(target[r] - v[r], -limit, limit);
+  for (int e = 0; e < 9; ++e)
+    g[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+}
+
+// Brings point (i, j, k) of the eighth-spacing lattice to `stage` (EighthCell::stage): its
+// limited slope reads its neighbours' values, its cross derivatives the limited gradients along
+// its lattice lines.
+void CursorCore::eighth_point(int i, int j, int k, int stage) {
+  EighthCell& E = *eighth_;
+  std::uint8_t& at = E.stage[i][j][k];
+  if (at >= stage) return;
+  const int p[3] = {i, j, k};
+  if (at < 1) {
+    eighth_base(i, j, k);
+    at = 1;
+  }
+  const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
+  const double* h = file_.impl().meta->spacing;
+  if (stage >= 2 && at < 2) {
+    if (!lattice && !E.exact[i][j][k]) {
+      for (int a = 0; a < 3; ++a)
+        for (int d = -1; d <= 1; d += 2) {
+          int q[3] = {i, j, k};
+          q[a] += d;
+          if (q[a] >= 0 && q[a] <= 8) eighth_point(q[0], q[1], q[2], 1);
+        }
+      limit_eighth_slope(h, &E.lattice, i, j, k);
+    }
+    at = 2;
+  }
+  if (stage >= 3 && at < 3) {
+    if (!E.exact[i][j][k]) {
+      for (int a = 0; a < 3; ++a) {
+        const int first = std::clamp(p[a] - 1, 0, 6);
+        for (int n = 0; n < 3; ++n) {
+          int q[3] = {i, j, k};
+          q[a] = first + n;
+          eighth_point(q[0], q[1], q[2], 2);
+        }
+      }
+      lattice_point_cross(h, &E.lattice, i, j, k);
+    }
+    at = 3;
+  }
+}
+
 // The eighth-spacing Hermite cell holding s in a deep refined cell: its value and derivative (its
-// coefficients fitted when the probe enters it).
+// points and coefficients fitted when the probe enters it).
 void CursorCore::eighth_at(const std::array<double, 3>& s, std::array<double, 3>* value,
                            std::array<double, 9>* slope) {
   const double* h = file_.impl().meta->spacing;
   EighthCell& E = *eighth_;
-  int sub = 0;
+  int sub = 0, lo[3];
   std::array<double, 3> t{};
   double spacing[3], B[3][4], dB[3][4];
   for (int a = 0; a < 3; ++a) {
-    const int i = std::min(static_cast<int>(8.0 * s[a]), 7);
-    sub = 8 * sub + i;
-    t[a] = std::min(8.0 * s[a] - i, 1.0);
+    lo[a] = std::min(static_cast<int>(8.0 * s[a]), 7);
+    sub = 8 * sub + lo[a];
+    t[a] = std::min(8.0 * s[a] - lo[a], 1.0);
     spacing[a] = h[a] / 8.0;
   }
   if (sub != E.sub) {
+    for (int c = 0; c < 8; ++c) {
+      const auto o = corner_offset(c);
+      eighth_point(lo[0] + o[0], lo[1] + o[1], lo[2] + o[2], 3);
+    }
     sub_cell_coefficient(E.lattice, sub, &E.coef);
     E.sub = sub;
   }
@@ -300,35 +337,52 @@ void CursorCore::fit_refined_trilinear(std::int32_t slot) {
 // force and stiffness (as in fit_refined_trilinear, against the quarter-spacing trilinear
 // interpolant), or where there is none, at the points of the quarter-spacing lattice and on a
 // face or an edge whose neighbour has no eighth-spacing lattice, that interpolant's value and
-// stiffness: trilinear on each quarter cell, so the eighth cells reproduce it there.
+// stiffness: trilinear on each quarter cell, so the eighth cells reproduce it there. The points
+// are fitted when the probe enters an eighth cell holding them (eighth_trilinear_at).
 void CursorCore::fit_eighth_trilinear(std::int32_t slot) {
   const PlaybackFile::Impl& f = file_.impl();
-  const playback::Meta& m = *f.meta;
-  const std::int32_t constraints =
+  EighthCell& E = *eighth_;
+  E.constraints =
       f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 3];
-  const double* stored = f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(slot);
-  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
-  for (int i = 0; i < 9; ++i)
-    for (int j = 0; j < 9; ++j)
-      for (int k = 0; k < 9; ++k) {
-        const int p[3] = {i, j, k};
-        std::array<double, 12>& out = eighth_->trilinear[81 * i + 9 * j + k];
-        std::array<double, 3> value{};
-        std::array<double, 9> stiffness{};
-        lattice_trilinear_at({0.125 * i, 0.125 * j, 0.125 * k}, 4, quarter_trilinear_.data(),
-                             &value, &stiffness);
-        std::copy(value.begin(), value.end(), out.begin());
-        std::copy(stiffness.begin(), stiffness.end(), out.begin() + 3);
-        const double* data = stored + 12 * (81 * i + 9 * j + k);
-        const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
-        double target[12];
-        if (lattice || constrained(p, 8, constraints) || !finite(data, 12) ||
-            !refined_target(p, 0.125, data, target))
-          continue;
-        for (int r = 0; r < 3; ++r) out[r] += std::clamp(target[r] - out[r], -limit, limit);
-        for (int e = 0; e < 9; ++e)
-          out[3 + e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
-      }
+  E.stored = f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(slot);
+  std::fill_n(&E.trilinear_ready[0][0][0], 729, false);
   deep_ = true;
+}
+
+void CursorCore::eighth_trilinear_point(int i, int j, int k) {
+  EighthCell& E = *eighth_;
+  if (E.trilinear_ready[i][j][k]) return;
+  E.trilinear_ready[i][j][k] = true;
+  const playback::Meta& m = *file_.impl().meta;
+  const int p[3] = {i, j, k};
+  std::array<double, 12>& out = E.trilinear[81 * i + 9 * j + k];
+  std::array<double, 3> value{};
+  std::array<double, 9> stiffness{};
+  lattice_trilinear_at({0.125 * i, 0.125 * j, 0.125 * k}, 4, quarter_trilinear_.data(), &value,
+                       &stiffness);
+  std::copy(value.begin(), value.end(), out.begin());
+  std::copy(stiffness.begin(), stiffness.end(), out.begin() + 3);
+  const double* data = E.stored + 12 * (81 * i + 9 * j + k);
+  const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
+  double target[12];
+  if (lattice || constrained(p, 8, E.constraints) || !finite(data, 12) ||
+      !refined_target(p, 0.125, data, target))
+    return;
+  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
+  for (int r = 0; r < 3; ++r) out[r] += std::clamp(target[r] - out[r], -limit, limit);
+  for (int e = 0; e < 9; ++e)
+    out[3 + e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+}
+
+// The eighth-spacing trilinear cell holding s in a deep refined cell (its 8 points fitted first).
+void CursorCore::eighth_trilinear_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+                                     std::array<double, 9>* k) {
+  int lo[3];
+  for (int a = 0; a < 3; ++a) lo[a] = std::min(static_cast<int>(8.0 * s[a]), 7);
+  for (int c = 0; c < 8; ++c) {
+    const auto o = corner_offset(c);
+    eighth_trilinear_point(lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]);
+  }
+  lattice_trilinear_at(s, 8, eighth_->trilinear.data(), value, k);
 }
 }  // namespace hapstate::playback
