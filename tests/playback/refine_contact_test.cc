@@ -106,11 +106,10 @@ TEST_F(RefineContact, PlaybackPassesThroughTheRefinedPointsInContact) {
 }
 
 // Against precise solves along random paths pulled toward the beam (seeds 1-6 of 30 steps):
-// with the refinement the force error of both schemes is lower on average over the steps, and
-// every path stays within 1 % of its largest force with Hermite. (Path by path the largest error is
-// not always lower: on this flat beam the half cells already hold it below 0.5 %, and a quarter
-// cell next to a kink of the contact force can err more than the half cell it replaces:
-// docs/contact.md, "Refined contact cells".)
+// with the refinement (depth 2) the force error of both schemes is lower on average over the
+// steps, and every path stays within 1 % of its largest force with Hermite (measured: mean
+// 0.48e-3 against 0.82e-3 unrefined, largest path 0.38 %; 3.7 % without the eighth-spacing
+// points' slope limit: docs/contact.md, "Refined contact cells").
 TEST_F(RefineContact, RefinedFileIsMoreAccurateOnAverage) {
   double sum_refined = 0, sum_plain = 0, worst_refined = 0, tri_refined = 0, tri_plain = 0;
   int steps = 0;
