@@ -46,7 +46,8 @@ int main(int argc, char** argv) {
       for (std::size_t i = 1; i < path.size(); ++i)
         for (int k = 1; k <= 10; ++k) {
           std::array<double, 3> p{};
-          for (int a = 0; a < 3; ++a) p[a] = path[i - 1][a] + (path[i][a] - path[i - 1][a]) * k / 10.0;
+          for (int a = 0; a < 3; ++a)
+            p[a] = path[i - 1][a] + (path[i][a] - path[i - 1][a]) * k / 10.0;
           const auto t0 = Clock::now();
           cursor.force(p);
           const auto t1 = Clock::now();
@@ -57,10 +58,12 @@ int main(int argc, char** argv) {
     std::vector<double> slow;
     for (double t : ns)
       if (t > 5e3) slow.push_back(t);
-    std::printf("%-9s %zu calls: median %.0f ns, p99.9 %.0f ns, largest %.0f ns; %zu over 5 us (median %.0f ns)\n",
-                scheme == Scheme::kHermite ? "hermite" : "trilinear", ns.size(), ns[ns.size() / 2],
-                ns[ns.size() * 999 / 1000], ns.back(), slow.size(),
-                slow.empty() ? 0.0 : slow[slow.size() / 2]);
+    std::printf(
+        "%-9s %zu calls: median %.0f ns, p99.9 %.0f ns, largest %.0f ns; %zu over 5 us (median "
+        "%.0f ns)\n",
+        scheme == Scheme::kHermite ? "hermite" : "trilinear", ns.size(), ns[ns.size() / 2],
+        ns[ns.size() * 999 / 1000], ns.back(), slow.size(),
+        slow.empty() ? 0.0 : slow[slow.size() / 2]);
   }
   return 0;
 }

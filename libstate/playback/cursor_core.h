@@ -123,7 +123,7 @@ class CursorCore {
   std::array<std::array<double, 12>, 125> quarter_trilinear_{};
   // A refined cell with an eighth-spacing lattice (refinement depth 2): allocated at
   // construction when the file has any, used when deep_. Its points are fitted lazily, those an
-  // eighth cell needs when the probe enters it (fit_eighth_cell).
+  // eighth cell needs when the probe enters it (fit_eighth).
   struct EighthCell {
     Lattice<9> lattice;   // Hermite: the data at its 729 points
     bool exact[9][9][9];  // a point that keeps the quarter cells' interpolant's data
@@ -153,8 +153,7 @@ class CursorCore {
   bool refined_target(const int (&p)[3], double step, const double* data, double* out) const;
   void fit_refined_trilinear(std::int32_t slot);
   std::int32_t eighth_slot() const;
-  void fit_eighth_cell(std::int32_t slot);
-  void fit_eighth_trilinear(std::int32_t slot);
+  void fit_eighth(std::int32_t slot);
   void eighth_point(int i, int j, int k, int stage);
   void eighth_base(int i, int j, int k);
   void eighth_trilinear_point(int i, int j, int k);

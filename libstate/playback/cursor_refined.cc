@@ -167,7 +167,7 @@ void CursorCore::fit_refined_cell(std::int32_t slot) {
   sub_cell_coefficients(Q, quarter_coef_.data());
   refined_ = true;
   const std::int32_t deep = eighth_slot();
-  if (deep >= 0) fit_eighth_cell(deep);
+  if (deep >= 0) fit_eighth(deep);
 }
 
 // A refined cell's eighth-spacing lattice (depth 2): the quarter cells' construction one level
@@ -178,16 +178,18 @@ void CursorCore::fit_refined_cell(std::int32_t slot) {
 // cross derivatives are recomputed along the lattice lines but at the points that keep the
 // quarter cells' interpolant (on a face or an edge whose neighbour has no eighth-spacing
 // lattice, a point without a solve): the eighth cells there reproduce the quarter cells' cubic,
-// so the force stays continuous. Entering the cell fits nothing yet: an eighth cell's points,
-// and the points their cross derivatives and slopes read, are fitted when the probe enters it
-// (eighth_at), so a query pays for a few dozen points, not 729.
-void CursorCore::fit_eighth_cell(std::int32_t slot) {
+// so the force stays continuous. Entering the cell fits nothing yet (either scheme): an eighth
+// cell's points, and the points their cross derivatives and slopes read, are fitted when the
+// probe enters it (eighth_at, eighth_trilinear_at), so a query pays for a few dozen points, not
+// 729.
+void CursorCore::fit_eighth(std::int32_t slot) {
   const PlaybackFile::Impl& f = file_.impl();
   EighthCell& E = *eighth_;
   E.constraints =
       f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 3];
   E.stored = f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(slot);
   std::fill_n(&E.stage[0][0][0], 729, std::uint8_t{0});
+  std::fill_n(&E.trilinear_ready[0][0][0], 729, false);
   E.sub = -1;
   deep_ = true;
 }
@@ -330,25 +332,14 @@ void CursorCore::fit_refined_trilinear(std::int32_t slot) {
       }
   refined_ = true;
   const std::int32_t deep = eighth_slot();
-  if (deep >= 0) fit_eighth_trilinear(deep);
+  if (deep >= 0) fit_eighth(deep);
 }
 
-// A deep refined cell with kTrilinear: each point of the eighth-spacing lattice takes the solved
-// force and stiffness (as in fit_refined_trilinear, against the quarter-spacing trilinear
+// A deep refined cell with kTrilinear: point (i, j, k) of the eighth-spacing lattice takes the
+// solved force and stiffness (as in fit_refined_trilinear, against the quarter-spacing trilinear
 // interpolant), or where there is none, at the points of the quarter-spacing lattice and on a
 // face or an edge whose neighbour has no eighth-spacing lattice, that interpolant's value and
-// stiffness: trilinear on each quarter cell, so the eighth cells reproduce it there. The points
-// are fitted when the probe enters an eighth cell holding them (eighth_trilinear_at).
-void CursorCore::fit_eighth_trilinear(std::int32_t slot) {
-  const PlaybackFile::Impl& f = file_.impl();
-  EighthCell& E = *eighth_;
-  E.constraints =
-      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 3];
-  E.stored = f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(slot);
-  std::fill_n(&E.trilinear_ready[0][0][0], 729, false);
-  deep_ = true;
-}
-
+// stiffness: trilinear on each quarter cell, so the eighth cells reproduce it there.
 void CursorCore::eighth_trilinear_point(int i, int j, int k) {
   EighthCell& E = *eighth_;
   if (E.trilinear_ready[i][j][k]) return;

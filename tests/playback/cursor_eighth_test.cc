@@ -30,22 +30,6 @@ Eigen::Matrix3d mat(const std::array<double, 9>& a) {
 }
 std::array<double, 3> arr(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
 
-// The field with a small perturbation: a point used where the coarser interpolant belongs (a
-// constraint missed) shows as a jump of about 1e-3 N.
-struct Perturbed {
-  const Field& f;
-  Eigen::Vector3d force(const Eigen::Vector3d& p) const {
-    return f.force(p) +
-           1e-3 * Eigen::Vector3d(std::sin(3 * p[0]), std::cos(2 * p[1]), std::sin(p[2]));
-  }
-  Eigen::Matrix3d jacobian(const Eigen::Vector3d& p) const {
-    return f.jacobian(p) + Eigen::Vector3d(3e-3 * std::cos(3 * p[0]), -2e-3 * std::sin(2 * p[1]),
-                                           1e-3 * std::cos(p[2]))
-                               .asDiagonal()
-                               .toDenseMatrix();
-  }
-};
-
 class EighthLattice : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -155,7 +139,7 @@ TEST_F(EighthLattice, PassesThroughItsPointsAndIsMoreAccurate) {
 TEST_F(EighthLattice, StaysContinuousAndItsStiffnessIsTheDerivative) {
   // Perturbed points; two points of the deep pair's shared face failed in one of the two cells.
   PlaybackFile file(write(
-      content(Perturbed{field_}, true,
+      content(test_util::Perturbed<Field>{field_}, true,
               {{{0, 0, 0}, 125 + 0 * 81 + 9 * 3 + 5}, {{-1, 0, 0}, 125 + 8 * 81 + 9 * 1 + 2}}),
       "perturbed.bin"));
   file.verify();

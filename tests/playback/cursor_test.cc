@@ -599,22 +599,10 @@ TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
   EXPECT_LT(max_jump(trilinear), 1e-7);
   // Its refined points from a perturbed field, so that a refined point used where the half
   // cells' interpolant belongs (a constraint missed) shows as a jump of about 1e-3 N.
-  struct Perturbed {
-    const Field& f;
-    Eigen::Vector3d force(const Eigen::Vector3d& p) const {
-      return f.force(p) +
-             1e-3 * Eigen::Vector3d(std::sin(3 * p[0]), std::cos(2 * p[1]), std::sin(p[2]));
-    }
-    Eigen::Matrix3d jacobian(const Eigen::Vector3d& p) const {
-      return f.jacobian(p) + Eigen::Vector3d(3e-3 * std::cos(3 * p[0]), -2e-3 * std::sin(2 * p[1]),
-                                             1e-3 * std::cos(p[2]))
-                                 .asDiagonal()
-                                 .toDenseMatrix();
-    }
-  };
   playback::Content l_shape = test_util::synthetic_content(field, h);
   test_util::add_midpoint_forces(&l_shape, field, true);
-  test_util::add_refined_cells(&l_shape, Perturbed{field}, {{0, 0, 0}, {-1, 0, 0}, {0, -1, 0}},
+  test_util::add_refined_cells(&l_shape, test_util::Perturbed<Field>{field},
+                               {{0, 0, 0}, {-1, 0, 0}, {0, -1, 0}},
                                {{{0, 0, 0}, 0 * 25 + 5 * 1 + 1}, {{-1, 0, 0}, 4 * 25 + 5 * 3 + 2}});
   PlaybackFile l_file(write(std::move(l_shape), "l_shape.bin"));
   HapticCursor l_cursor(l_file, Scheme::kHermite);

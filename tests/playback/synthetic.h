@@ -270,6 +270,23 @@ void add_refined_cells(playback::Content* c, const ForceField& field,
   hapstate::add_refined_cells(rows, index_of, c);
 }
 
+// `field` with a small smooth perturbation: refined points taken from it where the coarser
+// interpolant belongs (a constraint missed) show as a jump of about 1e-3 N.
+template <class ForceField>
+struct Perturbed {
+  const ForceField& f;
+  Eigen::Vector3d force(const Eigen::Vector3d& p) const {
+    return f.force(p) +
+           1e-3 * Eigen::Vector3d(std::sin(3 * p[0]), std::cos(2 * p[1]), std::sin(p[2]));
+  }
+  Eigen::Matrix3d jacobian(const Eigen::Vector3d& p) const {
+    return f.jacobian(p) + Eigen::Vector3d(3e-3 * std::cos(3 * p[0]), -2e-3 * std::sin(2 * p[1]),
+                                           1e-3 * std::cos(p[2]))
+                               .asDiagonal()
+                               .toDenseMatrix();
+  }
+};
+
 // Grid direction index of offset (di, dj, dk) (catalogue/direction.h numbering).
 inline int direction_of(int di, int dj, int dk) {
   const int c = 9 * (di + 1) + 3 * (dj + 1) + (dk + 1);
