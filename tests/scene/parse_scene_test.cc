@@ -173,6 +173,11 @@ TEST_F(ParseScene, GridSpacingPerAxisAndContactProbe) {
   EXPECT_EQ(s.probe.mode, ProbeMode::kContact);
   EXPECT_EQ(s.probe.radius, 0.3);
   EXPECT_EQ(s.probe.friction, Friction::kNone);  // frictionless sliding by default
+  EXPECT_FALSE(s.grid.refine_depth);  // the refine stage's default: 2 with contact
+  EXPECT_EQ(parse(replace_once(text, "spacing = [0.5, 0.25, 1]",
+                               "spacing = [0.5, 0.25, 1]\nrefine_depth = 1"))
+                .grid.refine_depth,
+            1);
   EXPECT_EQ(parse(replace_once(text, "radius = 0.3", "radius = 0.3\nfriction = \"stick\""))
                 .probe.friction,
             Friction::kStick);
@@ -244,6 +249,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"max_force = 3.0", "max_force = 0.0", 15,
                 "key 'probe.max_force' = 0.0: must be > 0"},
         BadCase{"spacing = 0.25", "spacing = -0.25", 18, "key 'grid.spacing' = -0.25: must be > 0"},
+        BadCase{"spacing = 0.25", "spacing = 0.25\nrefine_depth = 3", 19,
+                "key 'grid.refine_depth' = 3: must be in [1, 2]"},
         BadCase{"spacing = 0.25", "spacing = [0.25, 0.0, 0.25]", 18,
                 "key 'grid.spacing' = [0.25, 0.0, 0.25]: every component must be > 0"},
         BadCase{"spacing = 0.25", "dims = [1, 4, 4]\nbox = [[0, 0, 0], [1, 1, 1]]", 18,
