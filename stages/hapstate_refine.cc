@@ -42,8 +42,8 @@ int main(int argc, char** argv) {
       ->check(positive());
   app.add_option("--depth", depth,
                  "1: solve a flagged cell's quarter-spacing points; 2: also its eighth-spacing "
-                 "ones (default: the scene's grid.refine_depth, else 2 with a contact probe, 1 "
-                 "with the grab probe)")
+                 "ones (default: the scene's grid.refine_depth, else 2 for a contact sphere whose "
+                 "radius is under 10 grid spacings, 1 otherwise)")
       ->check(CLI::Range(1, 2));
   app.add_flag("-q,--quiet", quiet, "no progress line");
   try {

@@ -103,7 +103,7 @@ struct SceneGrid {
   // the largest force in the cell (default 1e-3; docs/scene.md).
   std::optional<double> refine_tolerance;
   // 1 or 2: how far the refine stage refines a flagged cell, 1 the quarter-spacing lattice, 2
-  // also the eighth-spacing one (default: 2 with a contact probe, 1 with the grab probe).
+  // also the eighth-spacing one (default: run_refine's default_refine_depth).
   std::optional<int> refine_depth;
 };
 

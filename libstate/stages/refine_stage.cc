@@ -223,6 +223,10 @@ class Refiner {
 
 }  // namespace
 
+int default_refine_depth(double radius, double spacing) {
+  return radius > 0 && spacing > kDeepRefineRatio * radius ? 2 : 1;
+}
+
 void RefineOptions::check() const {
   if (state.empty()) throw InputError("--state: no state directory given");
   if (threads < 1) throw InputError("--threads must be >= 1 (got " + std::to_string(threads) + ")");

@@ -1,13 +1,14 @@
 // The refine stage on a contact scene (tests/scenes/beam_contact.toml: the beam touched from
-// above by a sphere): hapstate-refine (first to depth 1, then resumed to the contact default,
-// depth 2) -> hapstate-index -> runtime. Truths: the refine rows
-// against the playback (the cursor passes through the solved points, also in cells near the
-// contact onset, where it fits them through the onset blend), and the precise path solver of
-// hapstate-eval (the refined file is no less accurate than the one without the refinement).
+// above by a sphere): hapstate-refine (first to depth 1, then resumed to the default for h / r =
+// 0.2, depth 2) -> hapstate-index -> runtime. Truths: the refine rows against the playback (the
+// cursor passes through the solved points, also in cells near the contact onset, where it fits them
+// through the onset blend), and the precise path solver of hapstate-eval (the refined file is no
+// less accurate than the one without the refinement).
 #include "catalogue/catalogue.h"
 #include "eval/evaluation.h"
 #include "hapstate/playback.h"
 #include "refined_points.h"
+#include "stages/refine_stage.h"
 #include "state_suite.h"
 
 #include <gtest/gtest.h>
@@ -42,12 +43,12 @@ class RefineContact : public StateSuite {
     StateSuite::TearDownTestSuite();
   }
   inline static StageResult* first_ = nullptr;   // --depth 1
-  inline static StageResult* second_ = nullptr;  // the contact default: depth 2
+  inline static StageResult* second_ = nullptr;  // the default (h / r = 0.2): depth 2
 };
 
 // The cells the sphere touches are refined at the default tolerance (their force has kinks
 // where the touched triangles change); the cells clear of the beam have nothing to refine. The
-// run to depth 1 solves their quarter-spacing points; the next run, at the contact default
+// run to depth 1 solves their quarter-spacing points; the next run, at the default for h / r = 0.2
 // (depth 2), only their eighth-spacing ones.
 TEST_F(RefineContact, TheTouchedCellsAreRefined) {
   ASSERT_EQ(first_->exit_code, 0) << first_->err;
@@ -65,6 +66,17 @@ TEST_F(RefineContact, TheTouchedCellsAreRefined) {
   const std::vector<RefinementPoint> rows = cat.read_all_refinement_points();
   EXPECT_EQ(rows.size(), refined * (98u + 604u));
   for (const RefinementPoint& r : rows) EXPECT_TRUE(r.reached) << r.failure_reason;
+}
+
+// The default depth: 2 where the contact sphere's radius is under 10 grid spacings (this beam:
+// 0.5 cm at 0.1 cm), 1 on a finer grid (pipelines/liver-contact: 2.5 cm at 0.125 cm) and with the
+// grab probe.
+TEST(RefineDepth, DefaultFollowsTheSpacingOverTheRadius) {
+  EXPECT_EQ(default_refine_depth(0.5, 0.1), 2);
+  EXPECT_EQ(default_refine_depth(2.5, 0.125), 1);
+  EXPECT_EQ(default_refine_depth(2.5, 0.25), 1);  // h / r = 0.1: depth 1 meets the bounds
+  EXPECT_EQ(default_refine_depth(2.5, 0.5), 2);
+  EXPECT_EQ(default_refine_depth(0.0, 0.1), 1);  // the grab probe
 }
 
 // Walking from rest to a refined point strictly inside its cell, the Hermite cursor returns the
