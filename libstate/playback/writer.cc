@@ -264,9 +264,13 @@ double force_change_bound(const Content& c) {
       5.25 * std::sqrt(3.0) * (quarter_slope + quarter_stiffness) * rho * rho;
   if (c.eighth_points.empty()) return std::max({corners + bubbles, half_cells, quarter_cells});
   // Eighth-spacing lattices: the same argument once more, from the quarter cells' interpolant
-  // (slope at most quarter_cells), points at least h_min / 8 apart.
+  // (slope at most quarter_cells), points at least h_min / 8 apart. A solved point's gradient
+  // entry limited by the values around it (the cursor's limit_eighth_slope) lies within 2.1 times
+  // the largest difference quotient of the values there, at most eighth_slope: 3 x 2.1 for the
+  // Frobenius norm.
   const double eighth_slope = quarter_cells + 16.0 * std::sqrt(3.0) * lambda / hmin;
-  const double eighth_stiffness = std::max(3.0 * c.meta.stiffness_limit, quarter_cells);
+  const double eighth_stiffness =
+      std::max({3.0 * c.meta.stiffness_limit, quarter_cells, 6.3 * eighth_slope});
   const double eighth_cells = 5.25 * std::sqrt(3.0) * (eighth_slope + eighth_stiffness) * rho * rho;
   return std::max({corners + bubbles, half_cells, quarter_cells, eighth_cells});
 }

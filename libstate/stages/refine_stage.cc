@@ -245,8 +245,9 @@ RefineReport run_refine(const RefineOptions& options) {
   RefineReport report;
   report.tolerance =
       options.tolerance.value_or(ctx.scene.grid.refine_tolerance.value_or(kDefaultRefineTolerance));
-  report.depth =
-      options.depth.value_or(ctx.scene.grid.refine_depth.value_or(ctx.problem.contact ? 2 : 1));
+  const double radius = ctx.problem.contact ? ctx.problem.contact->radius : 0.0;
+  report.depth = options.depth.value_or(ctx.scene.grid.refine_depth.value_or(
+      default_refine_depth(radius, ctx.grid.spacing.maxCoeff())));
   const NamedHashes inputs = {{"problem", ctx.problem_hash}, {"scene", ctx.scene_record.hash}};
   char parameters[120];
   std::snprintf(parameters, sizeof parameters, "tolerance=%.6g depth=%d threads=%d",

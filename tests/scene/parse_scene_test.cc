@@ -173,7 +173,7 @@ TEST_F(ParseScene, GridSpacingPerAxisAndContactProbe) {
   EXPECT_EQ(s.probe.mode, ProbeMode::kContact);
   EXPECT_EQ(s.probe.radius, 0.3);
   EXPECT_EQ(s.probe.friction, Friction::kNone);  // frictionless sliding by default
-  EXPECT_FALSE(s.grid.refine_depth);             // the refine stage's default: 2 with contact
+  EXPECT_FALSE(s.grid.refine_depth);             // unset: the refine stage's default_refine_depth
   EXPECT_EQ(parse(replace_once(text, "spacing = [0.5, 0.25, 1]",
                                "spacing = [0.5, 0.25, 1]\nrefine_depth = 1"))
                 .grid.refine_depth,
