@@ -11,6 +11,17 @@ namespace hapstate::playback {
 
 namespace {
 
+// A refined point's solved force and stiffness (`target`, 12 values) taken into the data at a
+// lattice point that holds the coarser interpolant's: the value moved toward the force by at most
+// the largest bubble limit per component (Meta), each stiffness entry clamped to the stiffness
+// limit, so the change bound stays valid (docs/playback.md, "Refined cells").
+void take_solved(const playback::Meta& m, const double* target, double* value, double* gradient) {
+  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
+  for (int r = 0; r < 3; ++r) value[r] += std::clamp(target[r] - value[r], -limit, limit);
+  for (int e = 0; e < 9; ++e)
+    gradient[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+}
+
 // Whether point (i, j, k) of a refined cell's lattice with `last` + 1 points per axis lies on a
 // face or an edge set in `constraints` (playback/format.h bits).
 bool constrained(const int (&p)[3], int last, std::int32_t constraints) {
@@ -129,7 +140,6 @@ void CursorCore::fit_refined_cell(std::int32_t slot) {
   const std::int32_t constraints =
       f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 1];
   const double* stored = f.refined_points + 12 * playback::kRefinedPoints * std::int64_t(slot);
-  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
   const double half[3] = {0.5 * m.spacing[0], 0.5 * m.spacing[1], 0.5 * m.spacing[2]};
   // The half cells' interpolant at their own lattices, which together are the quarter lattice:
   // point (i, j, k) is in half cell (i, j, k) >= 2 at index (i, j, k) - 2 (that >= 2).
@@ -159,9 +169,7 @@ void CursorCore::fit_refined_cell(std::int32_t slot) {
           exact[i][j][k] = true;
           continue;
         }
-        for (int r = 0; r < 3; ++r) v[r] += std::clamp(target[r] - v[r], -limit, limit);
-        for (int e = 0; e < 9; ++e)
-          g[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+        take_solved(m, target, v, g);
       }
   lattice_cross(m.spacing, &Q, exact);
   sub_cell_coefficients(Q, quarter_coef_.data());
@@ -222,12 +230,9 @@ void CursorCore::eighth_base(int i, int j, int k) {
     exact = true;
     return;
   }
-  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
   double* v = L.value[i][j][k];
   double* g = L.gradient[i][j][k];
-  for (int r = 0; r < 3; ++r) v[r] += std::clamp(target[r] - v[r], -limit, limit);
-  for (int e = 0; e < 9; ++e)
-    g[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+  take_solved(m, target, v, g);
 }
 
 // Brings point (i, j, k) of the eighth-spacing lattice to `stage` (EighthCell::stage): its
@@ -313,7 +318,6 @@ void CursorCore::fit_refined_trilinear(std::int32_t slot) {
   const std::int32_t constraints =
       f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 1];
   const double* stored = f.refined_points + 12 * playback::kRefinedPoints * std::int64_t(slot);
-  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 5; ++j)
       for (int k = 0; k < 5; ++k) {
@@ -326,9 +330,7 @@ void CursorCore::fit_refined_trilinear(std::int32_t slot) {
         if (lattice || constrained(p, 4, constraints) || !finite(data, 12) ||
             !refined_target(p, 0.25, data, target))
           continue;
-        for (int r = 0; r < 3; ++r) out[r] += std::clamp(target[r] - out[r], -limit, limit);
-        for (int e = 0; e < 9; ++e)
-          out[3 + e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+        take_solved(m, target, out.data(), out.data() + 3);
       }
   refined_ = true;
   const std::int32_t deep = eighth_slot();
@@ -359,10 +361,7 @@ void CursorCore::eighth_trilinear_point(int i, int j, int k) {
   if (lattice || constrained(p, 8, E.constraints) || !finite(data, 12) ||
       !refined_target(p, 0.125, data, target))
     return;
-  const double limit = std::max({m.bubble_limit[0], m.bubble_limit[1], m.bubble_limit[2]});
-  for (int r = 0; r < 3; ++r) out[r] += std::clamp(target[r] - out[r], -limit, limit);
-  for (int e = 0; e < 9; ++e)
-    out[3 + e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
+  take_solved(m, target, out.data(), out.data() + 3);
 }
 
 // The eighth-spacing trilinear cell holding s in a deep refined cell (its 8 points fitted first).
