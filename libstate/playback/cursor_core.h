@@ -88,7 +88,8 @@ class CursorCore {
   OnsetBlend apply_onset(const double (&B)[3][4], const double (&dB)[3][4],
                          const std::array<double, 3>& s, std::array<double, 3>* value,
                          std::array<double, 9>* slope) const;
-  void per_depth_at(const std::array<double, 3>& t, double (&q)[3], double (&dq)[3][3]) const;
+  void depth_model_at(const std::array<double, 3>& t, double depth, const double (&grad)[3],
+                      double (&model)[3], double (&dmodel)[3][3]) const;
   double clearance(const double (&B)[3][4], const double (&dB)[3][4], double (&grad)[3]) const;
   struct OnsetPoint {
     double R = 0, dR = 0, depth = 0;  // the blend's weight, its derivative by the depth
@@ -172,7 +173,8 @@ class CursorCore {
   bool onset_ = false;
   bool clear_cell_ = false;  // onset_ and the sphere clear of the rest body in the whole cell
   std::array<std::array<std::array<double, 4>, 4>, 4> clearance_coef_{};  // [x][y][z]
-  std::array<std::array<double, 3>, 8> per_depth_{};  // the corners' force per unit depth
+  // The corners' depth models: force per unit depth at the onset, and its change per unit depth.
+  std::array<std::array<double, 3>, 8> per_depth_{}, per_depth_squared_{};
   // The force and stiffness of corner c as interpolated: the secant model's in a cell near the
   // onset (onset_), else the stored ones.
   const double* force_of(int c) const {

@@ -37,6 +37,7 @@ void CursorCore::prepare_onset() {
   for (int c = 0; c < 8; ++c) {
     if (!corners_[c & ~flat].depth_model) return;
     std::copy_n(corners_[c & ~flat].onset->per_depth, 3, per_depth_[c].begin());
+    std::copy_n(corners_[c & ~flat].onset->per_depth_squared, 3, per_depth_squared_[c].begin());
     const auto o = corner_offset(c);
     std::array<std::int32_t, 3> ijk{};
     for (int a = 0; a < 3; ++a)
@@ -86,10 +87,10 @@ double CursorCore::clearance(const double (&B)[3][4], const double (&dB)[3][4],
 
 // Near the contact onset: with d the interpolated depth of the sphere into the rest body
 // (Hermite, from the clearance at the corners), the force is 0 where d <= 0 and
-// R F + (1 - R) d q for 0 < d < band, F the interpolated force, q the trilinear interpolation of
-// the corners' force per unit depth and R = smoothstep(d / band): continuous at the onset and at
-// the band's edge, exact at check-points (q d = f there) and for a force proportional to the
-// depth. `value` and `slope` hold F and its derivative on entry.
+// R F + (1 - R) m for 0 < d < band, F the interpolated force, m the depth model (depth_model_at)
+// and R = smoothstep(d / band): continuous at the onset and at the band's edge, exact at
+// check-points (m = f there) and for a force proportional to the depth. `value` and `slope` hold F
+// and its derivative on entry.
 CursorCore::OnsetBlend CursorCore::apply_onset(const double (&B)[3][4], const double (&dB)[3][4],
                                                const std::array<double, 3>& s,
                                                std::array<double, 3>* value,
@@ -107,29 +108,28 @@ CursorCore::OnsetBlend CursorCore::apply_onset(const double (&B)[3][4], const do
   }
   const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
   if (blend.depth >= band) return blend;
-  double q[3], dq[3][3];
-  per_depth_at(s, q, dq);
+  double model[3], dmodel[3][3];
+  depth_model_at(s, blend.depth, grad, model, dmodel);
   const double x = blend.depth / band;
   const double R = x * x * (3.0 - 2.0 * x), dR = 6.0 * x * (1.0 - x) / band;  // dR / d(depth)
   for (int r = 0; r < 3; ++r) {
-    const double model = blend.depth * q[r];
-    for (int a = 0; a < 3; ++a) {
-      const double dmodel = -q[r] * grad[a] + blend.depth * dq[r][a];
-      (*slope)[3 * r + a] =
-          R * (*slope)[3 * r + a] + (1.0 - R) * dmodel - ((*value)[r] - model) * dR * grad[a];
-    }
-    (*value)[r] = R * (*value)[r] + (1.0 - R) * model;
+    for (int a = 0; a < 3; ++a)
+      (*slope)[3 * r + a] = R * (*slope)[3 * r + a] + (1.0 - R) * dmodel[r][a] -
+                            ((*value)[r] - model[r]) * dR * grad[a];
+    (*value)[r] = R * (*value)[r] + (1.0 - R) * model[r];
   }
   blend.weight = 1.0 - R;
   return blend;
 }
 
-// The corners' force per unit depth q, interpolated trilinearly at cell position t, and its
-// derivative dq[r][a] per mesh unit.
-void CursorCore::per_depth_at(const std::array<double, 3>& t, double (&q)[3],
-                              double (&dq)[3][3]) const {
+// The depth model at cell position t where the sphere is `depth` deep into the rest body and
+// the clearance's gradient is `grad`: model = d (a + b d), a and b the trilinear interpolations of
+// the corners' per_depth and per_depth_squared, and its derivative dmodel[r][a] per mesh unit.
+void CursorCore::depth_model_at(const std::array<double, 3>& t, double depth,
+                                const double (&grad)[3], double (&model)[3],
+                                double (&dmodel)[3][3]) const {
   const double* h = file_.impl().meta->spacing;
-  for (int r = 0; r < 3; ++r) q[r] = dq[r][0] = dq[r][1] = dq[r][2] = 0.0;
+  double q[3] = {}, b[3] = {}, dq[3][3] = {}, db[3][3] = {};
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
     const double w[3] = {o[0] ? t[0] : 1.0 - t[0], o[1] ? t[1] : 1.0 - t[1],
@@ -139,8 +139,17 @@ void CursorCore::per_depth_at(const std::array<double, 3>& t, double (&q)[3],
                           (o[2] ? 1.0 : -1.0) / h[2] * w[0] * w[1]};
     for (int r = 0; r < 3; ++r) {
       q[r] += w[0] * w[1] * w[2] * per_depth_[c][r];
-      for (int a = 0; a < 3; ++a) dq[r][a] += dw[a] * per_depth_[c][r];
+      b[r] += w[0] * w[1] * w[2] * per_depth_squared_[c][r];
+      for (int a = 0; a < 3; ++a) {
+        dq[r][a] += dw[a] * per_depth_[c][r];
+        db[r][a] += dw[a] * per_depth_squared_[c][r];
+      }
     }
+  }
+  for (int r = 0; r < 3; ++r) {
+    model[r] = depth * (q[r] + b[r] * depth);
+    for (int a = 0; a < 3; ++a)
+      dmodel[r][a] = -(q[r] + 2.0 * b[r] * depth) * grad[a] + depth * (dq[r][a] + depth * db[r][a]);
   }
 }
 
@@ -163,25 +172,23 @@ bool CursorCore::onset_blend_at(const std::array<double, 3>& t, OnsetPoint* out)
 }
 
 // The interpolated force F at cell position t, where the onset blend is o (onset_blend_at
-// true), for which the blend (apply_onset) returns `felt`: (felt - (1 - R) d q) / R, and, if
+// true), for which the blend (apply_onset) returns `felt`: (felt - (1 - R) m) / R, and, if
 // `felt_k` is given, the derivative of F for which the blend's derivative is felt_k (row-major,
-// per mesh unit): (felt_k - (1 - R) d(d q)/dp + (F - d q) R' grad d^T) / R. False where they
+// per mesh unit): (felt_k - (1 - R) dm/dp + (F - m) R' grad d^T) / R. False where they
 // are not finite.
 bool CursorCore::onset_target(const std::array<double, 3>& t, const OnsetPoint& o,
                               const double* felt, const double* felt_k, double* out,
                               double* out_k) const {
   const double R = o.R, dR = o.dR, depth = o.depth;
   const double* grad = o.grad;
-  double q[3], dq[3][3];
-  per_depth_at(t, q, dq);
-  for (int r = 0; r < 3; ++r) out[r] = (felt[r] - (1.0 - R) * depth * q[r]) / R;
+  double model[3], dmodel[3][3];
+  depth_model_at(t, depth, o.grad, model, dmodel);
+  for (int r = 0; r < 3; ++r) out[r] = (felt[r] - (1.0 - R) * model[r]) / R;
   if (felt_k)
     for (int r = 0; r < 3; ++r)
-      for (int a = 0; a < 3; ++a) {
-        const double dmodel = -q[r] * grad[a] + depth * dq[r][a];
+      for (int a = 0; a < 3; ++a)
         out_k[3 * r + a] =
-            (felt_k[3 * r + a] - (1.0 - R) * dmodel + (out[r] - depth * q[r]) * dR * grad[a]) / R;
-      }
+            (felt_k[3 * r + a] - (1.0 - R) * dmodel[r][a] + (out[r] - model[r]) * dR * grad[a]) / R;
   return finite(out, 3) && (!felt_k || finite(out_k, 9));
 }
 

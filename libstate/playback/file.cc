@@ -385,6 +385,7 @@ void PlaybackFile::verify() const {
     if (f.onset &&
         (!finite(f.onset[c].force, 3) || !finite(f.onset[c].stiffness, 9) ||
          !finite(f.onset[c].secant, 4) || !finite(f.onset[c].per_depth, 3) ||
+         !finite(f.onset[c].per_depth_squared, 3) ||
          !std::isfinite(f.onset[c].displacement_per_depth) || f.onset[c].source < -1 ||
          f.onset[c].source >= n || f.onset[c].depth_source < -1 || f.onset[c].depth_source >= n))
       fail("configuration " + std::to_string(c) + ": onset corner not finite or out of range");

@@ -1,5 +1,5 @@
 // The playback file's layout on disk (docs/playback.md): little-endian, a 64-byte header,
-// a table of sections, every section's data 64-byte aligned. Version 10 (kVersion).
+// a table of sections, every section's data 64-byte aligned. Version 12 (kVersion).
 //
 //   header | section table | section data ...
 //
@@ -21,7 +21,7 @@ inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
 // 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness, 7: midpoint
 // displacements, 8: the change bound of the half cells' second-order cross derivatives,
 // 9: refined cells, 10: the certificate, 11: refined cells' eighth-spacing points
-inline constexpr std::uint32_t kVersion = 11;
+inline constexpr std::uint32_t kVersion = 12;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -137,29 +137,32 @@ static_assert(sizeof(SectionEntry) == 32);
 
 // A configuration's data for the contact onset (docs/playback.md, "Contact onset"), with d the
 // sphere's depth into the body at rest at its check-point (minus the clearance).
-// - The depth model: per_depth q = f / d, the force per unit depth, and the displacements per
-//   unit depth, displacement_per_depth x those of configuration depth_source. A touching
-//   configuration deeper than 1e-3 of a spacing: its own (depth_source itself, factor 1 / d).
-//   A zero configuration at a free check-point, or a touching one shallower than that: the mean
-//   q of the deeper touching configurations its transitions lead to (the nearest grid distance
-//   that has any) and the displacements of the first of them (q = 0, factor 0 if none).
+// - The depth model f(x) = x (per_depth + per_depth_squared x) at depth x: a touching
+//   configuration deeper than 1e-3 of a spacing passes through its force f at its depth d with
+//   its stiffness's slope along the depth (as far as it lies along f, limited: onset_model.cc);
+//   and the displacements per unit depth, displacement_per_depth x those of configuration
+//   depth_source: its own (depth_source itself, factor 1 / d). A zero configuration at a free
+//   check-point, or a touching one shallower than that: the mean model of the deeper touching
+//   configurations its transitions lead to (the nearest grid distance that has any) and the
+//   displacements of the first of them (model 0, factor 0 if none).
 //   depth_source = -1: none (a touching configuration clear of the rest body, a state that
 //   depends on the path).
 // - The secant model (source >= 0: a free check-point's zero configuration with such
 //   neighbours): as a cell corner next to the onset it holds their force in proportion to the
-//   depth extended to it, force q d, stiffness q (grad d)^T (averaged), and the displacements
-//   secant[0] x those of configuration `source`, their slope along axis a secant[1 + a] x them
-//   (per mesh unit).
+//   depth extended to it, force q d, stiffness q (grad d)^T (q = f / d of each, averaged), and the
+//   displacements secant[0] x those of configuration `source`, their slope along axis a secant[1 +
+//   a] x them (per mesh unit).
 struct OnsetCorner {
   double force[3];      // N
   double stiffness[9];  // N per mesh unit, row-major
   double secant[4];
-  double per_depth[3];  // N per mesh unit
+  double per_depth[3];          // N per mesh unit
+  double per_depth_squared[3];  // N per mesh unit^2
   double displacement_per_depth;
   std::int32_t source;
   std::int32_t depth_source;
 };
-static_assert(sizeof(OnsetCorner) == 168);
+static_assert(sizeof(OnsetCorner) == 192);
 
 // Section 22: the certificate's headline numbers, per scheme [trilinear, Hermite] (the order
 // of hapstate::Scheme). measured_source_hash is the source hash of the file it was measured on:

@@ -3,6 +3,7 @@
 #include "util/grid_direction.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 namespace hapstate::playback {
@@ -21,8 +22,25 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
     o.source = -1;
     o.depth_source = -1;
     if (!deep(k)) continue;
-    const double d = -gap(k)[0];
-    for (int r = 0; r < 3; ++r) o.per_depth[r] = c.force[3 * k + r] / d;
+    const double* g = gap(k);
+    const double d = -g[0];
+    const double* f = &c.force[3 * k];
+    // The force along the depth: f' = K d p / d d, with d p / d d = -grad g / |grad g|^2.
+    const double* K = &c.stiffness[9 * k];
+    const double gg = g[1] * g[1] + g[2] * g[2] + g[3] * g[3];
+    double fd[3] = {0, 0, 0};
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < 3; ++a) fd[r] -= K[3 * r + a] * g[1 + a] / gg;
+    const double ff = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
+    // f(x) = (f / d) x (1 + beta (x / d - 1)), with f'(d) along f matching: beta = 0 for a force
+    // proportional to the depth, 1/2 for Hertz's d^1.5; limited to [-1/2, 1].
+    double beta =
+        ff > 0.0 && gg > 0.0 ? d * (f[0] * fd[0] + f[1] * fd[1] + f[2] * fd[2]) / ff - 1.0 : 0.0;
+    beta = std::isfinite(beta) ? std::clamp(beta, -0.5, 1.0) : 0.0;
+    for (int r = 0; r < 3; ++r) {
+      o.per_depth[r] = f[r] / d * (1.0 - beta);
+      o.per_depth_squared[r] = f[r] / d * beta / d;
+    }
     o.depth_source = static_cast<std::int32_t>(k);
     o.displacement_per_depth = 1.0 / d;
   }
@@ -47,7 +65,13 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
             if (t < 0 || static_cast<std::size_t>(t) >= n || !deep(static_cast<std::size_t>(t)))
               continue;
             const OnsetCorner& ot = out[static_cast<std::size_t>(t)];
-            for (int r = 0; r < 3; ++r) o.per_depth[r] += ot.per_depth[r];
+            const double dt = -gap(static_cast<std::size_t>(t))[0];
+            double qt[3];  // the secant f_t / d_t
+            for (int r = 0; r < 3; ++r) {
+              o.per_depth[r] += ot.per_depth[r];
+              o.per_depth_squared[r] += ot.per_depth_squared[r];
+              qt[r] = ot.per_depth[r] + ot.per_depth_squared[r] * dt;
+            }
             if (used++ == 0) {
               o.depth_source = t;
               o.displacement_per_depth = ot.displacement_per_depth;
@@ -55,12 +79,11 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
             if (!free) continue;
             // The secant model: f_t / d_t x d_k = q_t d_k (d_k = -g_k <= 0 here).
             for (int r = 0; r < 3; ++r) {
-              o.force[r] -= ot.per_depth[r] * gk[0];
-              for (int a = 0; a < 3; ++a) o.stiffness[3 * r + a] -= ot.per_depth[r] * gk[1 + a];
+              o.force[r] -= qt[r] * gk[0];
+              for (int a = 0; a < 3; ++a) o.stiffness[3 * r + a] -= qt[r] * gk[1 + a];
             }
             if (o.source < 0) {
               o.source = t;
-              const double dt = -gap(static_cast<std::size_t>(t))[0];
               for (int s = 0; s < 4; ++s) o.secant[s] = -gk[s] / dt;
             }
           }
@@ -68,6 +91,7 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
     for (double& v : o.force) v *= mean;
     for (double& v : o.stiffness) v *= mean;
     for (double& v : o.per_depth) v *= mean;
+    for (double& v : o.per_depth_squared) v *= mean;
   }
   return out;
 }

@@ -1,7 +1,8 @@
 // The contact-onset corners of a playback file (docs/playback.md, "Contact onset"), computed by
-// hapstate-index from the file's other contents: every configuration's force per unit depth of
-// the sphere into the rest body, and for a free check-point's zero configuration the secant
-// model of the touching configurations its transitions lead to.
+// hapstate-index from the file's other contents: every configuration's depth model (the force
+// against the sphere's depth into the rest body, from its force and stiffness), and for a free
+// check-point's zero configuration the secant model of the touching configurations its transitions
+// lead to.
 #pragma once
 
 #include "playback/format.h"

@@ -33,12 +33,18 @@ struct Plane {
   Eigen::Vector3d x0 = grid.origin - Eigen::Vector3d(0.1, 0.2, 0.75);  // the rest clear of it
   Eigen::Vector3d d{0.2, -0.1, 1.0};                                   // force per unit depth / k
   double k = 2.5;                                                      // N per mesh unit of depth
+  double stiffening = 0;  // the force k (e + stiffening e^2) d at depth e (0: proportional to it)
 
   double gap(const Eigen::Vector3d& p) const { return n.dot(p - x0); }
   double depth(const Eigen::Vector3d& p) const { return std::max(0.0, -gap(p)); }
-  Eigen::Vector3d force(const Eigen::Vector3d& p) const { return k * depth(p) * d; }
+  Eigen::Vector3d force(const Eigen::Vector3d& p) const {
+    const double e = depth(p);
+    return k * (e + stiffening * e * e) * d;
+  }
   Eigen::Matrix3d jacobian(const Eigen::Vector3d& p) const {
-    return gap(p) < 0 ? Eigen::Matrix3d(-k * d * n.transpose()) : Eigen::Matrix3d::Zero();
+    return gap(p) < 0
+               ? Eigen::Matrix3d(-k * (1.0 + 2.0 * stiffening * depth(p)) * d * n.transpose())
+               : Eigen::Matrix3d::Zero();
   }
   double curvature = 0;  // of the displacements along the depth (0: proportional to it)
   Eigen::Vector3d u(int v, const Eigen::Vector3d& p) const {
@@ -72,8 +78,7 @@ playback::Content plane_content(const Plane& plane, bool hide_clearance) {
     const Eigen::Vector3d p = position(k);
     const bool free = plane.gap(p) >= 0;
     c.config_zero[k] = free ? 1 : 0;
-    const Eigen::Matrix3d jac =
-        free ? Eigen::Matrix3d::Zero() : Eigen::Matrix3d(-plane.k * plane.d * plane.n.transpose());
+    const Eigen::Matrix3d jac = plane.jacobian(p);
     for (int r = 0; r < 3; ++r) c.force[3 * k + r] = plane.force(p)[r];
     for (int r = 0; r < 9; ++r) c.stiffness[9 * k + r] = jac(r / 3, r % 3);
     c.clearance.push_back(hide_clearance ? -1.0 : plane.gap(p));
@@ -118,9 +123,7 @@ Errors walk(const PlaybackFile& file, const Plane& plane, Scheme scheme) {
     p = target;
     const Force f = cursor.force(arr(p));
     e.force = std::max(e.force, (vec(f.value) - plane.force(p)).norm());
-    const Eigen::Matrix3d k = plane.gap(p) >= 0
-                                  ? Eigen::Matrix3d::Zero()
-                                  : Eigen::Matrix3d(-plane.k * plane.d * plane.n.transpose());
+    const Eigen::Matrix3d k = plane.jacobian(p);
     const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> got(f.stiffness.data());
     if (std::abs(plane.gap(p)) > 1e-9) e.stiffness = std::max(e.stiffness, (got - k).norm());
     if (plane.gap(p) >= 0) {
@@ -310,6 +313,74 @@ TEST_F(ContactOnset, MidpointDisplacementsAreFittedThroughTheBlend) {
   EXPECT_GT(e.clear_points, 50);
   EXPECT_GT(e.cut_cells, 50);
   EXPECT_LE(e.displacement, 1e-6);  // float32 storage
+}
+
+// A force that stiffens with the depth, k (e + s e^2) d: every touching configuration's depth
+// model d (a + b d) takes its slope along the depth from its stiffness, so it is the force itself
+// (a = k d, b = k s d), and just past the onset, where the blend is almost all depth model, the
+// cursor follows the force; with the force per unit depth f / d of each configuration (the model
+// of format 11) it is off by k s d_t e at depth e, d_t the configuration's depth.
+TEST_F(ContactOnset, DepthModelFollowsAForceThatStiffensWithTheDepth) {
+  Plane plane;
+  plane.stiffening = 1.5;  // per mesh unit: at the deepest check-point (~1.1) 2.6 x the slope
+  playback::Content content = plane_content(plane, false);
+  int deep = 0;
+  for (std::size_t c = 0; c < content.onset.size(); ++c) {
+    const playback::OnsetCorner& o = content.onset[c];
+    // Every configuration with a depth model (a free check-point without touching neighbours: q 0)
+    if (o.depth_source < 0 || (o.depth_source == int(c) && content.config_zero[c] == 1)) continue;
+    ++deep;
+    for (int r = 0; r < 3; ++r) {
+      EXPECT_NEAR(o.per_depth[r], plane.k * plane.d[r], 1e-12) << "configuration " << c;
+      EXPECT_NEAR(o.per_depth_squared[r], plane.k * plane.stiffening * plane.d[r], 1e-12)
+          << "configuration " << c;
+    }
+  }
+  EXPECT_GT(deep, 60);
+  // The same data with the linear model: q = f / d at every touching configuration.
+  playback::Content linear = content;
+  for (std::size_t c = 0; c < linear.onset.size(); ++c) {
+    playback::OnsetCorner& o = linear.onset[c];
+    if (o.depth_source < 0) continue;
+    const double e = -linear.clearance[4 * std::size_t(linear.config_checkpoint[o.depth_source])];
+    for (int r = 0; r < 3; ++r) {
+      o.per_depth[r] = plane.k * (1.0 + plane.stiffening * e) * plane.d[r];
+      o.per_depth_squared[r] = 0.0;
+    }
+  }
+  PlaybackFile file(write(std::move(content), "stiffening.bin"));
+  PlaybackFile linear_file(write(std::move(linear), "linear.bin"));
+  // Random points just past the onset (depth below a tenth of the band, h / 20): relative errors.
+  const double shallow = 0.1 * 0.5 * plane.h.minCoeff();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.9, 1.9);
+  double worst = 0, worst_linear = 0;
+  int points = 0;
+  HapticCursor cursor(file, Scheme::kHermite), linear_cursor(linear_file, Scheme::kHermite);
+  Eigen::Vector3d previous = plane.grid.origin;
+  while (points < 200) {
+    Eigen::Vector3d p =
+        plane.grid.origin + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(plane.h);
+    p -=
+        (plane.gap(p) + shallow * std::uniform_real_distribution<double>(0.01, 1.0)(rng)) * plane.n;
+    if ((p - plane.grid.origin).cwiseQuotient(plane.h).cwiseAbs().maxCoeff() > 1.95) continue;
+    ++points;
+    for (int step = 1; step < 8; ++step) {
+      cursor.force(arr(previous + (p - previous) * step / 8.0));
+      linear_cursor.force(arr(previous + (p - previous) * step / 8.0));
+    }
+    previous = p;
+    const Eigen::Vector3d exact = plane.force(p);
+    worst = std::max(worst, (vec(cursor.force(arr(p)).value) - exact).norm() / exact.norm());
+    worst_linear = std::max(worst_linear,
+                            (vec(linear_cursor.force(arr(p)).value) - exact).norm() / exact.norm());
+  }
+  std::printf(
+      "stiffening force just past the onset: largest relative error %.3g (linear model %.3g)\n",
+      worst, worst_linear);
+  // Not 0: the blend's small share of the interpolated force, which is not exact in cut cells.
+  EXPECT_LE(worst, 0.05);
+  EXPECT_GE(worst_linear, 10 * worst);
 }
 
 TEST_F(ContactOnset, WithoutTheClearanceTheKinkIsSmoothedOverTheCell) {

@@ -101,9 +101,9 @@ TEST_F(PlaybackFormat, DamagedHeaderIsRefusedAtOpen) {
   b[0] = 'X';
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "bad magic");
   b = bytes_;
-  b[8] = 10;  // version 10: no eighth-spacing points
+  b[8] = 11;  // version 11: a depth model without its quadratic term
   expect_input_error([&] { PlaybackFile p(damaged(b)); },
-                     "format version 10, this build reads version 11 (run hapstate-index again)");
+                     "format version 11, this build reads version 12 (run hapstate-index again)");
   b = bytes_;
   b[30] ^= 1;  // section table offset, covered by the header checksum
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "header checksum mismatch");
