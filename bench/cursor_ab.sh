@@ -11,7 +11,8 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 sources="libstate/util/hash.cc libstate/util/hash.h libstate/util/error.h include/hapstate/error.h
-  include/hapstate/playback.h tests/playback/synthetic.h"
+  include/hapstate/playback.h tests/playback/synthetic.h $(git -C "$here" ls-tree --name-only "$old" \
+  libstate/util/triangle_point.h libstate/util/triangle_point.cc libstate/util/grid_direction.h)"
 for f in $sources $(git -C "$here" ls-tree --name-only "$old" libstate/playback/ | sed 's|^|./|'); do
   f=${f#./}
   mkdir -p "$work/old/$(dirname "$f")"
@@ -21,6 +22,7 @@ build() {  # root -> binary
   local root=$1 out=$2
   g++ -O3 -DNDEBUG -std=c++20 -I"$root/include" -I"$root/libstate" -I"$root/tests/playback" \
     -I"$here/libstate" -I/usr/include/eigen3 "$here/bench/cursor_ab.cc" "$root/libstate/util/hash.cc" \
+    $(ls "$root"/libstate/util/triangle_point.cc 2>/dev/null) \
     $(ls "$root"/libstate/playback/*.cc | grep -v c_api) -o "$out"
 }
 build "$work/old" "$work/cursor_old"

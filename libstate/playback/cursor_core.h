@@ -90,7 +90,10 @@ class CursorCore {
                          std::array<double, 9>* slope) const;
   void depth_model_at(const std::array<double, 3>& t, double depth, const double (&grad)[3],
                       double (&model)[3], double (&dmodel)[3][3]) const;
-  double clearance(const double (&B)[3][4], const double (&dB)[3][4], double (&grad)[3]) const;
+  double clearance(const std::array<double, 3>& s, const double (&B)[3][4],
+                   const double (&dB)[3][4], double (&grad)[3]) const;
+  double interpolated_clearance(const double (&B)[3][4], const double (&dB)[3][4],
+                                double (&grad)[3]) const;
   struct OnsetPoint {
     double R = 0, dR = 0, depth = 0;  // the blend's weight, its derivative by the depth
     double grad[3] = {};              // the clearance's gradient
@@ -175,6 +178,8 @@ class CursorCore {
   std::array<std::array<std::array<double, 4>, 4>, 4> clearance_coef_{};  // [x][y][z]
   // The corners' depth models: force per unit depth at the onset, and its change per unit depth.
   std::array<std::array<double, 3>, 8> per_depth_{}, per_depth_squared_{};
+  // The current cell's rest triangles (indices into section 26; first == end: none).
+  std::int32_t surface_first_ = 0, surface_end_ = 0;
   // The force and stiffness of corner c as interpolated: the secant model's in a cell near the
   // onset (onset_), else the stored ones.
   const double* force_of(int c) const {

@@ -4,20 +4,15 @@
 
 #include "playback/cell_math.h"
 #include "playback/file_impl.h"
+#include "util/triangle_point.h"
+
+#include <Eigen/Core>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace hapstate::playback {
-
-namespace {
-
-// The band above the contact onset, in units of the smallest spacing, over which the force
-// blends from the depth model into the interpolated force (apply_onset).
-constexpr double kOnsetBand = 0.5;
-
-}  // namespace
 
 // Contact: whether the cell blends in the depth model near the onset (every corner has one,
 // so no corner is extended or touching while clear of the rest body, and some corner is within
@@ -26,6 +21,7 @@ constexpr double kOnsetBand = 0.5;
 void CursorCore::prepare_onset() {
   const PlaybackFile::Impl& f = file_.impl();
   onset_ = false;
+  surface_first_ = surface_end_ = 0;
   if (!f.clearance) return;
   const double* h = f.meta->spacing;
   // Along an axis with one check-point the cell is flat (s = 0): its far corners weigh nothing
@@ -49,21 +45,52 @@ void CursorCore::prepare_onset() {
     deepest = std::max(deepest, -gap[c][0]);
   }
   const double diagonal = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
-  if (shallowest > kOnsetBand * std::min({h[0], h[1], h[2]}) + diagonal) return;
+  if (shallowest > kOnsetBandSpacings * std::min({h[0], h[1], h[2]}) + diagonal) return;
   onset_ = true;
   // Every point of the cell is within a diagonal of every corner and the clearance changes by
   // at most the distance: clear by a diagonal at every corner, the sphere is clear of the rest
   // body in the whole cell (and so is the interpolated clearance).
   clear_cell_ = -deepest >= diagonal;
+  // The rest triangles that can be nearest to a point of this cell (sections 24-26).
+  if (f.onset_cells) {
+    const std::int32_t g = f.point_index(base_);
+    surface_first_ = f.onset_cells[g];
+    surface_end_ = f.onset_cells[g + 1];
+  }
   scalar_coefficients(
       h, [&](int c) { return gap[c][0]; }, [&](int c, int a) { return gap[c][1 + a]; },
       [&](int x, int y, int z) -> double& { return clearance_coef_[x][y][z]; });
 }
 
-// The interpolated clearance (Hermite) and its gradient `grad` per mesh unit at the point
-// whose bases per axis are B (derivatives dB; both as in force()).
-double CursorCore::clearance(const double (&B)[3][4], const double (&dB)[3][4],
-                             double (&grad)[3]) const {
+// The sphere's clearance from the rest body and its gradient `grad` per mesh unit at cell
+// position s, whose bases per axis are B (derivatives dB; both as in force()): in a cell with
+// rest triangles (sections 24-26) the distance from the nearest of them minus the radius, exact,
+// where the interpolated clearance puts the centre outside the rest body; else interpolated.
+double CursorCore::clearance(const std::array<double, 3>& s, const double (&B)[3][4],
+                             const double (&dB)[3][4], double (&grad)[3]) const {
+  const double g = interpolated_clearance(B, dB, grad);
+  const PlaybackFile::Impl& f = file_.impl();
+  const double radius = f.meta->contact_radius;
+  if (surface_first_ == surface_end_ || g < -radius) return g;
+  Eigen::Vector3d p;
+  for (int a = 0; a < 3; ++a) p[a] = f.meta->origin[a] + (base_[a] + s[a]) * f.meta->spacing[a];
+  TrianglePoint nearest;
+  nearest.distance = std::numeric_limits<double>::infinity();
+  for (std::int32_t k = surface_first_; k < surface_end_; ++k) {
+    const double* x = f.onset_triangles + 9 * std::int64_t(f.onset_triangle_list[k]);
+    const TrianglePoint tp =
+        closest_point(Eigen::Vector3d(x[0], x[1], x[2]), Eigen::Vector3d(x[3], x[4], x[5]),
+                      Eigen::Vector3d(x[6], x[7], x[8]), p);
+    if (tp.distance < nearest.distance) nearest = tp;
+  }
+  if (!(nearest.distance > 0.0)) return g;  // the centre on the surface: no direction
+  for (int a = 0; a < 3; ++a) grad[a] = (p[a] - nearest.closest[a]) / nearest.distance;
+  return nearest.distance - radius;
+}
+
+// The clearance interpolated (Hermite) from the grid points', and its gradient.
+double CursorCore::interpolated_clearance(const double (&B)[3][4], const double (&dB)[3][4],
+                                          double (&grad)[3]) const {
   double g = 0;
   grad[0] = grad[1] = grad[2] = 0;
   // The tensor product contracted axis by axis (z, then y, then x).
@@ -98,7 +125,7 @@ CursorCore::OnsetBlend CursorCore::apply_onset(const double (&B)[3][4], const do
   const double* h = file_.impl().meta->spacing;
   OnsetBlend blend;
   double grad[3] = {0, 0, 0};
-  const double g = clear_cell_ ? 0.0 : clearance(B, dB, grad);
+  const double g = clear_cell_ ? 0.0 : clearance(s, B, dB, grad);
   blend.depth = -g;
   if (clear_cell_ || blend.depth <= 0.0) {
     *value = {};
@@ -106,7 +133,7 @@ CursorCore::OnsetBlend CursorCore::apply_onset(const double (&B)[3][4], const do
     blend.at_rest = true;
     return blend;
   }
-  const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
+  const double band = kOnsetBandSpacings * std::min({h[0], h[1], h[2]});
   if (blend.depth >= band) return blend;
   double model[3], dmodel[3][3];
   depth_model_at(s, blend.depth, grad, model, dmodel);
@@ -162,9 +189,9 @@ bool CursorCore::onset_blend_at(const std::array<double, 3>& t, OnsetPoint* out)
   const double* h = file_.impl().meta->spacing;
   double B[3][4], dB[3][4];
   hermite_bases(t, h, B, dB);
-  out->depth = -clearance(B, dB, out->grad);
+  out->depth = -clearance(t, B, dB, out->grad);
   if (!(out->depth > 0.0)) return false;
-  const double band = kOnsetBand * std::min({h[0], h[1], h[2]});
+  const double band = kOnsetBandSpacings * std::min({h[0], h[1], h[2]});
   const double x = std::min(out->depth / band, 1.0);
   out->R = x * x * (3.0 - 2.0 * x);
   out->dR = 6.0 * x * (1.0 - x) / band;

@@ -68,6 +68,12 @@ std::string section_name(SectionId id) {
       return "certificate";
     case SectionId::kEighthPoints:
       return "eighth-spacing points";
+    case SectionId::kOnsetTriangles:
+      return "onset triangles";
+    case SectionId::kOnsetCells:
+      return "onset cells";
+    case SectionId::kOnsetTriangleList:
+      return "onset triangle list";
   }
   return "section " + std::to_string(static_cast<std::uint32_t>(id));
 }
@@ -92,6 +98,26 @@ struct Sections {
   const std::byte* at(SectionId id) const { return data[static_cast<int>(id)]; }
   std::uint64_t size(SectionId id) const { return bytes[static_cast<int>(id)]; }
 };
+
+// Sections 24-26, which the cursor reads in the haptic loop: their sizes, order and indices.
+void check_onset_lists(const playback::Meta& m, const Sections& sections) {
+  const std::uint64_t triangle_bytes = sections.size(SectionId::kOnsetTriangles);
+  const std::uint64_t cells_bytes = sections.size(SectionId::kOnsetCells);
+  const std::uint64_t list_bytes = sections.size(SectionId::kOnsetTriangleList);
+  if (triangle_bytes % 8 != 0 || cells_bytes % 4 != 0 || list_bytes % 4 != 0)
+    unusable("onset triangle sections: sizes not whole");
+  const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
+  if (const char* problem = playback::onset_lists_problem(
+          triangle_bytes / 8,
+          reinterpret_cast<const std::int32_t*>(sections.at(SectionId::kOnsetCells)),
+          cells_bytes / 4,
+          reinterpret_cast<const std::int32_t*>(sections.at(SectionId::kOnsetTriangleList)),
+          list_bytes / 4, points, m.contact_radius))
+    unusable(problem);
+  const auto* corners = reinterpret_cast<const double*>(sections.at(SectionId::kOnsetTriangles));
+  for (std::uint64_t k = 0; k < triangle_bytes / 8; ++k)
+    if (!std::isfinite(corners[k])) unusable("section 'onset triangles': a corner is not finite");
+}
 
 // The header at `base` (`size` bytes mapped): magic, version, checksum, size and layout.
 void check_header(const std::byte* base, std::size_t size) {
@@ -286,6 +312,7 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     sections = read_sections(f.base, f.size, &f.table);
     f.meta = &check_meta(sections);
     check_section_sizes(*f.meta, sections);
+    check_onset_lists(*f.meta, sections);
   } catch (const Unusable& e) {
     fail(e.what);
   } catch (...) {  // no memory for a message: unmap and pass it on
@@ -342,6 +369,12 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   if (certificate_bytes != 0)
     f.certificate =
         reinterpret_cast<const playback::CertificateRecord*>(section(SectionId::kCertificate));
+  if (sections.size(SectionId::kOnsetTriangles) != 0 && contact) {
+    f.onset_triangles = reinterpret_cast<const double*>(section(SectionId::kOnsetTriangles));
+    f.onset_cells = reinterpret_cast<const std::int32_t*>(section(SectionId::kOnsetCells));
+    f.onset_triangle_list =
+        reinterpret_cast<const std::int32_t*>(section(SectionId::kOnsetTriangleList));
+  }
   if (contact) {
     f.clearance = reinterpret_cast<const double*>(section(SectionId::kClearance));
     f.onset = reinterpret_cast<const playback::OnsetCorner*>(section(SectionId::kOnset));

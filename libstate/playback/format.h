@@ -9,6 +9,7 @@
 
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -92,8 +93,23 @@ enum class SectionId : std::uint32_t {
   // eighth-spacing lattice (81 i + 9 j + k), the force and the haptic stiffness as in section 21;
   // NaN where none was solved (the quarter-spacing lattice's points, a failed solve).
   kEighthPoints = 23,
+  // float64 x 9 per triangle (contact, frictionless): the corners of the rest surface's triangles
+  // near the contact onset, mesh units; the cursor measures the sphere's clearance from them
+  // exactly in a cell that has a list in section 25 (docs/playback.md, "Contact onset"); empty:
+  // none (grab, sticking, or a sphere smaller than 3/4 of the spacing).
+  kOnsetTriangles = 24,
+  // int32 per grid point, plus one: where the list of the cell whose lowest corner it is starts
+  // in section 26 (the next entry: where it ends; an empty list: the cursor interpolates the
+  // clearance); empty with section 24.
+  kOnsetCells = 25,
+  // int32: the cells' lists of triangles (indices into section 24).
+  kOnsetTriangleList = 26,
 };
-inline constexpr int kSectionCount = 23;
+inline constexpr int kSectionCount = 26;
+
+// The band above the contact onset, in units of the smallest spacing, over which the cursor
+// blends the force from the depth model into the interpolated force (docs/playback.md).
+inline constexpr double kOnsetBandSpacings = 0.5;
 
 // A refined cell's lattice: 5 points per axis at quarter spacings.
 inline constexpr int kRefinedPoints = 125;
@@ -213,7 +229,30 @@ struct Meta {
   std::int32_t has_displacement_slopes;  // 1: kDisplacementSlopes holds every configuration's
   std::uint64_t scene_hash;              // XXH64 of the scene text
   std::uint64_t source_hash;             // of what the index was built from (hapstate-index skips)
+  double contact_radius;                 // mesh units, with section 24; else 0
 };
+
+// What is wrong with sections 24-26 (nullptr: nothing): `triangles` 9 doubles each, `cells`
+// (points + 1 starts, from 0, not decreasing, the last the list's length) and `list` (indices
+// into the triangles); all empty, or all filled with a radius > 0 in the meta.
+inline const char* onset_lists_problem(std::size_t triangle_doubles, const std::int32_t* cells,
+                                       std::size_t num_cells, const std::int32_t* list,
+                                       std::size_t list_size, std::int64_t points, double radius) {
+  if (triangle_doubles == 0 && num_cells == 0 && list_size == 0)
+    return radius == 0 ? nullptr : "a contact radius without onset triangles";
+  if (triangle_doubles % 9 != 0 || num_cells != static_cast<std::size_t>(points) + 1)
+    return "onset triangle or cell table size";
+  if (!(radius > 0) || !std::isfinite(radius)) return "onset triangles without a contact radius";
+  if (cells[0] != 0 || static_cast<std::size_t>(cells[num_cells - 1]) != list_size)
+    return "onset cell lists do not cover the list";
+  for (std::size_t k = 1; k < num_cells; ++k)
+    if (cells[k] < cells[k - 1]) return "onset cell lists out of order";
+  const std::size_t triangles = triangle_doubles / 9;
+  for (std::size_t k = 0; k < list_size; ++k)
+    if (list[k] < 0 || static_cast<std::size_t>(list[k]) >= triangles)
+      return "an onset triangle index is out of range";
+  return nullptr;
+}
 
 // The grid-point numbering of the file (x-major: i slowest, k fastest; docs/playback.md): the
 // linear index of grid point ijk (absolute grid indices), or -1 outside the grid.
@@ -241,6 +280,6 @@ inline std::array<std::int32_t, 3> grid_point_ijk(const Meta& m, std::int64_t g)
 inline std::int32_t last_cell(const Meta& m, int a) {
   return m.lo[a] + (m.dims[a] > 1 ? m.dims[a] - 2 : 0);
 }
-static_assert(sizeof(Meta) == 200);
+static_assert(sizeof(Meta) == 208);
 
 }  // namespace hapstate::playback

@@ -1,10 +1,15 @@
 #include "playback/onset_model.h"
 
 #include "util/grid_direction.h"
+#include "util/triangle_point.h"
+
+#include <Eigen/Core>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
+#include <map>
 
 namespace hapstate::playback {
 
@@ -94,6 +99,70 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
     for (double& v : o.per_depth_squared) v *= mean;
   }
   return out;
+}
+
+void add_onset_triangles(Content* content, const std::vector<double>& triangles, double radius) {
+  Content& c = *content;
+  const Meta& m = c.meta;
+  const double* h = m.spacing;
+  const double band = kOnsetBandSpacings * std::min({h[0], h[1], h[2]});
+  if (!(radius >= 1.5 * band) || triangles.empty()) return;
+  const double diagonal = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+  const std::size_t count = triangles.size() / 9;
+  auto corner = [&](std::size_t t, int i) {
+    return Eigen::Vector3d(triangles[9 * t + 3 * i], triangles[9 * t + 3 * i + 1],
+                           triangles[9 * t + 3 * i + 2]);
+  };
+  const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
+  std::map<std::size_t, std::int32_t> index_of;  // triangle -> its index in section 24
+  std::vector<double> distance(count);
+  c.onset_cells.assign(1, 0);
+  for (std::int64_t g = 0; g < points; ++g) {
+    const std::array<std::int32_t, 3> ijk = grid_point_ijk(m, g);
+    // The cell whose lowest corner g is; along an axis with one check-point it is flat.
+    bool cell = true;
+    double shallowest = std::numeric_limits<double>::infinity(), deepest = -shallowest;
+    Eigen::Vector3d centre;
+    for (int a = 0; a < 3; ++a) {
+      const bool flat = m.dims[a] == 1;
+      cell = cell && (flat || ijk[a] < m.lo[a] + m.dims[a] - 1);
+      centre[a] = m.origin[a] + (ijk[a] + (flat ? 0.0 : 0.5)) * h[a];
+    }
+    if (cell)
+      for (int k = 0; k < 8; ++k) {
+        std::array<std::int32_t, 3> q = ijk;
+        for (int a = 0; a < 3; ++a)
+          if (m.dims[a] > 1) q[a] += (k >> (2 - a)) & 1;
+        const double depth = -c.clearance[4 * std::size_t(grid_point_index(m, q))];
+        shallowest = std::min(shallowest, depth);
+        deepest = std::max(deepest, depth);
+      }
+    // As CursorCore::prepare_onset decides (the cell's clear and onset tests).
+    if (cell && shallowest <= band + diagonal && deepest > -diagonal) {
+      // Any point p of the cell is within half a diagonal of the centre, so its nearest triangle
+      // is within the centre's nearest distance plus a diagonal of the centre.
+      double nearest = std::numeric_limits<double>::infinity();
+      for (std::size_t t = 0; t < count; ++t) {
+        distance[t] = closest_point(corner(t, 0), corner(t, 1), corner(t, 2), centre).distance;
+        nearest = std::min(nearest, distance[t]);
+      }
+      for (std::size_t t = 0; t < count; ++t) {
+        if (distance[t] > nearest + diagonal * (1.0 + 1e-9)) continue;
+        const auto [it, added] = index_of.emplace(t, static_cast<std::int32_t>(index_of.size()));
+        if (added)
+          c.onset_triangles.insert(c.onset_triangles.end(), triangles.begin() + 9 * t,
+                                   triangles.begin() + 9 * t + 9);
+        c.onset_triangle_list.push_back(it->second);
+      }
+    }
+    c.onset_cells.push_back(static_cast<std::int32_t>(c.onset_triangle_list.size()));
+  }
+  if (c.onset_triangle_list.empty()) {
+    c.onset_cells.clear();
+    c.onset_triangles.clear();
+    return;
+  }
+  c.meta.contact_radius = radius;
 }
 
 }  // namespace hapstate::playback

@@ -120,6 +120,11 @@ void check_content(const Content& c, const std::filesystem::path& file) {
   const bool contact = c.meta.probe_mode == static_cast<std::int32_t>(ProbeModeCode::kContact);
   if (c.clearance.size() != (contact ? 4 * points : 0)) bad("clearance table size");
   if (c.onset.size() != (contact ? n : 0)) bad("onset table size");
+  if (const char* problem =
+          onset_lists_problem(c.onset_triangles.size(), c.onset_cells.data(), c.onset_cells.size(),
+                              c.onset_triangle_list.data(), c.onset_triangle_list.size(),
+                              std::int64_t(points), c.meta.contact_radius))
+    bad(problem);
   if (!c.midpoint_force.empty() && c.midpoint_force.size() != 3 * kMidpointDirections * n)
     bad("midpoint force table size");
   for (double v : c.midpoint_force)
@@ -391,6 +396,10 @@ void write_file(Content c, const std::filesystem::path& file) {
       {SectionId::kEighthPoints, 96 * kEighthPoints, bytes_of(c.eighth_points),
        8 * c.eighth_points.size()},
       {SectionId::kCertificate, sizeof(CertificateRecord), {}, 0},  // write_certificate()
+      {SectionId::kOnsetTriangles, 72, bytes_of(c.onset_triangles), 8 * c.onset_triangles.size()},
+      {SectionId::kOnsetCells, 4, bytes_of(c.onset_cells), 4 * c.onset_cells.size()},
+      {SectionId::kOnsetTriangleList, 4, bytes_of(c.onset_triangle_list),
+       4 * c.onset_triangle_list.size()},
   };
 
   const std::filesystem::path tmp = temporary_beside(file);

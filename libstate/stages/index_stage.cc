@@ -213,6 +213,8 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
   if (ctx.scene.probe.mode == ProbeMode::kContact) {
     c.clearance = clearance_table(ctx.problem, m);
     c.onset = playback::onset_corners(c);
+    if (const auto surface = make_probe_model(ctx.problem)->rest_surface())
+      playback::add_onset_triangles(&c, surface->triangles, surface->radius);
   }
   const std::vector<RefinementPoint> refinement = cat.read_all_refinement_points();
   add_refined_cells(refinement, index_of, &c);

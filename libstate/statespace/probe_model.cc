@@ -230,6 +230,15 @@ class SlidingProbe final : public ProbeModel {
     }
     return inside_.clearance(p, nearest, radius_, range);
   }
+  std::optional<RestSurface> rest_surface() const override {
+    RestSurface out;
+    out.radius = radius_;
+    const Triangles& tri = shape_.surface;
+    for (Eigen::Index t = 0; t < tri.cols(); ++t)
+      for (int i = 0; i < 3; ++i)
+        for (int a = 0; a < 3; ++a) out.triangles.push_back(shape_.nodes(a, tri(i, t)));
+    return out;
+  }
   VectorLayout layout() const override { return {false, 0, 3, true}; }
 
  private:

@@ -73,6 +73,13 @@ class ProbeModel {
     Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
   };
   virtual std::optional<Clearance> clearance(const Eigen::Vector3d& p, double range) const = 0;
+  // The rest surface the clearance is measured from, when it is the distance to its triangles
+  // (frictionless contact): 9 per triangle (its corners, mesh units), and the radius; else none.
+  struct RestSurface {
+    std::vector<double> triangles;
+    double radius = 0;
+  };
+  virtual std::optional<RestSurface> rest_surface() const { return std::nullopt; }
 
   // What a configuration stores besides u (statespace/level_match.h).
   virtual VectorLayout layout() const = 0;

@@ -9,6 +9,7 @@
 #include "hapstate/playback.h"
 #include "playback/onset_model.h"
 #include "synthetic.h"
+#include "util/triangle_point.h"
 
 #include <gtest/gtest.h>
 
@@ -35,7 +36,59 @@ struct Plane {
   double k = 2.5;                                                      // N per mesh unit of depth
   double stiffening = 0;  // the force k (e + stiffening e^2) d at depth e (0: proportional to it)
 
-  double gap(const Eigen::Vector3d& p) const { return n.dot(p - x0); }
+  // The sphere's radius: the body's surface is the plane n . (P - x0) = -radius (or the roof).
+  double radius = 1.0;
+  // A roof instead of the plane: two half-planes of slope roof_slope meeting at a ridge along y
+  // (at x = x0.x, the sphere touching it at z = x0.z), whose clearance is not a linear function.
+  bool roof = false;
+  double roof_slope = 0.6;
+  double roof_height(double x) const { return x0.z() - radius - roof_slope * std::abs(x - x0.x()); }
+  // The roof's 4 triangles (9 doubles each), far larger than the grid.
+  std::vector<double> roof_triangles() const {
+    const double L = 50.0, xr = x0.x();
+    std::vector<double> out;
+    auto add = [&](double xa, double ya, double xb, double yb, double xc, double yc) {
+      for (const auto& [x, y] : {std::pair{xa, ya}, std::pair{xb, yb}, std::pair{xc, yc}})
+        out.insert(out.end(), {x, y, roof_height(x)});
+    };
+    add(xr - L, -L, xr, -L, xr, L);
+    add(xr - L, -L, xr, L, xr - L, L);
+    add(xr, -L, xr + L, -L, xr + L, L);
+    add(xr, -L, xr + L, L, xr, L);
+    return out;
+  }
+  // The plane as two triangles (its clearance from them is exactly gap()).
+  std::vector<double> plane_triangles() const {
+    const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u), c = x0 - radius * n;
+    std::vector<double> out;
+    const double L = 50.0;
+    for (const auto& [a, b] : {std::pair{-L, -L}, std::pair{L, -L}, std::pair{L, L},
+                               std::pair{-L, -L}, std::pair{L, L}, std::pair{-L, L}}) {
+      const Eigen::Vector3d corner = c + a * u + b * v;
+      out.insert(out.end(), {corner[0], corner[1], corner[2]});
+    }
+    return out;
+  }
+  // The roof's signed distance (< 0 below it) and its gradient, by brute force.
+  std::pair<double, Eigen::Vector3d> roof_distance(const Eigen::Vector3d& p) const {
+    const std::vector<double> t = roof_triangles();
+    TrianglePoint best;
+    best.distance = 1e300;
+    for (std::size_t k = 0; k < t.size(); k += 9) {
+      const TrianglePoint tp = closest_point(Eigen::Vector3d(t[k], t[k + 1], t[k + 2]),
+                                             Eigen::Vector3d(t[k + 3], t[k + 4], t[k + 5]),
+                                             Eigen::Vector3d(t[k + 6], t[k + 7], t[k + 8]), p);
+      if (tp.distance < best.distance) best = tp;
+    }
+    const double sign = p.z() >= roof_height(p.x()) ? 1.0 : -1.0;
+    return {sign * best.distance, sign * (p - best.closest) / best.distance};
+  }
+  double gap(const Eigen::Vector3d& p) const {
+    return roof ? roof_distance(p).first - radius : n.dot(p - x0);
+  }
+  Eigen::Vector3d gap_gradient(const Eigen::Vector3d& p) const {
+    return roof ? roof_distance(p).second : n;
+  }
   double depth(const Eigen::Vector3d& p) const { return std::max(0.0, -gap(p)); }
   Eigen::Vector3d force(const Eigen::Vector3d& p) const {
     const double e = depth(p);
@@ -64,8 +117,10 @@ struct Plane {
 };
 
 // The synthetic grid with the plane's data: free check-points (g >= 0) hold zero
-// configurations; `hide_clearance`: every check-point reported touching (no onset cells).
-playback::Content plane_content(const Plane& plane, bool hide_clearance) {
+// configurations; `hide_clearance`: every check-point reported touching (no onset cells);
+// `triangles`: with the rest surface's triangles, from which the cursor measures the clearance
+// exactly (else it interpolates the grid points').
+playback::Content plane_content(const Plane& plane, bool hide_clearance, bool triangles = false) {
   playback::Content c = test_util::synthetic_content(plane.grid, plane.h);
   c.meta.probe_mode = static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
   const std::size_t n = c.config_checkpoint.size();
@@ -82,9 +137,12 @@ playback::Content plane_content(const Plane& plane, bool hide_clearance) {
     for (int r = 0; r < 3; ++r) c.force[3 * k + r] = plane.force(p)[r];
     for (int r = 0; r < 9; ++r) c.stiffness[9 * k + r] = jac(r / 3, r % 3);
     c.clearance.push_back(hide_clearance ? -1.0 : plane.gap(p));
-    for (int a = 0; a < 3; ++a) c.clearance.push_back(plane.n[a]);
+    for (int a = 0; a < 3; ++a) c.clearance.push_back(plane.gap_gradient(p)[a]);
   }
   c.onset = playback::onset_corners(c);
+  if (triangles)
+    playback::add_onset_triangles(&c, plane.roof ? plane.roof_triangles() : plane.plane_triangles(),
+                                  plane.radius);
   c.displacements = [plane, position](std::int32_t config, std::span<float> out) {
     for (int v = 0; v < test_util::kSyntheticViewNodes; ++v)
       for (int r = 0; r < 3; ++r)
@@ -169,24 +227,29 @@ class ContactOnset : public ::testing::Test {
 
 TEST_F(ContactOnset, ForceAndDisplacementsAreExactAcrossTheOnset) {
   const Plane plane;
-  PlaybackFile file(write(plane_content(plane, false), "onset.bin"));
   const double f_max = plane.k * 2.0 * plane.d.norm();  // the order of the largest force
-  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
-    const Errors e = walk(file, plane, scheme);
-    std::printf(
-        "onset handled: force %.3g, clear %.3g, stiffness %.3g, displacement %.3g N/-/mesh units; "
-        "%d clear points, %d in cut cells\n",
-        e.force, e.clear_force, e.stiffness, e.displacement, e.clear_points, e.cut_cells);
-    SCOPED_TRACE(scheme == Scheme::kHermite ? "hermite" : "trilinear");
-    EXPECT_GT(e.clear_points, 50);
-    EXPECT_GT(e.cut_cells, 50);
-    EXPECT_EQ(e.clear_force, 0.0);  // exactly 0 where the sphere is clear of the body at rest
-    EXPECT_LE(e.force, 1e-12 * f_max);
-    if (scheme == Scheme::kHermite) {
-      EXPECT_LE(e.stiffness, 1e-10 * plane.k);
+  for (const bool triangles : {false, true})
+    for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite}) {
+      playback::Content content = plane_content(plane, false, triangles);
+      ASSERT_EQ(content.onset_cells.empty(), !triangles);
+      PlaybackFile file(write(std::move(content), "onset.bin"));
+      SCOPED_TRACE(triangles ? "clearance from the triangles" : "interpolated clearance");
+      const Errors e = walk(file, plane, scheme);
+      std::printf(
+          "onset handled: force %.3g, clear %.3g, stiffness %.3g, displacement %.3g N/-/mesh "
+          "units; "
+          "%d clear points, %d in cut cells\n",
+          e.force, e.clear_force, e.stiffness, e.displacement, e.clear_points, e.cut_cells);
+      SCOPED_TRACE(scheme == Scheme::kHermite ? "hermite" : "trilinear");
+      EXPECT_GT(e.clear_points, 50);
+      EXPECT_GT(e.cut_cells, 50);
+      EXPECT_EQ(e.clear_force, 0.0);  // exactly 0 where the sphere is clear of the body at rest
+      EXPECT_LE(e.force, 1e-12 * f_max);
+      if (scheme == Scheme::kHermite) {
+        EXPECT_LE(e.stiffness, 1e-10 * plane.k);
+      }
+      EXPECT_LE(e.displacement, 1e-6);  // float32 storage
     }
-    EXPECT_LE(e.displacement, 1e-6);  // float32 storage
-  }
 }
 
 // The force (and stiffness) recorded half-way through the moves (0 where the sphere is clear
@@ -383,6 +446,50 @@ TEST_F(ContactOnset, DepthModelFollowsAForceThatStiffensWithTheDepth) {
   EXPECT_GE(worst_linear, 10 * worst);
 }
 
+// A body whose clearance is not linear (a roof: two half-planes meeting at a ridge): the
+// clearance interpolated from the grid points is off between them, so the force starts slightly
+// early or late; measured from the rest triangles it is exact: the force is 0 exactly where the
+// sphere is clear of the body and not 0 where it is not.
+TEST_F(ContactOnset, TheRestTrianglesMakeTheOnsetExact) {
+  Plane plane;
+  plane.roof = true;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.9, 1.9), near(-0.02, 0.02);
+  int wrong[2] = {0, 0}, points = 0;
+  double largest_clear_force[2] = {0, 0};
+  PlaybackFile interpolated(write(plane_content(plane, false, false), "interpolated.bin"));
+  PlaybackFile exact(write(plane_content(plane, false, true), "exact.bin"));
+  HapticCursor cursors[2] = {HapticCursor(interpolated, Scheme::kHermite),
+                             HapticCursor(exact, Scheme::kHermite)};
+  Eigen::Vector3d previous = plane.grid.origin;
+  while (points < 400) {
+    // A point within 0.02 of the onset (g = 0), moved there along z.
+    Eigen::Vector3d p =
+        plane.grid.origin + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(plane.h);
+    const double target = near(rng);
+    for (int it = 0; it < 60; ++it) p.z() -= plane.gap(p) - target;  // |dg/dz| > 0.85
+    if ((p - plane.grid.origin).cwiseQuotient(plane.h).cwiseAbs().maxCoeff() > 1.95) continue;
+    if (std::abs(plane.gap(p) - target) > 1e-12) continue;
+    ++points;
+    for (int which = 0; which < 2; ++which) {
+      for (int step = 1; step < 8; ++step)
+        cursors[which].force(arr(previous + (p - previous) * step / 8.0));
+      const double f = vec(cursors[which].force(arr(p)).value).norm();
+      const bool clear = plane.gap(p) >= 0;
+      wrong[which] += clear ? f != 0.0 : f == 0.0;
+      if (clear) largest_clear_force[which] = std::max(largest_clear_force[which], f);
+    }
+    previous = p;
+  }
+  std::printf(
+      "roof, 400 points within 0.02 of the onset: force on the wrong side of it at %d "
+      "(interpolated clearance, largest force where clear %.3g N), %d (rest triangles)\n",
+      wrong[0], largest_clear_force[0], wrong[1]);
+  EXPECT_GT(wrong[0], 10);  // the check has teeth: the interpolated clearance is off here
+  EXPECT_EQ(wrong[1], 0);
+  EXPECT_EQ(largest_clear_force[1], 0.0);
+}
+
 TEST_F(ContactOnset, WithoutTheClearanceTheKinkIsSmoothedOverTheCell) {
   // The check that the test above can fail: the same data with every check-point reported
   // touching interpolates the free corners' zeros across the onset.
@@ -399,9 +506,10 @@ TEST_F(ContactOnset, WithoutTheClearanceTheKinkIsSmoothedOverTheCell) {
 }
 
 TEST_F(ContactOnset, ForceAndSnapshotDoNotAllocate) {
-  // The onset cells' clearance, blend and secant corners are fixed-size data too.
+  // The onset cells' clearance (from the rest triangles), blend and secant corners are
+  // fixed-size data too.
   const Plane plane;
-  playback::Content content = plane_content(plane, false);
+  playback::Content content = plane_content(plane, false, true);
   test_util::add_midpoint_forces(&content, plane);  // the bubble fit in onset cells too
   PlaybackFile file(write(std::move(content), "alloc.bin"));
   std::vector<float> pos(3 * test_util::kSyntheticViewNodes);
