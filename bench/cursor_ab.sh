@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The haptic force query of two commits side by side (docs/changelog.md): compiles
-# bench/cursor_ab.cc against the playback sources (libstate/playback, util/hash) of OLD and of
+# bench/cursor_ab.cc against the playback sources (libstate/playback, util/hash and, where the
+# commit has it, util/triangle_point) of OLD and of
 # the working tree with g++ -O3, then runs the two alternately ROUNDS times on the same walks.
 #   bash bench/cursor_ab.sh OLD_COMMIT OLD_FILE.bin NEW_FILE.bin [OLD_FILE2 NEW_FILE2 ...]
 # OLD_FILE and NEW_FILE are the same state indexed by each build's hapstate-index (the file

@@ -99,24 +99,17 @@ struct Sections {
   std::uint64_t size(SectionId id) const { return bytes[static_cast<int>(id)]; }
 };
 
-// Sections 24-26, which the cursor reads in the haptic loop: their sizes, order and indices.
-void check_onset_lists(const playback::Meta& m, const Sections& sections) {
+// Sections 24-26: their sizes (the cursor checks the lists it reads; verify() all of them).
+void check_onset_sizes(const playback::Meta& m, const Sections& sections) {
   const std::uint64_t triangle_bytes = sections.size(SectionId::kOnsetTriangles);
   const std::uint64_t cells_bytes = sections.size(SectionId::kOnsetCells);
   const std::uint64_t list_bytes = sections.size(SectionId::kOnsetTriangleList);
   if (triangle_bytes % 8 != 0 || cells_bytes % 4 != 0 || list_bytes % 4 != 0)
     unusable("onset triangle sections: sizes not whole");
   const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
-  if (const char* problem = playback::onset_lists_problem(
-          triangle_bytes / 8,
-          reinterpret_cast<const std::int32_t*>(sections.at(SectionId::kOnsetCells)),
-          cells_bytes / 4,
-          reinterpret_cast<const std::int32_t*>(sections.at(SectionId::kOnsetTriangleList)),
-          list_bytes / 4, points, m.contact_radius))
+  if (const char* problem = playback::onset_sizes_problem(triangle_bytes / 8, cells_bytes / 4,
+                                                          list_bytes / 4, points, m.contact_radius))
     unusable(problem);
-  const auto* corners = reinterpret_cast<const double*>(sections.at(SectionId::kOnsetTriangles));
-  for (std::uint64_t k = 0; k < triangle_bytes / 8; ++k)
-    if (!std::isfinite(corners[k])) unusable("section 'onset triangles': a corner is not finite");
 }
 
 // The header at `base` (`size` bytes mapped): magic, version, checksum, size and layout.
@@ -312,7 +305,7 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
     sections = read_sections(f.base, f.size, &f.table);
     f.meta = &check_meta(sections);
     check_section_sizes(*f.meta, sections);
-    check_onset_lists(*f.meta, sections);
+    check_onset_sizes(*f.meta, sections);
   } catch (const Unusable& e) {
     fail(e.what);
   } catch (...) {  // no memory for a message: unmap and pass it on
@@ -371,10 +364,14 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
         reinterpret_cast<const playback::CertificateRecord*>(section(SectionId::kCertificate));
   if (sections.size(SectionId::kOnsetTriangles) != 0 && contact) {
     f.onset_triangles = reinterpret_cast<const double*>(section(SectionId::kOnsetTriangles));
+    f.num_onset_triangles =
+        static_cast<std::int32_t>(sections.size(SectionId::kOnsetTriangles) / 72);
     f.onset_cells = reinterpret_cast<const std::int32_t*>(section(SectionId::kOnsetCells));
     f.onset_triangle_list =
         reinterpret_cast<const std::int32_t*>(section(SectionId::kOnsetTriangleList));
+    f.onset_list_size = static_cast<std::int32_t>(sections.size(SectionId::kOnsetTriangleList) / 4);
   }
+
   if (contact) {
     f.clearance = reinterpret_cast<const double*>(section(SectionId::kClearance));
     f.onset = reinterpret_cast<const playback::OnsetCorner*>(section(SectionId::kOnset));
@@ -400,6 +397,12 @@ void PlaybackFile::verify() const {
   const playback::Meta& m = *f.meta;
   const std::int64_t n = m.num_configurations;
   const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
+  if (f.onset_cells)
+    if (const char* problem = playback::onset_lists_problem(
+            f.onset_triangles, 9 * std::size_t(f.num_onset_triangles), f.onset_cells,
+            std::size_t(points) + 1, f.onset_triangle_list, std::size_t(f.onset_list_size), points,
+            m.contact_radius))
+      fail(problem);
   for (std::int64_t g = 0; g < points; ++g) {
     const std::int32_t first = f.checkpoints[2 * g], count = f.checkpoints[2 * g + 1];
     if (count < 0 || (count > 0 && (first < 0 || first + std::int64_t(count) > n)))

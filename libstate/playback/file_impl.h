@@ -49,10 +49,13 @@ struct PlaybackFile::Impl {
   const double* eighth_points = nullptr;
   std::int32_t num_eighth_cells = 0;
   const playback::CertificateRecord* certificate = nullptr;  // section 22, nullptr: none
-  // Sections 24-26 (contact, frictionless; checked at open); nullptr: none.
+  // Sections 24-26 (contact, frictionless; their sizes checked at open, their contents by
+  // verify(): the cursor checks what it reads); nullptr: none.
   const double* onset_triangles = nullptr;
-  const std::int32_t* onset_cells = nullptr;
+  std::int32_t num_onset_triangles = 0;
+  const std::int32_t* onset_cells = nullptr;  // grid points + 1
   const std::int32_t* onset_triangle_list = nullptr;
+  std::int32_t onset_list_size = 0;
   // The displacements (kind 0) or their slope along axis kind - 1 at configuration c's
   // midpoint in direction d: 3 per view node.
   const float* midpoint_array(std::int32_t c, int d, int kind) const {

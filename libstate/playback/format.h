@@ -7,6 +7,7 @@
 // hundred bytes); each section's checksum is checked by verify().
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -21,7 +22,8 @@ static_assert(std::endian::native == std::endian::little,
 inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
 // 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness, 7: midpoint
 // displacements, 8: the change bound of the half cells' second-order cross derivatives,
-// 9: refined cells, 10: the certificate, 11: refined cells' eighth-spacing points
+// 9: refined cells, 10: the certificate, 11: refined cells' eighth-spacing points, 12: the depth
+// model's quadratic term and the rest triangles near the onset (sections 24-26)
 inline constexpr std::uint32_t kVersion = 12;
 inline constexpr std::uint64_t kAlignment = 64;
 
@@ -232,26 +234,57 @@ struct Meta {
   double contact_radius;                 // mesh units, with section 24; else 0
 };
 
-// What is wrong with sections 24-26 (nullptr: nothing): `triangles` 9 doubles each, `cells`
-// (points + 1 starts, from 0, not decreasing, the last the list's length) and `list` (indices
-// into the triangles); all empty, or all filled with a radius > 0 in the meta.
-inline const char* onset_lists_problem(std::size_t triangle_doubles, const std::int32_t* cells,
-                                       std::size_t num_cells, const std::int32_t* list,
+// What is wrong with the sizes of sections 24-26 (nullptr: nothing; O(1), checked at open):
+// `triangle_doubles` 9 each, `num_cells` the grid points + 1, the list; all empty (and no contact
+// radius), or the triangles and cells filled with a contact radius > 0.
+inline const char* onset_sizes_problem(std::size_t triangle_doubles, std::size_t num_cells,
                                        std::size_t list_size, std::int64_t points, double radius) {
   if (triangle_doubles == 0 && num_cells == 0 && list_size == 0)
     return radius == 0 ? nullptr : "a contact radius without onset triangles";
-  if (triangle_doubles % 9 != 0 || num_cells != static_cast<std::size_t>(points) + 1)
+  if (triangle_doubles == 0 || triangle_doubles % 9 != 0 ||
+      num_cells != static_cast<std::size_t>(points) + 1)
     return "onset triangle or cell table size";
   if (!(radius > 0) || !std::isfinite(radius)) return "onset triangles without a contact radius";
+  return nullptr;
+}
+
+// What is wrong with the contents of sections 24-26 (nullptr: nothing; the writer and verify()):
+// the sizes, then `cells` (starts from 0, not decreasing, the last the list's length) and `list`
+// (indices into the triangles), and every corner finite.
+inline const char* onset_lists_problem(const double* triangles, std::size_t triangle_doubles,
+                                       const std::int32_t* cells, std::size_t num_cells,
+                                       const std::int32_t* list, std::size_t list_size,
+                                       std::int64_t points, double radius) {
+  if (const char* p = onset_sizes_problem(triangle_doubles, num_cells, list_size, points, radius))
+    return p;
+  if (num_cells == 0) return nullptr;
   if (cells[0] != 0 || static_cast<std::size_t>(cells[num_cells - 1]) != list_size)
     return "onset cell lists do not cover the list";
   for (std::size_t k = 1; k < num_cells; ++k)
     if (cells[k] < cells[k - 1]) return "onset cell lists out of order";
-  const std::size_t triangles = triangle_doubles / 9;
+  const std::size_t count = triangle_doubles / 9;
   for (std::size_t k = 0; k < list_size; ++k)
-    if (list[k] < 0 || static_cast<std::size_t>(list[k]) >= triangles)
+    if (list[k] < 0 || static_cast<std::size_t>(list[k]) >= count)
       return "an onset triangle index is out of range";
+  for (std::size_t k = 0; k < triangle_doubles; ++k)
+    if (!std::isfinite(triangles[k])) return "an onset triangle corner is not finite";
   return nullptr;
+}
+
+// Whether a cell of a contact file may blend in the depth model near the onset, and whether it is
+// clear of the rest body, from the shallowest and the deepest depth (minus the clearance) of its
+// corners: blend where the sphere may be shallower than the band (some corner within the band
+// plus a cell diagonal of the onset: the clearance changes by at most the distance); clear where
+// every corner is clear by a diagonal (then every point of the cell is). One rule for the cursor
+// (prepare_onset) and hapstate-index (which cells get rest triangles).
+struct OnsetCellTest {
+  bool blend = false, clear = false;
+};
+inline OnsetCellTest onset_cell_test(double shallowest, double deepest, const double* spacing) {
+  const double h = std::min({spacing[0], spacing[1], spacing[2]});
+  const double diagonal =
+      std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
+  return {shallowest <= kOnsetBandSpacings * h + diagonal, -deepest >= diagonal};
 }
 
 // The grid-point numbering of the file (x-major: i slowest, k fastest; docs/playback.md): the

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <map>
 
 namespace hapstate::playback {
 
@@ -18,6 +17,7 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
   std::vector<OnsetCorner> out(n, OnsetCorner{});
   const double* h = c.meta.spacing;
   const double shallow = 1e-3 * std::min({h[0], h[1], h[2]});
+  const double band = kOnsetBandSpacings * std::min({h[0], h[1], h[2]});
   auto gap = [&](std::size_t config) {
     return &c.clearance[4 * static_cast<std::size_t>(c.config_checkpoint[config])];
   };
@@ -38,10 +38,16 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
       for (int a = 0; a < 3; ++a) fd[r] -= K[3 * r + a] * g[1 + a] / gg;
     const double ff = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
     // f(x) = (f / d) x (1 + beta (x / d - 1)), with f'(d) along f matching: beta = 0 for a force
-    // proportional to the depth, 1/2 for Hertz's d^1.5; limited to [-1/2, 1].
+    // proportional to the depth, 1/2 for Hertz's d^1.5. Limited to [-1/2, 1] (a stiffness
+    // one-sided at a kink can be several times its neighbours'), and so that over the band, where
+    // the cursor uses the model, its slope stays >= 0 (beta >= -d / (2 band - d)) and its
+    // quadratic term no larger than its linear one (beta <= d / (d + band)): the model of a
+    // configuration shallower than the band is extrapolated, and its curvature, b = beta f / d^2,
+    // would grow as 1 / d.
     double beta =
         ff > 0.0 && gg > 0.0 ? d * (f[0] * fd[0] + f[1] * fd[1] + f[2] * fd[2]) / ff - 1.0 : 0.0;
-    beta = std::isfinite(beta) ? std::clamp(beta, -0.5, 1.0) : 0.0;
+    const double lowest = 2.0 * band > d ? std::max(-0.5, -d / (2.0 * band - d)) : -0.5;
+    beta = std::isfinite(beta) ? std::clamp(beta, lowest, std::min(1.0, d / (d + band))) : 0.0;
     for (int r = 0; r < 3; ++r) {
       o.per_depth[r] = f[r] / d * (1.0 - beta);
       o.per_depth_squared[r] = f[r] / d * beta / d;
@@ -114,7 +120,7 @@ void add_onset_triangles(Content* content, const std::vector<double>& triangles,
                            triangles[9 * t + 3 * i + 2]);
   };
   const std::int64_t points = std::int64_t(m.dims[0]) * m.dims[1] * m.dims[2];
-  std::map<std::size_t, std::int32_t> index_of;  // triangle -> its index in section 24
+  std::vector<std::int32_t> index_of(count, -1);  // triangle -> its index in section 24
   std::vector<double> distance(count);
   c.onset_cells.assign(1, 0);
   for (std::int64_t g = 0; g < points; ++g) {
@@ -137,22 +143,26 @@ void add_onset_triangles(Content* content, const std::vector<double>& triangles,
         shallowest = std::min(shallowest, depth);
         deepest = std::max(deepest, depth);
       }
-    // As CursorCore::prepare_onset decides (the cell's clear and onset tests).
-    if (cell && shallowest <= band + diagonal && deepest > -diagonal) {
+    const OnsetCellTest test = cell ? onset_cell_test(shallowest, deepest, h) : OnsetCellTest{};
+    if (test.blend && !test.clear) {
       // Any point p of the cell is within half a diagonal of the centre, so its nearest triangle
-      // is within the centre's nearest distance plus a diagonal of the centre.
+      // is within the centre's nearest distance plus a diagonal of the centre; and where that
+      // triangle is nearer than the radius (the sphere touches), within the radius plus half a
+      // diagonal. Farther points measure more than the radius from the list: clear, as they are.
       double nearest = std::numeric_limits<double>::infinity();
       for (std::size_t t = 0; t < count; ++t) {
         distance[t] = closest_point(corner(t, 0), corner(t, 1), corner(t, 2), centre).distance;
         nearest = std::min(nearest, distance[t]);
       }
+      const double reach = std::min(nearest + diagonal, radius + 0.5 * diagonal) * (1.0 + 1e-9);
       for (std::size_t t = 0; t < count; ++t) {
-        if (distance[t] > nearest + diagonal * (1.0 + 1e-9)) continue;
-        const auto [it, added] = index_of.emplace(t, static_cast<std::int32_t>(index_of.size()));
-        if (added)
+        if (distance[t] > reach) continue;
+        if (index_of[t] < 0) {
+          index_of[t] = static_cast<std::int32_t>(c.onset_triangles.size() / 9);
           c.onset_triangles.insert(c.onset_triangles.end(), triangles.begin() + 9 * t,
                                    triangles.begin() + 9 * t + 9);
-        c.onset_triangle_list.push_back(it->second);
+        }
+        c.onset_triangle_list.push_back(index_of[t]);
       }
     }
     c.onset_cells.push_back(static_cast<std::int32_t>(c.onset_triangle_list.size()));

@@ -120,10 +120,10 @@ void check_content(const Content& c, const std::filesystem::path& file) {
   const bool contact = c.meta.probe_mode == static_cast<std::int32_t>(ProbeModeCode::kContact);
   if (c.clearance.size() != (contact ? 4 * points : 0)) bad("clearance table size");
   if (c.onset.size() != (contact ? n : 0)) bad("onset table size");
-  if (const char* problem =
-          onset_lists_problem(c.onset_triangles.size(), c.onset_cells.data(), c.onset_cells.size(),
-                              c.onset_triangle_list.data(), c.onset_triangle_list.size(),
-                              std::int64_t(points), c.meta.contact_radius))
+  if (const char* problem = onset_lists_problem(
+          c.onset_triangles.data(), c.onset_triangles.size(), c.onset_cells.data(),
+          c.onset_cells.size(), c.onset_triangle_list.data(), c.onset_triangle_list.size(),
+          std::int64_t(points), c.meta.contact_radius))
     bad(problem);
   if (!c.midpoint_force.empty() && c.midpoint_force.size() != 3 * kMidpointDirections * n)
     bad("midpoint force table size");

@@ -26,7 +26,7 @@ struct Content {
   std::vector<std::int32_t> triangles;  // 3 per triangle, view-node indices
   std::vector<double> clearance;        // contact: 4 per grid point (gap, gradient); grab: empty
   std::vector<OnsetCorner> onset;       // contact: 1 per configuration (onset_model.h); grab: empty
-  // Contact, frictionless (onset_model.h, onset_triangle_lists): 9 per rest triangle near the
+  // Contact, frictionless (onset_model.h, add_onset_triangles): 9 per rest triangle near the
   // onset; per grid point + 1 the start of its cell's list; the lists. Empty: none.
   std::vector<double> onset_triangles;
   std::vector<std::int32_t> onset_cells;

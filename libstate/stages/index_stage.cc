@@ -66,8 +66,7 @@ ContentHash fingerprint_of(const std::vector<Configuration>& configs,
 // gradient; x-major), for the cursor's contact-onset cells (docs/playback.md). Exact within
 // two cell diagonals of the surface, which covers every corner of a cell the sphere enters
 // the body in (the clearance changes by at most a cell diagonal across a cell).
-std::vector<double> clearance_table(const Problem& problem, const playback::Meta& m) {
-  const auto probe = make_probe_model(problem);
+std::vector<double> clearance_table(const ProbeModel& probe, const playback::Meta& m) {
   double diagonal = 0;
   for (int a = 0; a < 3; ++a) diagonal += m.spacing[a] * m.spacing[a];
   const double range = 2.0 * std::sqrt(diagonal);
@@ -78,7 +77,7 @@ std::vector<double> clearance_table(const Problem& problem, const playback::Meta
         const int ijk[3] = {m.lo[0] + i, m.lo[1] + j, m.lo[2] + k};
         Eigen::Vector3d p;
         for (int a = 0; a < 3; ++a) p[a] = m.origin[a] + ijk[a] * m.spacing[a];
-        const ProbeModel::Clearance c = probe->clearance(p, range).value();  // a contact probe
+        const ProbeModel::Clearance c = probe.clearance(p, range).value();  // a contact probe
         out.push_back(c.gap);
         for (int a = 0; a < 3; ++a) out.push_back(c.gradient[a]);
       }
@@ -211,9 +210,10 @@ Gathered gather(StageContext& ctx, ViewNodes view, const NamedHashes& inputs) {
   for (Eigen::Index t = 0; t < mesh.surface.cols(); ++t)
     for (int r = 0; r < 3; ++r) c.triangles.push_back(view_of[mesh.surface(r, t)]);
   if (ctx.scene.probe.mode == ProbeMode::kContact) {
-    c.clearance = clearance_table(ctx.problem, m);
+    const auto probe = make_probe_model(ctx.problem);
+    c.clearance = clearance_table(*probe, m);
     c.onset = playback::onset_corners(c);
-    if (const auto surface = make_probe_model(ctx.problem)->rest_surface())
+    if (const auto surface = probe->rest_surface())
       playback::add_onset_triangles(&c, surface->triangles, surface->radius);
   }
   const std::vector<RefinementPoint> refinement = cat.read_all_refinement_points();

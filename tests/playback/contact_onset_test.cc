@@ -15,7 +15,11 @@
 
 #include <unistd.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 
@@ -43,18 +47,26 @@ struct Plane {
   bool roof = false;
   double roof_slope = 0.6;
   double roof_height(double x) const { return x0.z() - radius - roof_slope * std::abs(x - x0.x()); }
-  // The roof's 4 triangles (9 doubles each), far larger than the grid.
+  // The roof's triangles (9 doubles each): with roof_tiles 1, 4 far larger than the grid; else
+  // each half tiled by roof_tiles x roof_tiles squares of two triangles over 8 x 8 mesh units,
+  // about the cells' size, so that each cell lists only those near it.
+  int roof_tiles = 1;
   std::vector<double> roof_triangles() const {
-    const double L = 50.0, xr = x0.x();
+    const double L = roof_tiles == 1 ? 50.0 : 4.0, xr = x0.x();
     std::vector<double> out;
     auto add = [&](double xa, double ya, double xb, double yb, double xc, double yc) {
       for (const auto& [x, y] : {std::pair{xa, ya}, std::pair{xb, yb}, std::pair{xc, yc}})
         out.insert(out.end(), {x, y, roof_height(x)});
     };
-    add(xr - L, -L, xr, -L, xr, L);
-    add(xr - L, -L, xr, L, xr - L, L);
-    add(xr, -L, xr + L, -L, xr + L, L);
-    add(xr, -L, xr + L, L, xr, L);
+    const double step = L / roof_tiles;
+    for (int side = -1; side <= 1; side += 2)
+      for (int i = 0; i < roof_tiles; ++i)
+        for (int j = 0; j < 2 * roof_tiles; ++j) {
+          const double xa = xr + side * i * step, xb = xr + side * (i + 1) * step;
+          const double ya = -L + j * step, yb = ya + step;
+          add(xa, ya, xb, ya, xb, yb);
+          add(xa, ya, xb, yb, xa, yb);
+        }
     return out;
   }
   // The plane as two triangles (its clearance from them is exactly gap()).
@@ -446,6 +458,37 @@ TEST_F(ContactOnset, DepthModelFollowsAForceThatStiffensWithTheDepth) {
   EXPECT_GE(worst_linear, 10 * worst);
 }
 
+// A stiffness that is one-sided at a kink (here 7x or -3x the slope) at a configuration
+// shallower than the band: its depth model stays sane over the band, where the cursor uses it
+// (its slope >= 0, its quadratic term no larger than its linear one): extrapolated from a shallow
+// depth, b = beta f / d^2 would otherwise grow as 1 / d.
+TEST_F(ContactOnset, DepthModelOfAShallowConfigurationIsLimitedOverTheBand) {
+  const Plane plane;
+  const double band = playback::kOnsetBandSpacings * plane.h.minCoeff();
+  for (const double factor : {7.0, -3.0}) {
+    playback::Content c = plane_content(plane, false);
+    int checked = 0;
+    for (std::size_t k = 0; k < c.onset.size(); ++k) {
+      const double d = -c.clearance[4 * std::size_t(c.config_checkpoint[k])];
+      if (c.config_zero[k] == 1 || d <= 1e-3 * plane.h.minCoeff() || d >= band) continue;
+      for (int r = 0; r < 9; ++r) c.stiffness[9 * k + r] *= factor;
+      ++checked;
+    }
+    ASSERT_GT(checked, 0);
+    const std::vector<playback::OnsetCorner> onset = playback::onset_corners(c);
+    for (std::size_t k = 0; k < onset.size(); ++k) {
+      const double d = -c.clearance[4 * std::size_t(c.config_checkpoint[k])];
+      if (c.config_zero[k] == 1 || d <= 1e-3 * plane.h.minCoeff() || d >= band) continue;
+      const Eigen::Vector3d a(onset[k].per_depth), b(onset[k].per_depth_squared);
+      const Eigen::Vector3d f(&c.force[3 * k]);
+      SCOPED_TRACE("stiffness x " + std::to_string(factor) + ", depth " + std::to_string(d));
+      EXPECT_NEAR((d * (a + b * d) - f).norm(), 0.0, 1e-12 * f.norm());  // exact at its depth
+      EXPECT_GE((a + 2.0 * band * b).dot(f), -1e-12 * f.squaredNorm());  // slope >= 0 at band
+      EXPECT_LE(band * b.norm(), a.norm() * (1.0 + 1e-12));              // b band <= a
+    }
+  }
+}
+
 // A body whose clearance is not linear (a roof: two half-planes meeting at a ridge): the
 // clearance interpolated from the grid points is off between them, so the force starts slightly
 // early or late; measured from the rest triangles it is exact: the force is 0 exactly where the
@@ -453,6 +496,18 @@ TEST_F(ContactOnset, DepthModelFollowsAForceThatStiffensWithTheDepth) {
 TEST_F(ContactOnset, TheRestTrianglesMakeTheOnsetExact) {
   Plane plane;
   plane.roof = true;
+  plane.roof_tiles = 16;  // 2 048 triangles of 0.25 mesh units
+  {
+    const playback::Content content = plane_content(plane, false, true);
+    int cells = 0;
+    for (std::size_t g = 0; g + 1 < content.onset_cells.size(); ++g)
+      cells += content.onset_cells[g + 1] > content.onset_cells[g];
+    const double mean = double(content.onset_triangle_list.size()) / std::max(cells, 1);
+    std::printf("roof of %zu triangles: %d cells list %.1f of them on average\n",
+                plane.roof_triangles().size() / 9, cells, mean);
+    EXPECT_GT(cells, 10);
+    EXPECT_LT(mean, 0.25 * double(plane.roof_triangles().size() / 9));  // the lists are pruned
+  }
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1.9, 1.9), near(-0.02, 0.02);
   int wrong[2] = {0, 0}, points = 0;
@@ -488,6 +543,58 @@ TEST_F(ContactOnset, TheRestTrianglesMakeTheOnsetExact) {
   EXPECT_GT(wrong[0], 10);  // the check has teeth: the interpolated clearance is off here
   EXPECT_EQ(wrong[1], 0);
   EXPECT_EQ(largest_clear_force[1], 0.0);
+}
+
+// Sections 24-26 are checked where they are written (hapstate-index refuses to write a list
+// that points outside the triangles); in a file damaged afterwards, which opens (the check at
+// open is O(1): sizes only), verify() names the problem and the cursor reads no triangle outside
+// the section (it skips an index out of range: run under AddressSanitizer in CI).
+TEST_F(ContactOnset, DamagedOnsetListsAreRefusedOrSkipped) {
+  Plane plane;
+  plane.roof = true;
+  plane.roof_tiles = 4;
+  playback::Content bad = plane_content(plane, false, true);
+  ASSERT_FALSE(bad.onset_triangle_list.empty());
+  bad.onset_triangle_list[0] = 1 << 20;
+  try {
+    playback::write_file(std::move(bad), dir_ / "bad.bin");
+    ADD_FAILURE() << "a list out of range was written";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("an onset triangle index is out of range"),
+              std::string::npos)
+        << e.what();
+  }
+  const playback::Content content = plane_content(plane, false, true);
+  const fs::path file = write(content, "lists.bin");
+  // Every list entry set to a huge index, in place (the section's checksum no longer matches).
+  std::string bytes;
+  {
+    std::ifstream in(file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const auto* table = reinterpret_cast<const playback::SectionEntry*>(bytes.data() + 64);
+  std::uint64_t offset = 0, size = 0;
+  for (int k = 0; k < playback::kSectionCount; ++k)
+    if (table[k].id == static_cast<std::uint32_t>(playback::SectionId::kOnsetTriangleList))
+      offset = table[k].offset, size = table[k].bytes;
+  ASSERT_GT(size, 0u);
+  for (std::uint64_t b = 0; b < size; b += 4) {
+    const std::int32_t huge = 1 << 28;
+    std::memcpy(bytes.data() + offset + b, &huge, 4);
+  }
+  const fs::path damaged = dir_ / "damaged.bin";
+  std::ofstream(damaged, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+  PlaybackFile opened(damaged);  // sizes only at open
+  EXPECT_THROW(opened.verify(), InputError);
+  HapticCursor cursor(opened, Scheme::kHermite);
+  for (int n = 0; n < 2000; ++n) {
+    const double t = 1e-2 * n;
+    const Force f = cursor.force(
+        arr(plane.grid.origin + Eigen::Vector3d(0.8 * std::sin(t), 0.6 * std::cos(1.3 * t),
+                                                -0.7 + 0.6 * std::sin(0.7 * t))));
+    ASSERT_TRUE(std::isfinite(f.value[0]) && std::isfinite(f.value[1]) &&
+                std::isfinite(f.value[2]));
+  }
 }
 
 TEST_F(ContactOnset, WithoutTheClearanceTheKinkIsSmoothedOverTheCell) {
