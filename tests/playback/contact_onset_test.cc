@@ -496,7 +496,7 @@ TEST_F(ContactOnset, DepthModelOfAShallowConfigurationIsLimitedOverTheBand) {
 TEST_F(ContactOnset, TheRestTrianglesMakeTheOnsetExact) {
   Plane plane;
   plane.roof = true;
-  plane.roof_tiles = 16;  // 2 048 triangles of 0.25 mesh units
+  plane.roof_tiles = 8;  // 512 triangles of 0.5 mesh units
   {
     const playback::Content content = plane_content(plane, false, true);
     int cells = 0;
