@@ -32,6 +32,17 @@ sed -e "s#^file = \"beam.msh\"#file = \"$PWD/pipelines/beam/beam.msh\"#" \
     -e 's#^box = .*#box = [[4.0, 0.5, 1.0], [4.1, 0.6, 1.1]]#' pipelines/beam/scene.toml >"$work/small.toml"
 ASAN_OPTIONS=detect_leaks=0 "$build/tools/hapstate" run "$work/small.toml" \
   --state "$work/small" >"$work/small.log" 2>&1 || { cat "$work/small.log"; exit 1; }
+# A frictionless contact seed (the onset's depth models and rest triangles, sections 14, 15 and
+# 24-26): the beam touched by a 0.5 cm sphere, 12 check-points, no refinement, surface nodes.
+sed -e "s#^file = \"../../pipelines/beam/beam.msh\"#file = \"$PWD/pipelines/beam/beam.msh\"#" \
+    -e 's#^box = .*#box = [[3.4, 0.4, 1.4], [3.5, 0.5, 1.6]]#' tests/scenes/beam_contact.toml \
+    >"$work/contact.toml"
+ASAN_OPTIONS=detect_leaks=0 "$build/tools/hapstate" run "$work/contact.toml" --state "$work/contact" \
+  --no-refine --no-certify --nodes surface >"$work/contact.log" 2>&1 || {
+  cat "$work/contact.log"
+  exit 1
+}
+cp "$work/contact/playback.bin" "$work/contact_playback.bin"
 
 seed() {  # seed NAME DIR...: the working corpus of fuzzer NAME from the given seed folders/files
   mkdir -p "$work/corpus/$1"
@@ -46,7 +57,7 @@ seed fuzz_mesh_medit fuzz/corpus/medit/.
 seed fuzz_mesh_tetgen fuzz/corpus/tetgen/.
 seed fuzz_scene fuzz/corpus/scene/.
 seed fuzz_node_list fuzz/corpus/node_list/.
-seed fuzz_playback "$work/small/playback.bin"
+seed fuzz_playback "$work/small/playback.bin" "$work/contact_playback.bin"
 seed fuzz_catalogue "$work/beam/catalogue.sqlite"
 
 status=0
