@@ -136,7 +136,7 @@ CursorCore::OnsetBlend CursorCore::apply_onset(const double (&B)[3][4], const do
     blend.at_rest = true;
     return blend;
   }
-  const double band = kOnsetBandSpacings * std::min({h[0], h[1], h[2]});
+  const double band = onset_band(h);
   if (blend.depth >= band) return blend;
   double model[3], dmodel[3][3];
   depth_model_at(s, blend.depth, grad, model, dmodel);
@@ -198,7 +198,7 @@ bool CursorCore::onset_blend_at(const std::array<double, 3>& t, OnsetPoint* out)
   // point's blend weight by that much depth.
   out->depth = -interpolated_clearance(B, dB, out->grad);
   if (!(out->depth > 0.0)) return false;
-  const double band = kOnsetBandSpacings * std::min({h[0], h[1], h[2]});
+  const double band = onset_band(h);
   const double x = std::min(out->depth / band, 1.0);
   out->R = x * x * (3.0 - 2.0 * x);
   out->dR = 6.0 * x * (1.0 - x) / band;

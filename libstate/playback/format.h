@@ -112,6 +112,10 @@ inline constexpr int kSectionCount = 26;
 // The band above the contact onset, in units of the smallest spacing, over which the cursor
 // blends the force from the depth model into the interpolated force (docs/playback.md).
 inline constexpr double kOnsetBandSpacings = 0.5;
+// The band's width, mesh units, for a grid of these spacings.
+inline double onset_band(const double* spacing) {
+  return kOnsetBandSpacings * std::min({spacing[0], spacing[1], spacing[2]});
+}
 
 // A refined cell's lattice: 5 points per axis at quarter spacings.
 inline constexpr int kRefinedPoints = 125;
@@ -281,10 +285,9 @@ struct OnsetCellTest {
   bool blend = false, clear = false;
 };
 inline OnsetCellTest onset_cell_test(double shallowest, double deepest, const double* spacing) {
-  const double h = std::min({spacing[0], spacing[1], spacing[2]});
   const double diagonal =
       std::sqrt(spacing[0] * spacing[0] + spacing[1] * spacing[1] + spacing[2] * spacing[2]);
-  return {shallowest <= kOnsetBandSpacings * h + diagonal, -deepest >= diagonal};
+  return {shallowest <= onset_band(spacing) + diagonal, -deepest >= diagonal};
 }
 
 // The grid-point numbering of the file (x-major: i slowest, k fastest; docs/playback.md): the

@@ -17,7 +17,7 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
   std::vector<OnsetCorner> out(n, OnsetCorner{});
   const double* h = c.meta.spacing;
   const double shallow = 1e-3 * std::min({h[0], h[1], h[2]});
-  const double band = kOnsetBandSpacings * std::min({h[0], h[1], h[2]});
+  const double band = onset_band(h);
   auto gap = [&](std::size_t config) {
     return &c.clearance[4 * static_cast<std::size_t>(c.config_checkpoint[config])];
   };
@@ -111,7 +111,7 @@ void add_onset_triangles(Content* content, const std::vector<double>& triangles,
   Content& c = *content;
   const Meta& m = c.meta;
   const double* h = m.spacing;
-  const double band = kOnsetBandSpacings * std::min({h[0], h[1], h[2]});
+  const double band = onset_band(h);
   if (!(radius >= 1.5 * band) || triangles.empty()) return;
   const double diagonal = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
   const std::size_t count = triangles.size() / 9;
