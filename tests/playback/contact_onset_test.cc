@@ -132,13 +132,16 @@ struct Plane {
 // configurations; `hide_clearance`: every check-point reported touching (no onset cells);
 // `triangles`: with the rest surface's triangles, from which the cursor measures the clearance
 // exactly (else it interpolates the grid points').
-playback::Content plane_content(const Plane& plane, bool hide_clearance, bool triangles = false) {
-  playback::Content c = test_util::synthetic_content(plane.grid, plane.h);
+// `flat_z`: a planar workspace (one check-point along z, at the rest position's height).
+playback::Content plane_content(const Plane& plane, bool hide_clearance, bool triangles = false,
+                                bool flat_z = false) {
+  playback::Content c = test_util::synthetic_content(plane.grid, plane.h, flat_z);
   c.meta.probe_mode = static_cast<std::int32_t>(playback::ProbeModeCode::kContact);
   const std::size_t n = c.config_checkpoint.size();
-  // Configuration g is at grid point g (x-major, indices -2..2).
-  auto position = [plane](std::size_t g) {
-    const Eigen::Vector3i ijk(int(g / 25) - 2, int(g / 5) % 5 - 2, int(g % 5) - 2);
+  // Configuration g is at grid point g (x-major, indices -2..2; 0 along a flat z).
+  const int nk = flat_z ? 1 : 5, klo = flat_z ? 0 : -2;
+  auto position = [plane, nk, klo](std::size_t g) {
+    const Eigen::Vector3i ijk(int(g / (5 * nk)) - 2, int(g / nk) % 5 - 2, int(g % nk) + klo);
     return Eigen::Vector3d(plane.grid.origin + ijk.cast<double>().cwiseProduct(plane.h));
   };
   for (std::size_t k = 0; k < n; ++k) {
@@ -543,6 +546,60 @@ TEST_F(ContactOnset, TheRestTrianglesMakeTheOnsetExact) {
   EXPECT_GT(wrong[0], 10);  // the check has teeth: the interpolated clearance is off here
   EXPECT_EQ(wrong[1], 0);
   EXPECT_EQ(largest_clear_force[1], 0.0);
+}
+
+// A planar workspace (one check-point along z) whose plane the roof cuts: the cells are flat,
+// and the rest triangles still put the force exactly where the sphere touches, on both schemes.
+TEST_F(ContactOnset, TheRestTrianglesServeAFlatWorkspace) {
+  Plane plane;
+  plane.roof = true;
+  plane.roof_tiles = 8;
+  // The ridge 0.95 below the plane of centres: the sphere touches it (the clearance measured to
+  // the ridge itself, not linear) where |x - x0.x| < sqrt(1 - 0.95^2).
+  plane.x0 = plane.grid.origin + Eigen::Vector3d(0.5, 0.0, 0.05);
+  const double onset = std::sqrt(1.0 - 0.95 * 0.95);
+  const playback::Content content = plane_content(plane, false, true, true);
+  ASSERT_EQ(content.meta.dims[2], 1);
+  ASSERT_FALSE(content.onset_triangle_list.empty());
+  PlaybackFile exact(write(content, "flat.bin"));
+  exact.verify();
+  PlaybackFile interpolated(write(plane_content(plane, false, false, true), "flat_i.bin"));
+  std::uniform_real_distribution<double> u(-1.95, 1.95), near(-0.02, 0.02);
+  int wrong_interpolated = 0;
+  for (const Scheme scheme : {Scheme::kTrilinear, Scheme::kHermite})
+    for (const bool triangles : {true, false}) {
+      SCOPED_TRACE(scheme == Scheme::kHermite ? "hermite" : "trilinear");
+      SCOPED_TRACE(triangles ? "rest triangles" : "interpolated clearance");
+      std::mt19937_64 rng(11);
+      HapticCursor cursor(triangles ? exact : interpolated, scheme);
+      int wrong = 0, touching = 0, clear = 0;
+      Eigen::Vector3d previous = plane.grid.origin;
+      for (int n = 0; n < 400; ++n) {
+        // Every other point within 0.02 (along x) of the onset.
+        Eigen::Vector3d p =
+            plane.grid.origin + Eigen::Vector3d(u(rng) * plane.h.x(), u(rng) * plane.h.y(), 0.0);
+        if (n % 2 == 1)
+          p.x() = plane.x0.x() + (p.x() < plane.x0.x() ? -1 : 1) * (onset + near(rng));
+        for (int s = 1; s < 8; ++s) cursor.force(arr(previous + (p - previous) * s / 8.0));
+        previous = p;
+        const Force f = cursor.force(arr(p));
+        ASSERT_TRUE(std::isfinite(f.value[0]) && std::isfinite(f.value[1]) &&
+                    std::isfinite(f.value[2]));
+        const bool is_clear = plane.gap(p) >= 0, zero = vec(f.value).norm() == 0.0;
+        (is_clear ? clear : touching) += 1;
+        wrong += is_clear ? !zero : zero;
+      }
+      std::printf("flat workspace, %s: %d points clear, %d touching, %d on the wrong side\n",
+                  triangles ? "rest triangles" : "interpolated clearance", clear, touching, wrong);
+      EXPECT_GT(clear, 50);
+      EXPECT_GT(touching, 50);
+      if (triangles) {
+        EXPECT_EQ(wrong, 0);
+      } else {
+        wrong_interpolated += wrong;
+      }
+    }
+  EXPECT_GT(wrong_interpolated, 5);  // the check has teeth: the interpolated clearance is off
 }
 
 // Sections 24-26 are checked where they are written (hapstate-index refuses to write a list
