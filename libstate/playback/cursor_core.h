@@ -178,6 +178,12 @@ class CursorCore {
   std::array<std::array<std::array<double, 4>, 4>, 4> clearance_coef_{};  // [x][y][z]
   // The corners' depth models: force per unit depth at the onset, and its change per unit depth.
   std::array<std::array<double, 3>, 8> per_depth_{}, per_depth_squared_{};
+  // In a refined cell near the onset: the depth models at its 125 quarter-spacing lattice points
+  // (a, then b; point 25 i + 5 j + k), from the refined points' own force and stiffness where the
+  // sphere touches there (fit_local_depth_models); depth_model_at interpolates them then.
+  bool local_models_ = false;
+  std::array<std::array<double, 6>, 125> local_model_{};
+  void fit_local_depth_models(std::int32_t slot);
   // The current cell's rest triangles (indices into section 26; first == end: none).
   std::int32_t surface_first_ = 0, surface_end_ = 0;
   // The force and stiffness of corner c as interpolated: the secant model's in a cell near the

@@ -72,18 +72,20 @@ void CursorCore::fit_cell() {
   refined_ = false;
   deep_ = false;
   num_bubbles_ = 0;
+  lattice_ = scheme_ == Scheme::kHermite && file_.impl().midpoint_stiffness;
+  // A refined cell (played back refined by the half-spacing lattice or the trilinear scheme)
+  // near the onset takes its depth models from its refined points, before anything is fitted
+  // through the blend (the midpoints too), so that every fit and every query sees one blend.
+  const std::int32_t slot = lattice_ || scheme_ == Scheme::kTrilinear ? refined_cell() : -1;
+  if (slot >= 0 && onset_ && !clear_cell_) fit_local_depth_models(slot);
   MidpointTarget targets[playback::kCellBubbles];
   for (int k = 0; k < playback::kCellBubbles; ++k) midpoint_target(k, &targets[k]);
   find_midpoint_displacements(targets);
-  lattice_ = scheme_ == Scheme::kHermite && file_.impl().midpoint_stiffness;
   if (lattice_) {
     fit_cell_lattice(targets);
   } else {
     fit_cell_bubbles(targets);
-    if (scheme_ == Scheme::kTrilinear) {
-      const std::int32_t slot = refined_cell();
-      if (slot >= 0) fit_refined_trilinear(slot);
-    }
+    if (slot >= 0) fit_refined_trilinear(slot);
   }
 }
 

@@ -155,6 +155,7 @@ void CursorCore::resolve_corner(int c, const std::array<Corner, 8>& old,
 // stiffness row.
 void CursorCore::update_coefficients() {
   prepare_onset();
+  local_models_ = false;  // fitted with the cell (fit_cell)
   coef_ = {};
   for (int r = 0; r < 3; ++r)
     scalar_coefficients(

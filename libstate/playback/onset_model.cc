@@ -1,5 +1,7 @@
 #include "playback/onset_model.h"
 
+#include "playback/depth_model.h"
+
 #include "util/grid_direction.h"
 #include "util/triangle_point.h"
 
@@ -16,7 +18,7 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
   const std::size_t n = c.config_checkpoint.size();
   std::vector<OnsetCorner> out(n, OnsetCorner{});
   const double* h = c.meta.spacing;
-  const double shallow = 1e-3 * std::min({h[0], h[1], h[2]});
+  const double shallow = shallow_depth(h);
   const double band = onset_band(h);
   auto gap = [&](std::size_t config) {
     return &c.clearance[4 * static_cast<std::size_t>(c.config_checkpoint[config])];
@@ -29,29 +31,7 @@ std::vector<OnsetCorner> onset_corners(const Content& c) {
     if (!deep(k)) continue;
     const double* g = gap(k);
     const double d = -g[0];
-    const double* f = &c.force[3 * k];
-    // The force along the depth: f' = K d p / d d, with d p / d d = -grad g / |grad g|^2.
-    const double* K = &c.stiffness[9 * k];
-    const double gg = g[1] * g[1] + g[2] * g[2] + g[3] * g[3];
-    double fd[3] = {0, 0, 0};
-    for (int r = 0; r < 3; ++r)
-      for (int a = 0; a < 3; ++a) fd[r] -= K[3 * r + a] * g[1 + a] / gg;
-    const double ff = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
-    // f(x) = (f / d) x (1 + beta (x / d - 1)), with f'(d) along f matching: beta = 0 for a force
-    // proportional to the depth, 1/2 for Hertz's d^1.5. Limited to [-1/2, 1] (a stiffness
-    // one-sided at a kink can be several times its neighbours'), and so that over the band, where
-    // the cursor uses the model, its slope stays >= 0 (beta >= -d / (2 band - d)) and its
-    // quadratic term no larger than its linear one (beta <= d / (d + band)): the model of a
-    // configuration shallower than the band is extrapolated, and its curvature, b = beta f / d^2,
-    // would grow as 1 / d.
-    double beta =
-        ff > 0.0 && gg > 0.0 ? d * (f[0] * fd[0] + f[1] * fd[1] + f[2] * fd[2]) / ff - 1.0 : 0.0;
-    const double lowest = 2.0 * band > d ? std::max(-0.5, -d / (2.0 * band - d)) : -0.5;
-    beta = std::isfinite(beta) ? std::clamp(beta, lowest, std::min(1.0, d / (d + band))) : 0.0;
-    for (int r = 0; r < 3; ++r) {
-      o.per_depth[r] = f[r] / d * (1.0 - beta);
-      o.per_depth_squared[r] = f[r] / d * beta / d;
-    }
+    depth_model(&c.force[3 * k], &c.stiffness[9 * k], g, band, o.per_depth, o.per_depth_squared);
     o.depth_source = static_cast<std::int32_t>(k);
     o.displacement_per_depth = 1.0 / d;
   }
