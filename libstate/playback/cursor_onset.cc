@@ -213,6 +213,10 @@ void CursorCore::depth_model_at(const std::array<double, 3>& t, double depth,
 // takes the mean of its lattice neighbours' (the 26 around it) that have one, else the corners'
 // models interpolated there, as before. The blend stays exact at every point that has its own.
 void CursorCore::fit_local_depth_models(std::int32_t slot) {
+  // A refined point shallower than this (a quarter of the band) takes its neighbours' models:
+  // its depth is the interpolated clearance's, off by the interpolation's error, which is a
+  // large part of a small depth (a 0.3 cm sphere on liverCoarse: its paths' errors 3x larger).
+  constexpr double kOwnModelBands = 0.1;
   const PlaybackFile::Impl& f = file_.impl();
   const double* h = f.meta->spacing;
   const double* stored = f.refined_points + 12 * playback::kRefinedPoints * std::int64_t(slot);
@@ -239,7 +243,7 @@ void CursorCore::fit_local_depth_models(std::int32_t slot) {
           std::copy_n(per_depth_[c].data(), 3, m.data());
           std::copy_n(per_depth_squared_[c].data(), 3, m.data() + 3);
           own[p] = true;
-        } else if (solved && finite(data, 12)) {
+        } else if (solved && finite(data, 12) && -gap[0] >= kOwnModelBands * band) {
           playback::depth_model(data, data + 3, gap, band, m.data(), m.data() + 3);
           own[p] = finite(m.data(), 6);
         }
