@@ -3,15 +3,38 @@
 #pragma once
 
 #include "playback/cell_math.h"
+#include "playback/format.h"
 #include "playback/lattice.h"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace hapstate::playback {
 // Internal linkage on purpose: each room gets its own copy, which the compiler inlines and
 // specialises as it did when they were one file (as inline functions with external linkage the
 // Hermite query measured 5-10 % slower: bench/cursor_ab.sh).
 namespace {
+
+// Whether point (i, j, k) of a refined cell's lattice with `last` + 1 points per axis lies on a
+// face or an edge set in `constraints` (playback/format.h bits).
+inline bool constrained(const int (&p)[3], int last, std::int32_t constraints) {
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      if (p[a] != last * side) continue;
+      if (constraints >> playback::refined_face_bit(a, side) & 1) return true;
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      // the edges along b and along c on this face
+      for (int s2 = 0; s2 < 2; ++s2) {
+        // along b: sides of c (next of b) and a (next of c)
+        if (p[c] == last * s2 && (constraints >> playback::refined_edge_bit(b, s2, side) & 1))
+          return true;
+        // along c: sides of a (next of c) and b
+        if (p[b] == last * s2 && (constraints >> playback::refined_edge_bit(c, side, s2) & 1))
+          return true;
+      }
+    }
+  return false;
+}
 
 // The cross derivatives at point (x, y, z) of L: along each lattice line, the slope of the
 // parabola through 3 neighbouring gradients (second order, where differences between 2 points

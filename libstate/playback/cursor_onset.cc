@@ -2,6 +2,7 @@
 // clearance, the blend into the depth model, and the secant corners.
 #include "playback/cursor_core.h"
 
+#include "playback/cell_lattice.h"
 #include "playback/cell_math.h"
 #include "playback/depth_model.h"
 #include "playback/file_impl.h"
@@ -207,80 +208,91 @@ void CursorCore::depth_model_at(const std::array<double, 3>& t, double depth,
 // corners' depth models are interpolated over the whole cell; where the force has a ramp near one
 // corner (a surface triangle starting to carry force just before it), that corner's model, exact
 // there, is 30 % too stiff at the onset a cell away (measured on the liver tip of docs/contact.md).
-// The refined points carry the force where they are: a point where the sphere touches by at least
-// shallow_depth takes its own model (depth_model, as hapstate-index gives a configuration's, at the
-// interpolated clearance, as the fits use), a corner that deep keeps its own; every other point
-// takes the mean of its lattice neighbours' (the 26 around it) that have one, else the corners'
-// models interpolated there, as before. The blend stays exact at every point that has its own.
+// The refined points carry the force where they are: a solved point where the sphere is a tenth
+// of the band deep or more takes its own model (depth_model, as hapstate-index gives a
+// configuration's, at the interpolated clearance, as the fits use), a corner touching by
+// shallow_depth keeps its own; every other point takes the mean of its lattice neighbours' own
+// (the 26 around it; on the cell's boundary only those on the same face or edge), else the
+// corners' models interpolated there. A point on a face or an edge shared with a cell that is not
+// refined (the constraint bits) takes the corners' models interpolated there, as that cell does.
+// So the models on a face depend only on that face's data: the blend stays continuous across it.
+// The blend stays exact at every point with a model of its own.
 void CursorCore::fit_local_depth_models(std::int32_t slot) {
-  // A refined point shallower than this (a quarter of the band) takes its neighbours' models:
-  // its depth is the interpolated clearance's, off by the interpolation's error, which is a
-  // large part of a small depth (a 0.3 cm sphere on liverCoarse: its paths' errors 3x larger).
+  // A refined point shallower than this (a tenth of the band) takes its neighbours' models: its
+  // depth is the interpolated clearance's, off by the interpolation's error, which is a large
+  // part of a small depth (a 0.3 cm sphere on liverCoarse: its paths' errors 3x larger).
   constexpr double kOwnModelBands = 0.1;
   const PlaybackFile::Impl& f = file_.impl();
   const double* h = f.meta->spacing;
+  const std::int32_t constraints =
+      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 1];
   const double* stored = f.refined_points + 12 * playback::kRefinedPoints * std::int64_t(slot);
   const double shallow = playback::shallow_depth(h), band = onset_band(h);
-  bool own[125];
+  auto corner_models = [&](const int(&p)[3], std::array<double, 6>* m) {
+    *m = {};
+    const std::array<double, 3> t = {0.25 * p[0], 0.25 * p[1], 0.25 * p[2]};
+    for (int c = 0; c < 8; ++c) {
+      const double w = trilinear_weight(c, t);
+      for (int r = 0; r < 3; ++r) {
+        (*m)[r] += w * per_depth_[c][r];
+        (*m)[3 + r] += w * per_depth_squared_[c][r];
+      }
+    }
+  };
+  enum : std::uint8_t { kFill, kOwn, kFixed };
+  std::uint8_t kind[125];
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 5; ++j)
       for (int k = 0; k < 5; ++k) {
-        const int p = 25 * i + 5 * j + k;
-        std::array<double, 6>& m = local_model_[p];
-        own[p] = false;
+        const int p[3] = {i, j, k}, n = 25 * i + 5 * j + k;
+        std::array<double, 6>& m = local_model_[n];
+        kind[n] = kFill;
+        if (constrained(p, 4, constraints)) {
+          corner_models(p, &m);
+          kind[n] = kFixed;
+          continue;
+        }
         const std::array<double, 3> t = {0.25 * i, 0.25 * j, 0.25 * k};
-        double B[3][4], dB[3][4], gap[4];
+        double B[3][4], dB[3][4], gap[4], grad[3];
         hermite_bases(t, h, B, dB);
-        double grad[3];
         gap[0] = interpolated_clearance(B, dB, grad);
         std::copy_n(grad, 3, gap + 1);
         const bool corner = i % 4 == 0 && j % 4 == 0 && k % 4 == 0;
         const bool solved = !(i % 2 == 0 && j % 2 == 0 && k % 2 == 0);
-        const double* data = stored + 12 * p;
-        if (!(-gap[0] >= shallow)) continue;
-        if (corner) {
+        const double* data = stored + 12 * n;
+        if (corner && -gap[0] >= shallow) {
           const int c = (i ? 4 : 0) | (j ? 2 : 0) | (k ? 1 : 0);
           std::copy_n(per_depth_[c].data(), 3, m.data());
           std::copy_n(per_depth_squared_[c].data(), 3, m.data() + 3);
-          own[p] = true;
-        } else if (solved && finite(data, 12) && -gap[0] >= kOwnModelBands * band) {
+          kind[n] = kOwn;
+        } else if (solved && -gap[0] >= kOwnModelBands * band && finite(data, 12)) {
           playback::depth_model(data, data + 3, gap, band, m.data(), m.data() + 3);
-          own[p] = finite(m.data(), 6);
+          kind[n] = finite(m.data(), 6) ? kOwn : kFill;
         }
       }
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 5; ++j)
       for (int k = 0; k < 5; ++k) {
-        const int p = 25 * i + 5 * j + k;
-        if (own[p]) continue;
+        const int p[3] = {i, j, k}, n = 25 * i + 5 * j + k;
+        if (kind[n] != kFill) continue;
         std::array<double, 6> sum{};
         int used = 0;
         for (int di = -1; di <= 1; ++di)
           for (int dj = -1; dj <= 1; ++dj)
             for (int dk = -1; dk <= 1; ++dk) {
-              const int x = i + di, y = j + dj, z = k + dk;
-              if (x < 0 || x > 4 || y < 0 || y > 4 || z < 0 || z > 4) continue;
-              const int q = 25 * x + 5 * y + z;
-              if (!own[q]) continue;
-              for (int e = 0; e < 6; ++e) sum[e] += local_model_[q][e];
+              const int q[3] = {i + di, j + dj, k + dk};
+              bool ok = true;
+              for (int a = 0; a < 3; ++a)
+                ok = ok && q[a] >= 0 && q[a] <= 4 && (p[a] % 4 != 0 || q[a] == p[a]);
+              const int nq = 25 * q[0] + 5 * q[1] + q[2];
+              if (!ok || kind[nq] != kOwn) continue;
+              for (int e = 0; e < 6; ++e) sum[e] += local_model_[nq][e];
               ++used;
             }
         if (used > 0) {
-          for (int e = 0; e < 6; ++e) local_model_[p][e] = sum[e] / used;
-          continue;
-        }
-        // No neighbour touches: the corners' models interpolated there, as before.
-        const double t[3] = {0.25 * i, 0.25 * j, 0.25 * k};
-        std::array<double, 6>& m = local_model_[p];
-        m = {};
-        for (int c = 0; c < 8; ++c) {
-          const auto o = corner_offset(c);
-          const double w =
-              (o[0] ? t[0] : 1.0 - t[0]) * (o[1] ? t[1] : 1.0 - t[1]) * (o[2] ? t[2] : 1.0 - t[2]);
-          for (int r = 0; r < 3; ++r) {
-            m[r] += w * per_depth_[c][r];
-            m[3 + r] += w * per_depth_squared_[c][r];
-          }
+          for (int e = 0; e < 6; ++e) local_model_[n][e] = sum[e] / used;
+        } else {
+          corner_models(p, &local_model_[n]);
         }
       }
   local_models_ = true;

@@ -22,27 +22,6 @@ void take_solved(const playback::Meta& m, const double* target, double* value, d
     gradient[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
 }
 
-// Whether point (i, j, k) of a refined cell's lattice with `last` + 1 points per axis lies on a
-// face or an edge set in `constraints` (playback/format.h bits).
-bool constrained(const int (&p)[3], int last, std::int32_t constraints) {
-  for (int a = 0; a < 3; ++a)
-    for (int side = 0; side < 2; ++side) {
-      if (p[a] != last * side) continue;
-      if (constraints >> playback::refined_face_bit(a, side) & 1) return true;
-      const int b = (a + 1) % 3, c = (a + 2) % 3;
-      // the edges along b and along c on this face
-      for (int s2 = 0; s2 < 2; ++s2) {
-        // along b: sides of c (next of b) and a (next of c)
-        if (p[c] == last * s2 && (constraints >> playback::refined_edge_bit(b, s2, side) & 1))
-          return true;
-        // along c: sides of a (next of c) and b
-        if (p[b] == last * s2 && (constraints >> playback::refined_edge_bit(c, side, s2) & 1))
-          return true;
-      }
-    }
-  return false;
-}
-
 // The slope of an eighth-spacing lattice's solved point (i, j, k) limited by the values around
 // it (docs/playback.md, "Refined cells"): a solved stiffness is the derivative on one side of a
 // kink of the contact force (a triangle starting to carry force), which can be several times the
