@@ -151,7 +151,8 @@ class CursorCore {
   struct MidpointTarget;  // what the cell's fit aims at a midpoint (cursor_midpoints.cc)
   void fit_cell();
   void midpoint_target(int k, MidpointTarget* out) const;
-  void fit_cell_lattice(const MidpointTarget* targets);
+  // `slot`: the cell's refined data (refined_cell()), -1 if none.
+  void fit_cell_lattice(const MidpointTarget* targets, std::int32_t slot);
   std::int32_t refined_cell() const;
   void fit_refined_cell(std::int32_t slot);
   bool refined_target(const int (&p)[3], double step, const double* data, double* out) const;

@@ -82,7 +82,7 @@ void CursorCore::fit_cell() {
   for (int k = 0; k < playback::kCellBubbles; ++k) midpoint_target(k, &targets[k]);
   find_midpoint_displacements(targets);
   if (lattice_) {
-    fit_cell_lattice(targets);
+    fit_cell_lattice(targets, slot);
   } else {
     fit_cell_bubbles(targets);
     if (slot >= 0) fit_refined_trilinear(slot);
@@ -124,7 +124,7 @@ void CursorCore::find_midpoint_displacements(const MidpointTarget* targets) {
 // stiffness entry by at most the stiffness limit (Meta): the change bound stays valid. A point
 // on a face or an edge depends only on the data of that face or edge, so the force stays
 // continuous across faces. A refined cell goes one level further (fit_refined_cell).
-void CursorCore::fit_cell_lattice(const MidpointTarget* targets) {
+void CursorCore::fit_cell_lattice(const MidpointTarget* targets, std::int32_t slot) {
   const playback::Meta& m = *file_.impl().meta;
   Lattice<3> L;
   hermite_lattice(coef_, m.spacing, L.value, L.gradient);  // the fallback at the midpoints
@@ -148,7 +148,6 @@ void CursorCore::fit_cell_lattice(const MidpointTarget* targets) {
   }
   lattice_cross(m.spacing, &L);
   sub_cell_coefficients(L, half_coef_.data());
-  const std::int32_t slot = refined_cell();
   if (slot >= 0) fit_refined_cell(slot);
 }
 

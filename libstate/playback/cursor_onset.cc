@@ -252,20 +252,20 @@ void CursorCore::fit_local_depth_models(std::int32_t slot) {
           kind[n] = kFixed;
           continue;
         }
+        // Only a corner or a solved point can have a model of its own.
+        const bool corner = i % 4 == 0 && j % 4 == 0 && k % 4 == 0;
+        const bool solved = !(i % 2 == 0 && j % 2 == 0 && k % 2 == 0);
+        const double* data = stored + 12 * n;
+        if (!corner && !(solved && finite(data, 12))) continue;
         const std::array<double, 3> t = {0.25 * i, 0.25 * j, 0.25 * k};
         double B[3][4], dB[3][4], gap[4], grad[3];
         hermite_bases(t, h, B, dB);
         gap[0] = interpolated_clearance(B, dB, grad);
         std::copy_n(grad, 3, gap + 1);
-        const bool corner = i % 4 == 0 && j % 4 == 0 && k % 4 == 0;
-        const bool solved = !(i % 2 == 0 && j % 2 == 0 && k % 2 == 0);
-        const double* data = stored + 12 * n;
         if (corner && -gap[0] >= shallow) {
-          const int c = (i ? 4 : 0) | (j ? 2 : 0) | (k ? 1 : 0);
-          std::copy_n(per_depth_[c].data(), 3, m.data());
-          std::copy_n(per_depth_squared_[c].data(), 3, m.data() + 3);
+          corner_models(p, &m);  // at a corner: that corner's own model
           kind[n] = kOwn;
-        } else if (solved && -gap[0] >= kOwnModelBands * band && finite(data, 12)) {
+        } else if (solved && -gap[0] >= kOwnModelBands * band) {
           playback::depth_model(data, data + 3, gap, band, m.data(), m.data() + 3);
           kind[n] = finite(m.data(), 6) ? kOwn : kFill;
         }
