@@ -1,6 +1,7 @@
 #include "maintenance/certificate_report.h"
 
 #include "maintenance/inspect_common.hpp"
+#include "playback/code_id.h"
 #include "playback/scheme_name.h"
 #include "util/distribution.h"
 #include "util/text.h"
@@ -82,6 +83,13 @@ Json certificate_json(const Certificate& c) {
 }
 
 }  // namespace
+
+ContentHash certified_hash(std::uint64_t playback_source_hash) {
+  ContentHasher h;
+  h.update(static_cast<std::int64_t>(playback_source_hash));
+  h.update(static_cast<std::int64_t>(playback_code_id()));
+  return h.value();
+}
 
 Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
                                   const std::optional<CertificateRun>& run,

@@ -3,7 +3,8 @@
 // the path's largest force, and in N) and deformation error, what the paths covered (contact
 // steps, onsets, leavings), the largest stored stiffness against common haptic devices, the
 // haptic query's time, where the worst errors are, and whether it still describes the playback
-// file (stale when that file was rebuilt since). Every statistic is over the measured steps
+// file (stale when that file was rebuilt since, or when the playback code that measured it
+// changed). Every statistic is over the measured steps
 // themselves: never less than a step measured.
 #pragma once
 
@@ -42,8 +43,8 @@ extern const std::array<DeviceLimit, 4> kDeviceLimits;
 struct Certificate {
   bool present = false;   // some path is stored
   bool complete = false;  // a run ended: timing and stiffness measured
-  bool stale = true;      // measured on another playback file than the current one (or none)
-  ContentHash playback_hash;
+  bool stale = true;      // measured on another playback file or by other playback code (or none)
+  ContentHash playback_hash;  // certified_hash() of what it was measured on
   int paths = 0, steps_per_path = 0;
   int steps = 0, failed_steps = 0;
   bool contact = false;  // a contact probe: the steps touching, their onsets and leavings
@@ -55,7 +56,11 @@ struct Certificate {
   std::vector<CertificateLocation> worst;  // the largest force errors, per scheme, largest first
 };
 
-// `current`: the source hash of the playback file the state has now (nullopt: none); `contact`:
+// What a certificate is measured on: the playback file (its source hash) played back by this
+// build's playback code (playback_code_id(), playback/code_id.h). Either changing makes it stale.
+ContentHash certified_hash(std::uint64_t playback_source_hash);
+
+// `current`: certified_hash() of the playback file the state has now (nullopt: none); `contact`:
 // its probe is a contact sphere (a step touches where its precise force is not zero).
 Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
                                   const std::optional<CertificateRun>& run,

@@ -251,13 +251,14 @@ std::string summary_text(const Json& j) {
 InspectOutput inspect_summary(const StateDir& dir) {
   Catalogue cat = open_read_only(dir);
   Json j = summary_json(dir, cat);
-  // The certificate, stale unless measured on the playback file the directory holds now.
+  // The certificate, stale unless measured on the playback file the directory holds now, by
+  // this build's playback code.
   std::optional<ContentHash> current;
   bool contact = false;
   try {
     if (std::filesystem::exists(dir.root / "playback.bin")) {
       const PlaybackFile file(dir.root / "playback.bin");
-      current = ContentHash{file.source_hash()};
+      current = certified_hash(file.source_hash());
       contact = file.is_contact();
     }
   } catch (const std::exception&) {  // unreadable or older: no current file to match

@@ -1,6 +1,7 @@
 // PlaybackFile: mapping, O(1) validation at open, and verify().
 #include "playback/file_impl.h"
 
+#include "playback/code_id.h"
 #include "util/error.h"
 #include "util/hash.h"
 
@@ -529,7 +530,9 @@ std::uint64_t PlaybackFile::source_hash() const { return impl_->meta->source_has
 
 std::optional<PlaybackCertificate> PlaybackFile::certificate() const {
   const playback::CertificateRecord* r = impl_->certificate;
-  if (!r || r->measured_source_hash != impl_->meta->source_hash) return std::nullopt;
+  if (!r || r->measured_source_hash != impl_->meta->source_hash ||
+      r->measured_code_id != playback_code_id())
+    return std::nullopt;
   PlaybackCertificate c;
   c.paths = r->paths;
   c.steps_per_path = r->steps_per_path;

@@ -187,8 +187,10 @@ struct OnsetCorner {
 static_assert(sizeof(OnsetCorner) == 192);
 
 // Section 22: the certificate's headline numbers, per scheme [trilinear, Hermite] (the order
-// of hapstate::Scheme). measured_source_hash is the source hash of the file it was measured on:
-// a reader ignores a record whose hash is not this file's Meta::source_hash.
+// of hapstate::Scheme). measured_source_hash is the source hash of the file it was measured on,
+// measured_code_id the id of the playback code that measured it (playback/code_id.h; 0 in files
+// certified before it was recorded): a reader ignores a record whose hash is not this file's
+// Meta::source_hash or whose code id is not its own (another cursor promises nothing of it).
 struct CertificateRecord {
   std::uint64_t measured_source_hash;
   std::int32_t paths, steps_per_path, steps, failed_steps;
@@ -197,7 +199,8 @@ struct CertificateRecord {
   double deformation_error_worst[2];
   double stiffness_n_per_mm;
   double query_median_ns, query_p999_ns;
-  double reserved[2];  // zero
+  std::uint64_t measured_code_id;
+  double reserved;  // zero
 };
 static_assert(sizeof(CertificateRecord) == 128);
 

@@ -2,6 +2,7 @@
 
 #include "eval/evaluation.h"
 #include "eval/region_path.h"
+#include "playback/code_id.h"
 #include "playback/writer.h"
 #include "statedir/stage_context.h"
 #include "statedir/stage_run.h"
@@ -46,7 +47,7 @@ CertificatePath certificate_path(const PlaybackFile& file, int seed, const EvalR
                                  double wall_ms) {
   CertificatePath p;
   p.seed = seed;
-  p.playback_hash = ContentHash{file.source_hash()};
+  p.playback_hash = certified_hash(file.source_hash());
   p.steps = static_cast<int>(r.steps.size());
   // The errors' denominator: the path's largest precise force, or the device limit on a path
   // that never met a force (a contact path clear of the body), so that a force played back
@@ -126,9 +127,11 @@ double largest_stiffness(const PlaybackFile& file) {
 }
 
 // The headline numbers into the playback file's certificate section.
-void write_playback_certificate(const std::filesystem::path& file, const Certificate& c) {
+void write_playback_certificate(const std::filesystem::path& file, std::uint64_t source_hash,
+                                const Certificate& c) {
   playback::CertificateRecord r{};
-  r.measured_source_hash = c.playback_hash.value;
+  r.measured_source_hash = source_hash;
+  r.measured_code_id = playback_code_id();
   r.paths = c.paths;
   r.steps_per_path = c.steps_per_path;
   r.steps = c.steps;
@@ -238,14 +241,16 @@ CertifyReport run_certify(const CertifyOptions& options) {
   CertifyReport report;
   report.paths = options.paths > 0 ? options.paths : ctx.scene.certify.paths;
   report.steps = options.steps > 0 ? options.steps : ctx.scene.certify.steps;
-  ContentHash hash;
+  ContentHash hash;  // of the file and the playback code that measures it
+  std::uint64_t source_hash = 0;
   {
     const PlaybackFile probe_file(playback);
     if (probe_file.scene_hash() != ctx.scene_record.hash.value)
       throw InputError(playback.string() + ": built from another scene than the state directory " +
                        ctx.dir.root.string() + ": run hapstate-index --state " +
                        ctx.dir.root.string());
-    hash = ContentHash{probe_file.source_hash()};
+    source_hash = probe_file.source_hash();
+    hash = certified_hash(source_hash);
   }
   const std::string params = "paths=" + std::to_string(report.paths) +
                              " steps=" + std::to_string(report.steps) +
@@ -284,7 +289,8 @@ CertifyReport run_certify(const CertifyOptions& options) {
     }  // the file unmapped before it is rewritten
     report.certificate = summarise_certificate(ctx.catalogue.read_all_certificate_paths(),
                                                ctx.catalogue.read_certificate(), hash, contact);
-    if (!report.stopped_by_signal) write_playback_certificate(playback, report.certificate);
+    if (!report.stopped_by_signal)
+      write_playback_certificate(playback, source_hash, report.certificate);
     char line[256];
     std::snprintf(line, sizeof line, "%s: %d of %d paths measured now (%lld stale deleted)",
                   report.stopped_by_signal ? "interrupted" : "certified", report.solved_now,

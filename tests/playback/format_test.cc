@@ -4,6 +4,7 @@
 #include "../common/expect_input_error.h"
 #include "hapstate/playback.h"
 #include "hapstate/playback_c.h"
+#include "playback/code_id.h"
 #include "synthetic.h"
 
 #include <gtest/gtest.h>
@@ -165,6 +166,31 @@ TEST_F(PlaybackFormat, FailedWriteLeavesTheOldFileIntact) {
   EXPECT_EQ(read(file_), bytes_);
   for (const auto& e : fs::directory_iterator(dir_))
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
+// The certificate's headline is read only for the file it was measured on, played back by the
+// code that measured it (docs/certificate.md: another cursor promises nothing of it).
+TEST_F(PlaybackFormat, CertificateIsReadForItsFileAndItsCodeOnly) {
+  const std::uint64_t source = PlaybackFile(file_).source_hash();
+  EXPECT_FALSE(PlaybackFile(file_).certificate());
+  playback::CertificateRecord r{};
+  r.paths = 20;
+  r.steps_per_path = 30;
+  r.force_error_worst[1] = 0.0123;
+  auto read_back = [&](std::uint64_t hash, std::uint64_t code) {
+    r.measured_source_hash = hash;
+    r.measured_code_id = code;
+    playback::write_certificate(file_, r);
+    return PlaybackFile(file_).certificate();
+  };
+  const auto own = read_back(source, playback_code_id());
+  ASSERT_TRUE(own);
+  EXPECT_EQ(own->paths, 20);
+  EXPECT_EQ(own->force_error_worst[1], 0.0123);
+  EXPECT_FALSE(read_back(source, playback_code_id() ^ 1));  // measured by another cursor
+  EXPECT_FALSE(read_back(source, 0));                       // before the code id was recorded
+  EXPECT_FALSE(read_back(source ^ 1, playback_code_id()));  // measured on another file
+  PlaybackFile(file_).verify();
 }
 
 TEST_F(PlaybackFormat, CInterfaceReportsErrors) {
