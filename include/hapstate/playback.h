@@ -110,8 +110,9 @@ class PlaybackFile {
   std::int32_t transition_entry(std::int32_t c, int d) const;
   std::uint64_t scene_hash() const;   // XXH64 of the scene text the file was built from
   std::uint64_t source_hash() const;  // of what hapstate-index built it from
-  // The certificate's headline numbers, once hapstate-certify has measured this file (a file
-  // hapstate-index writes anew has none until then).
+  // The certificate's headline numbers, once hapstate-certify has measured this file with this
+  // version of the playback code (a file hapstate-index writes anew has none until then, nor has
+  // a file certified by another version: its cursor may interpolate differently).
   std::optional<PlaybackCertificate> certificate() const;
 
   struct Impl;  // the mapping's typed sections (playback/file_impl.h)

@@ -4,8 +4,8 @@
 // steps, onsets, leavings), the largest stored stiffness against common haptic devices, the
 // haptic query's time, where the worst errors are, and whether it still describes the playback
 // file (stale when that file was rebuilt since, or when the playback code that measured it
-// changed). Every statistic is over the measured steps
-// themselves: never less than a step measured.
+// changed). Every statistic is over the measured steps themselves: never less than a step
+// measured.
 #pragma once
 
 #include "catalogue/records.h"
