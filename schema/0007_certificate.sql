@@ -1,9 +1,10 @@
 -- The certificate (hapstate-certify, docs/certificate.md): the paper's experiment, the precise
 -- solver against the haptic cursors, on seeded random paths over the workspace, measured on one
--- playback file (playback_hash: the file's source hash, 16 hex digits, as hapstate-index wrote
--- it). A path's row and its steps are written in one transaction, so an interrupted run resumes
--- at the paths not stored yet. Rows measured on another playback file are stale: the next run
--- deletes them first.
+-- playback file (playback_hash, 16 hex digits: the file's source hash as hapstate-index wrote it;
+-- since 2026-11-28 that hash and the playback code's id hashed together, docs/certificate.md). A
+-- path's row and its steps are written in one transaction, so an interrupted run resumes at the
+-- paths not stored yet. Rows measured on another playback file (or by other code) are stale: the
+-- next run deletes them first.
 CREATE TABLE certificate_path (
   seed          INTEGER PRIMARY KEY CHECK (seed >= 1),
   playback_hash TEXT NOT NULL,

@@ -69,7 +69,8 @@ typedef struct hs_certificate {
   double stiffness_n_per_mm;
   double query_median_ns, query_p999_ns;
 } hs_certificate;
-/* 1 and *out filled when the file holds a certificate, 0 when hapstate-certify has not run. */
+/* 1 and *out filled when the file holds a certificate measured by this library's playback code, 0
+ * when hapstate-certify has not run (or was run by another version: PlaybackFile::certificate). */
 int hs_playback_certificate(const hs_playback* file, hs_certificate* out);
 
 hs_cursor* hs_cursor_create(const hs_playback* file, int scheme); /* NULL on a bad scheme */

@@ -134,7 +134,8 @@ class Catalogue {
   // Inserts a path with its steps (one savepoint). Throws if the seed exists.
   void insert_certificate_path(const CertificatePath& path);
   std::vector<CertificatePath> read_all_certificate_paths();  // by seed, with their steps
-  // Deletes the paths measured on a playback file other than `playback_hash`, with another
+  // Deletes the paths measured on something other than `playback_hash` (a playback file and the
+  // playback code, hashed together: certified_hash in maintenance/), with another
   // number of steps, or with a seed above `paths`, and the certificate row unless it is of the
   // same file, step count and number of paths. Returns the paths deleted.
   std::int64_t delete_stale_certificate(const ContentHash& playback_hash, int steps, int paths);

@@ -290,7 +290,8 @@ void bind_data(PyPlayback& playback) {
       .def_property_readonly(
           "certificate", &certificate_dict,
           "What hapstate-certify measured on this file (docs/certificate.md) as a dict, or None "
-          "before it has run: paths, steps, per scheme ('hermite', 'trilinear') the worst and "
+          "before it has run (or when another version of the playback code measured it): "
+          "paths, steps, per scheme ('hermite', 'trilinear') the worst and "
           "99th-percentile force error (relative to the path's largest force), the worst in N "
           "and the worst deformation error, the largest stored stiffness (N/mm) and the haptic "
           "query's median and 99.9th percentile (ns).")
