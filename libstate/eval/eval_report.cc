@@ -1,6 +1,7 @@
 #include "eval/eval_report.h"
 
 #include "util/error.h"
+#include "util/paper_bounds.h"
 #include "util/text.h"
 
 #include <sys/wait.h>
@@ -84,9 +85,6 @@ std::string shell_quote(const std::string& s) {
   return out + "'";
 }
 
-// The paper's bounds on its Matlab prototype (Peterlik & Matyska 2007).
-constexpr double kPaperForce = 0.04, kPaperDeformation = 0.14;
-
 // The p-quantile (0..1) of `v` by the nearest rank; v is sorted in place.
 double quantile(std::vector<double>* v, double p) {
   std::sort(v->begin(), v->end());
@@ -150,7 +148,7 @@ std::string seeds_table(const std::vector<EvalResult>& runs, std::uint64_t first
       deformation.push_back(e.deformation_max(runs[k]));
       if (force.back() > force[worst_force]) worst_force = k;
       if (deformation.back() > deformation[worst_deformation]) worst_deformation = k;
-      over_paper += e.force_max > kPaperForce || deformation.back() > kPaperDeformation;
+      over_paper += e.force_max > kPaperForceBound || deformation.back() > kPaperDeformationBound;
     }
     const double fw = force[worst_force], dw = deformation[worst_deformation];
     const double f50 = quantile(&force, 0.5), f90 = quantile(&force, 0.9);
@@ -271,13 +269,13 @@ std::string eval_table(const EvalResult& result) {
                   percent(e.deformation_surface_mean).c_str());
     t << line;
     const double deformation = e.deformation_max(result);
-    const bool good = e.force_max <= kPaperForce && deformation <= kPaperDeformation;
+    const bool good = e.force_max <= kPaperForceBound && deformation <= kPaperDeformationBound;
     std::snprintf(line, sizeof line,
                   "  %s: max force error %s %s 4 %%, max deformation error "
                   "%s %s 14 %%: %s\n",
                   scheme_name(result.schemes[s]), percent(e.force_max).c_str(),
-                  e.force_max <= kPaperForce ? "<=" : ">", percent(deformation).c_str(),
-                  deformation <= kPaperDeformation ? "<=" : ">",
+                  e.force_max <= kPaperForceBound ? "<=" : ">", percent(deformation).c_str(),
+                  deformation <= kPaperDeformationBound ? "<=" : ">",
                   good ? "within the paper's bounds" : "outside the paper's bounds");
     verdicts += line;
   }

@@ -4,6 +4,7 @@
 #include "playback/code_id.h"
 #include "playback/scheme_name.h"
 #include "util/distribution.h"
+#include "util/paper_bounds.h"
 #include "util/text.h"
 
 #include <algorithm>
@@ -162,7 +163,8 @@ CertificateText certificate_text(const Certificate& c) {
     << plural(c.paths, "random path", "random paths") << " of " << c.steps_per_path << " steps, "
     << plural(c.failed_steps, "failed precise solve", "failed precise solves") << " left out)";
   if (c.stale)
-    t << ": STALE, measured on an older playback file; run hapstate-certify again";
+    t << ": STALE, measured on another playback file or by another version of the playback code; "
+         "run hapstate-certify again";
   else if (!c.complete)
     t << ": incomplete (interrupted); run hapstate-certify again to finish it";
   t << "\n";
@@ -178,6 +180,15 @@ CertificateText certificate_text(const Certificate& c) {
     t << line;
   }
   t << "  (a force error is |f - f*| over the path's largest |f*|, as hapstate-eval's)\n";
+  bool outside = false;
+  for (const SchemeCertificate& sc : c.schemes)
+    outside = outside || !(sc.worst <= kPaperForceBound) ||
+              !(sc.deformation_worst <= kPaperDeformationBound);
+  if (outside)
+    t << "  outside the paper's bounds (force 4 %, deformation 14 %): where the worst errors are "
+         "is "
+         "below; what to change, in the order of cost: docs/certificate.md, \"When it is not good "
+         "enough\"\n";
   if (c.contact)
     t << "  contact: " << c.contact_steps << " of " << c.steps - c.failed_steps
       << " steps touching, " << plural(c.onsets, "onset", "onsets") << ", "
