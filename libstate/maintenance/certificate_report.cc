@@ -184,11 +184,14 @@ CertificateText certificate_text(const Certificate& c) {
   for (const SchemeCertificate& sc : c.schemes)
     outside = outside || !(sc.worst <= kPaperForceBound) ||
               !(sc.deformation_worst <= kPaperDeformationBound);
-  if (outside)
-    t << "  outside the paper's bounds (force 4 %, deformation 14 %): where the worst errors are "
-         "is "
-         "below; what to change, in the order of cost: docs/certificate.md, \"When it is not good "
-         "enough\"\n";
+  if (outside) {
+    std::snprintf(line, sizeof line,
+                  "  outside the paper's bounds (force %.0f %%, deformation %.0f %%): the worst "
+                  "places are below; what to change, in the order of cost: docs/certificate.md, "
+                  "\"When it is not good enough\"\n",
+                  100 * kPaperForceBound, 100 * kPaperDeformationBound);
+    t << line;
+  }
   if (c.contact)
     t << "  contact: " << c.contact_steps << " of " << c.steps - c.failed_steps
       << " steps touching, " << plural(c.onsets, "onset", "onsets") << ", "

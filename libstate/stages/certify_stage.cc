@@ -43,11 +43,12 @@ void locate(const PlaybackFile& file, const Eigen::Vector3d& p, std::array<int, 
   }
 }
 
-CertificatePath certificate_path(const PlaybackFile& file, int seed, const EvalResult& r,
-                                 double wall_ms) {
+// `hash`: what it was measured on (certified_hash of the file's source hash, run_certify's).
+CertificatePath certificate_path(const PlaybackFile& file, const ContentHash& hash, int seed,
+                                 const EvalResult& r, double wall_ms) {
   CertificatePath p;
   p.seed = seed;
-  p.playback_hash = certified_hash(file.source_hash());
+  p.playback_hash = hash;
   p.steps = static_cast<int>(r.steps.size());
   // The errors' denominator: the path's largest precise force, or the device limit on a path
   // that never met a force (a contact path clear of the body), so that a force played back
@@ -154,8 +155,9 @@ namespace {
 
 // Measures the paths of the seeds in `missing` on options.threads threads, each stored as soon as
 // it is measured (a stopped run keeps them); stops early on a stop request.
-void measure_paths(const PlaybackFile& file, StageContext& ctx, const std::vector<int>& missing,
-                   const CertifyOptions& options, CertifyReport& report) {
+void measure_paths(const PlaybackFile& file, const ContentHash& hash, StageContext& ctx,
+                   const std::vector<int>& missing, const CertifyOptions& options,
+                   CertifyReport& report) {
   const auto h = file.grid_spacing();
   const double step_length = 0.5 * std::min({h[0], h[1], h[2]});
   Progress progress("hapstate-certify: paths", report.paths, options.progress);
@@ -176,7 +178,7 @@ void measure_paths(const PlaybackFile& file, StageContext& ctx, const std::vecto
         const EvalResult r = evaluate_path(ctx.problem, file, path, nullptr);
         const double ms =
             std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
-        const CertificatePath p = certificate_path(file, missing[i], r, ms);
+        const CertificatePath p = certificate_path(file, hash, missing[i], r, ms);
         std::lock_guard<std::mutex> lock(mutex);
         ctx.catalogue.insert_certificate_path(p);
         ++report.solved_now;
@@ -282,7 +284,7 @@ CertifyReport run_certify(const CertifyOptions& options) {
     ctx.catalogue.delete_certificate();
     {
       const PlaybackFile file(playback);
-      measure_paths(file, ctx, missing, options, report);
+      measure_paths(file, hash, ctx, missing, options, report);
       const bool complete = report.solved_now == static_cast<int>(missing.size());
       if (!complete) StageRunFrame::stop(report);  // only a stop request ends it early
       if (!report.stopped_by_signal) store_certificate_run(file, ctx, hash, report);
