@@ -59,7 +59,9 @@ int main(int argc, char** argv) {
   app.add_option("--playback", playback,
                  "playback file (default <state>/playback.bin; "
                  "index with --nodes all for the all-node error)");
-  app.add_option("--steps", o.steps, "steps of the random path")->check(CLI::Range(1, 1000000));
+  app.add_option("--steps", o.steps,
+                 "steps of the random path (default 30: seed s is the certificate's path s)")
+      ->check(CLI::Range(1, 1000000));
   app.add_option("--seed", o.seed, "seed of the random path");
   app.add_option("--seeds", seeds,
                  "random paths with seeds --seed, --seed + 1, ...: print the median, 90th "
