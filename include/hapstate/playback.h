@@ -163,6 +163,12 @@ struct Snapshot {
   // mesh unit), through which deform() fits the stored displacements as the cursor fits the
   // force; R = 0 where no blend applies (the stored displacements as they are).
   std::array<std::array<double, 6>, 27> midpoint_blend{};
+  // Hermite in a refined contact cell: the point of the cell (0..1 per axis) near the probe where
+  // the half cells' force is the refined force; deform() interpolates the nodes farther than 4
+  // radii from the probe there, those within 2 at cell_position, and blends between (the body's
+  // sway follows the force, its dent the sphere: docs/playback.md, "Refined cells"). Elsewhere
+  // cell_position.
+  std::array<double, 3> sway_position{};
 };
 
 // Result of one haptic query.

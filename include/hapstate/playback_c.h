@@ -42,10 +42,12 @@ typedef struct hs_snapshot {
   int32_t depth_source[8];
   int32_t midpoint[27]; /* 0, or 1 + the stored midpoint whose displacements hold at that point */
   double midpoint_blend[27][6]; /* near the contact onset: the blend at those points */
+  double sway_position[3];      /* refined contact cell: where the far nodes are interpolated */
 } hs_snapshot;
 
 /* sizeof(hs_snapshot) in the library as built. hs_snapshot grows when the playback format does
- * (it gained `midpoint` with format 7, `midpoint_blend` within format 8 on 2026-11-26): a program
+ * (it gained `midpoint` with format 7, `midpoint_blend` within format 8 on 2026-11-26,
+ * `sway_position` on 2026-11-28): a program
  * that loads the library at run time should check hs_snapshot_size() == sizeof(hs_snapshot) before
  * its first snapshot. */
 size_t hs_snapshot_size(void);

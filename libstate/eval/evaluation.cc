@@ -116,7 +116,9 @@ EvalResult evaluate_path(const Problem& problem, const PlaybackFile& file, const
   for (Scheme s : result.schemes) cursors.push_back(std::make_unique<HapticCursor>(file, s));
   // A contact path may start anywhere the sphere is clear of the body: the body at rest, the
   // probe there (the precise solver and the cursors alike). Otherwise both start at rest.
+  Eigen::Vector3d start = probe->rest_position();
   if (!path.empty() && probe->start_path_at(solver, path.front())) {
+    start = path.front();
     for (auto& cursor : cursors)
       cursor->reset({path.front().x(), path.front().y(), path.front().z()});
   }
@@ -131,8 +133,11 @@ EvalResult evaluate_path(const Problem& problem, const PlaybackFile& file, const
   Progress progress("hapstate-eval: precise solves", static_cast<long long>(path.size()),
                     progress_out);
   long long failures = 0;
-  // Path length since the last step with the probe clear of the body (none yet: infinite).
-  double travel_in_contact = std::numeric_limits<double>::infinity();
+  // Path length since the last position with the probe clear of the body (none yet: infinite).
+  // A contact path starts clear of the body (at rest, or where it starts): its first step onto
+  // the body is an onset too.
+  double travel_in_contact =
+      probe->clear_of_body(start) ? 0.0 : std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < path.size(); ++k) {
     const Eigen::Vector3d& p = path[k];
     EvalStep step;

@@ -33,6 +33,7 @@ static_assert(offsetof(hs_snapshot, depth_source) == offsetof(hapstate::Snapshot
 static_assert(offsetof(hs_snapshot, midpoint) == offsetof(hapstate::Snapshot, midpoint));
 static_assert(offsetof(hs_snapshot, midpoint_blend) ==
               offsetof(hapstate::Snapshot, midpoint_blend));
+static_assert(offsetof(hs_snapshot, sway_position) == offsetof(hapstate::Snapshot, sway_position));
 
 namespace {
 

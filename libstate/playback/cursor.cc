@@ -174,6 +174,12 @@ Force CursorCore::force(const std::array<double, 3>& probe) {
   if (num_bubbles_ > 0 && !refined_)
     bubbles_at(s, B, dB, &value, scheme_ == Scheme::kHermite && out.inside_grid ? &slope : nullptr);
   if (blended) slope = k_blend;
+  // Hermite in a refined contact cell: where the half cells' force is the refined one, for the
+  // displacements far from the sphere (Snapshot::sway_position, shown_position; near the onset
+  // both forces before the blend, as the displacements are fitted through it).
+  const bool shift = refined_ && scheme_ == Scheme::kHermite && out.inside_grid &&
+                     file_.is_contact() && !(onset_ && clear_cell_);
+  const std::array<double, 3> shown = shift ? shown_position(s, value) : s;
   const OnsetBlend onset = onset_ ? apply_onset(B, dB, s, &value, &slope) : OnsetBlend{};
   if (!out.inside_grid) {
     for (int r = 0; r < 3; ++r)
@@ -182,7 +188,7 @@ Force CursorCore::force(const std::array<double, 3>& probe) {
   for (int r = 0; r < 3; ++r) out.value[r] = std::isfinite(value[r]) ? value[r] : 0.0;
   for (int r = 0; r < 9; ++r) out.stiffness[r] = std::isfinite(slope[r]) ? slope[r] : 0.0;
   ++calls_;
-  publish(probe, out, s, onset);
+  publish(probe, out, s, shown, onset);
   return out;
 }
 

@@ -101,8 +101,9 @@ class CursorCore {
   bool onset_blend_at(const std::array<double, 3>& t, OnsetPoint* out) const;
   bool onset_target(const std::array<double, 3>& t, const OnsetPoint& o, const double* felt,
                     const double* felt_k, double* out, double* out_k) const;
+  // s: the probe in its cell; shown: Snapshot::sway_position.
   void publish(const std::array<double, 3>& probe, const Force& f, const std::array<double, 3>& s,
-               const OnsetBlend& onset);
+               const std::array<double, 3>& shown, const OnsetBlend& onset);
 
   const PlaybackFile& file_;
   Scheme scheme_;
@@ -164,6 +165,8 @@ class CursorCore {
   void eighth_trilinear_point(int i, int j, int k);
   void eighth_at(const std::array<double, 3>& s, std::array<double, 3>* value,
                  std::array<double, 9>* slope);
+  std::array<double, 3> shown_position(const std::array<double, 3>& s,
+                                       const std::array<double, 3>& value) const;
   void eighth_trilinear_at(const std::array<double, 3>& s, std::array<double, 3>* value,
                            std::array<double, 9>* k);
   void trilinear_at(const std::array<double, 3>& s, double* value, double* stiffness) const;

@@ -5,7 +5,10 @@
 #include "playback/cell_lattice.h"
 #include "playback/file_impl.h"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
+#include <cmath>
 
 namespace hapstate::playback {
 
@@ -101,6 +104,47 @@ bool CursorCore::refined_target(const int (&p)[3], double step, const double* da
   const std::array<double, 3> t = {step * p[0], step * p[1], step * p[2]};
   OnsetPoint o;
   return onset_blend_at(t, &o) && onset_target(t, o, data, data + 3, out, out + 3);
+}
+
+// Snapshot::sway_position in a refined contact cell (Hermite; docs/playback.md, "Refined cells"):
+// the refined points hold force and stiffness but no displacements, so the displacements come
+// from the half cells, whose force misses the refined one (`value`, at cell position s) by a few
+// per cent where the contact force has a kink. Away from the sphere the body's displacement is
+// nearly linear in the felt force (its sway: under a 1.5 mm sphere on the bunny's back the nodes
+// farther than 0.3 units are within 1.4 % of a linear map of the force over a path), and the half
+// cells' displacements follow their own force, so where the half cells' force is `value` they
+// show the sway that goes with it. Two Newton steps on F_half(s + dp) = value, each regularised
+// ((K^T K + (0.05 |K|_F)^2) dp = K^T df, K the half cells' stiffness there: a frictionless
+// contact is soft along the surface), dp at most a quarter of the smallest spacing, kept in the
+// cell (one step: the bunny's worst path 13.9 %, two: 4.0 %). s where the stiffness is zero.
+std::array<double, 3> CursorCore::shown_position(const std::array<double, 3>& s,
+                                                 const std::array<double, 3>& value) const {
+  constexpr int kSteps = 2;
+  constexpr double kRegularisation = 0.05;
+  const double* h = file_.impl().meta->spacing;
+  const double limit = 0.25 * std::min({h[0], h[1], h[2]});
+  Eigen::Vector3d dp = Eigen::Vector3d::Zero();
+  std::array<double, 3> shown = s;
+  for (int step = 0; step < kSteps; ++step) {
+    std::array<double, 3> half{};
+    std::array<double, 9> k{};
+    sub_cell_at(shown, 2, &half, &k);
+    const Eigen::Matrix3d K =
+        Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(k.data());
+    const Eigen::Vector3d df(value[0] - half[0], value[1] - half[1], value[2] - half[2]);
+    const double norm = K.norm(), mu = kRegularisation * norm;
+    if (!(norm > 0) || !df.allFinite() || !K.allFinite()) break;
+    const Eigen::Matrix3d A = K.transpose() * K + mu * mu * Eigen::Matrix3d::Identity();
+    dp += A.ldlt().solve(K.transpose() * df);
+    const double length = dp.norm();
+    if (!std::isfinite(length)) return s;
+    if (length > limit) dp *= limit / length;
+    for (int a = 0; a < 3; ++a) {
+      shown[a] = std::clamp(s[a] + dp[a] / h[a], 0.0, 1.0);
+      dp[a] = (shown[a] - s[a]) * h[a];
+    }
+  }
+  return shown;
 }
 
 // A refined cell: its 125 quarter-spacing lattice points get a value, a gradient and cross

@@ -15,12 +15,14 @@ constexpr std::uint32_t kFresh = 4;  // triple buffer: the middle slot holds an 
 }  // namespace
 
 void CursorCore::publish(const std::array<double, 3>& probe, const Force& f,
-                         const std::array<double, 3>& s, const OnsetBlend& onset) {
+                         const std::array<double, 3>& s, const std::array<double, 3>& shown,
+                         const OnsetBlend& onset) {
   Snapshot& slot = slots_[back_];
   slot.sequence = calls_;
   slot.probe = probe;
   slot.force = f.value;
   slot.cell_position = s;
+  slot.sway_position = shown;
   slot.scheme = scheme_;
   slot.secant_corners = 0;
   slot.onset_weight = onset.weight;

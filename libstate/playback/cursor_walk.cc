@@ -89,7 +89,7 @@ void CursorCore::anchor_at(std::int32_t rest) {
   if (!finite(zero.value.data(), 3) || !finite(zero.stiffness.data(), 9)) zero = Force{};
   OnsetBlend rest_state;  // a zero configuration: the body at rest
   rest_state.at_rest = true;
-  publish(p, zero, s, rest_state);
+  publish(p, zero, s, s, rest_state);
 }
 
 // Fills corners_[c] of the cell at base_ from the corners of the previous cell `old` (at

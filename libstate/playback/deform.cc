@@ -21,7 +21,8 @@ namespace {
 // The arrays to add and their weights, one entry per distinct (configuration, array).
 class Blend {
  public:
-  static constexpr int kMax = 80;
+  // 8 corners x 4 arrays, 7 midpoints x 4 and 8 depth sources; twice in a difference.
+  static constexpr int kMax = 160;
   explicit Blend(double scale) : scale_(scale) {}
   void set_scale(double scale) { scale_ = scale; }  // of the weights added from now on
   // kind 0: the displacements of configuration k, kind 1 + a: its slopes along axis a; kind 4:
@@ -34,55 +35,95 @@ class Blend {
         weight_[j] += w;
         return;
       }
-    // Cannot happen: 8 corners x 4 arrays, 7 midpoints x 4 and 8 depth sources at most.
-    if (count_ == kMax) return;
+    if (count_ == kMax) return;  // cannot happen (kMax)
     config_[count_] = k, kind_[count_] = kind, weight_[count_++] = w;
   }
   // out += Σ weight x array, in blocks so that out stays in cache while the arrays stream by.
   void apply(const PlaybackFile::Impl& f, std::span<float> out) const {
-    const std::size_t n = 3 * static_cast<std::size_t>(f.meta->num_view_nodes);
-    const std::size_t m = std::min(n, out.size());
-    const float* src[kMax];
-    float w[kMax];
-    for (int j = 0; j < count_; ++j) {
-      const std::size_t k = static_cast<std::size_t>(config_[j]);
-      src[j] = kind_[j] == 0  ? f.displacements + n * k
-               : kind_[j] < 4 ? f.slopes + n * (3 * k + kind_[j] - 1)
-                              : f.midpoint_displacements + n * (4 * k + kind_[j] - 4);
-      w[j] = static_cast<float>(weight_[j]);
-    }
-    // Eight arrays per pass over a block (the output block is loaded and stored once per eight
-    // arrays and stays in L1 between passes; 4x faster than one array per pass on 50 000 nodes).
-    constexpr std::size_t kBlock = 4096;
-    float* o = out.data();
+    Sources s(*this, f);
+    const std::size_t m = std::min(s.n, out.size());
+    for (std::size_t begin = 0; begin < m; begin += kBlock)
+      add_block(s, begin, std::min(m, begin + kBlock), out.data(), 0);
+  }
+  // Per block of nodes: out += near where factor(node) is 0 for every node of the block, far where
+  // it is 1 for every one, else near + factor x difference (difference = far - near).
+  template <class Factor>
+  static void apply_mixed(const PlaybackFile::Impl& f, std::span<float> out, const Blend& near,
+                          const Blend& far, const Blend& difference, Factor factor) {
+    const Sources sn(near, f), sf(far, f), sd(difference, f);
+    const std::size_t m = std::min(sn.n, out.size());
+    float mix[kBlock / 3 + 1], sum[kBlock];
     for (std::size_t begin = 0; begin < m; begin += kBlock) {
       const std::size_t end = std::min(m, begin + kBlock);
-      int j = 0;
-      for (; j + 8 <= count_; j += 8) {
-        const float* __restrict a0 = src[j];
-        const float* __restrict a1 = src[j + 1];
-        const float* __restrict a2 = src[j + 2];
-        const float* __restrict a3 = src[j + 3];
-        const float* __restrict a4 = src[j + 4];
-        const float* __restrict a5 = src[j + 5];
-        const float* __restrict a6 = src[j + 6];
-        const float* __restrict a7 = src[j + 7];
-        float* __restrict dst = o;
-        const float* wj = w + j;
-        for (std::size_t i = begin; i < end; ++i)
-          dst[i] += (wj[0] * a0[i] + wj[1] * a1[i] + wj[2] * a2[i] + wj[3] * a3[i]) +
-                    (wj[4] * a4[i] + wj[5] * a5[i] + wj[6] * a6[i] + wj[7] * a7[i]);
+      const std::size_t first = begin / 3, last = (end - 1) / 3;
+      float lo = 1, hi = 0;
+      for (std::size_t node = first; node <= last; ++node) {
+        mix[node - first] = factor(node);
+        lo = std::min(lo, mix[node - first]), hi = std::max(hi, mix[node - first]);
       }
-      for (; j < count_; ++j) {
-        const float* __restrict a = src[j];
-        float* __restrict dst = o;
-        const float wa = w[j];
-        for (std::size_t i = begin; i < end; ++i) dst[i] += wa * a[i];
+      if (hi == 0) {
+        add_block(sn, begin, end, out.data(), 0);
+      } else if (lo == 1) {
+        add_block(sf, begin, end, out.data(), 0);
+      } else {
+        add_block(sn, begin, end, out.data(), 0);
+        std::fill_n(sum, end - begin, 0.0f);
+        add_block(sd, begin, end, sum, begin);
+        for (std::size_t i = begin; i < end; ++i) out[i] += mix[i / 3 - first] * sum[i - begin];
       }
     }
   }
 
  private:
+  static constexpr std::size_t kBlock = 4096;
+  struct Sources {
+    Sources(const Blend& b, const PlaybackFile::Impl& f)
+        : n(3 * static_cast<std::size_t>(f.meta->num_view_nodes)), count(b.count_) {
+      for (int j = 0; j < count; ++j) {
+        const std::size_t k = static_cast<std::size_t>(b.config_[j]);
+        src[j] = b.kind_[j] == 0  ? f.displacements + n * k
+                 : b.kind_[j] < 4 ? f.slopes + n * (3 * k + b.kind_[j] - 1)
+                                  : f.midpoint_displacements + n * (4 * k + b.kind_[j] - 4);
+        w[j] = static_cast<float>(b.weight_[j]);
+      }
+    }
+    std::size_t n;
+    int count;
+    const float* src[kMax];
+    float w[kMax];
+  };
+  // o[i - base] += Σ w x src[i] for i in [begin, end). Eight arrays per pass over a block (the
+  // output block is loaded and stored once per eight arrays and stays in L1 between passes; 4x
+  // faster than one array per pass on 50 000 nodes).
+  static void add_block(const Sources& s, std::size_t begin, std::size_t end, float* o,
+                        std::size_t base) {
+    const float* const* src = s.src;
+    const float* w = s.w;
+    const std::size_t length = end - begin;
+    int j = 0;
+    for (; j + 8 <= s.count; j += 8) {
+      const float* __restrict a0 = src[j] + begin;
+      const float* __restrict a1 = src[j + 1] + begin;
+      const float* __restrict a2 = src[j + 2] + begin;
+      const float* __restrict a3 = src[j + 3] + begin;
+      const float* __restrict a4 = src[j + 4] + begin;
+      const float* __restrict a5 = src[j + 5] + begin;
+      const float* __restrict a6 = src[j + 6] + begin;
+      const float* __restrict a7 = src[j + 7] + begin;
+      float* __restrict dst = o + (begin - base);
+      const float* wj = w + j;
+      for (std::size_t i = 0; i < length; ++i)
+        dst[i] += (wj[0] * a0[i] + wj[1] * a1[i] + wj[2] * a2[i] + wj[3] * a3[i]) +
+                  (wj[4] * a4[i] + wj[5] * a5[i] + wj[6] * a6[i] + wj[7] * a7[i]);
+    }
+    for (; j < s.count; ++j) {
+      const float* __restrict a = src[j] + begin;
+      float* __restrict dst = o + (begin - base);
+      const float wa = w[j];
+      for (std::size_t i = 0; i < length; ++i) dst[i] += wa * a[i];
+    }
+  }
+
   std::int32_t config_[kMax];
   int kind_[kMax];
   double weight_[kMax];
@@ -290,17 +331,52 @@ void add_cell_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* ble
   add_hermite(HalfCellPoints(f, corners, s, h, sub), t, half, -1, 1.0, blend);
 }
 
+// Just past the contact onset: the depth model's share.
+void add_depth_model(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
+  blend->set_scale(s.onset_weight * s.onset_depth);
+  for (int c = 0; c < 8; ++c)
+    if (s.onset_weight != 0.0 && s.depth_source[c] < f.meta->num_configurations)
+      blend->add(s.depth_source[c], 0, s.weight[c] * s.per_depth[c]);
+}
+
+// Hermite in a refined contact cell (Snapshot::sway_position): the nodes far from the sphere take
+// the cell's interpolant at sway_position, those near it at cell_position, blended by the
+// distance d of the node at rest from the probe, smoothly from 2 radii to 4 (docs/playback.md,
+// "Refined cells"). A block of nodes all near or all far streams one set of arrays, as elsewhere.
+bool blend_sway(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float> out) {
+  const double r = f.meta->contact_radius;
+  if (s.sway_position == s.cell_position || !(r > 0) || !f.reference) return false;
+  Snapshot moved = s;
+  moved.cell_position = s.sway_position;
+  Blend near(1.0 - s.onset_weight), far(1.0 - s.onset_weight), difference(1.0 - s.onset_weight);
+  add_cell_hermite(f, s, &near);
+  add_depth_model(f, s, &near);
+  add_cell_hermite(f, moved, &far);
+  add_depth_model(f, s, &far);
+  add_cell_hermite(f, moved, &difference);
+  difference.set_scale(-(1.0 - s.onset_weight));
+  add_cell_hermite(f, s, &difference);
+  const float* x = f.reference;
+  const double inner = 2 * r, outer = 4 * r;
+  Blend::apply_mixed(f, out, near, far, difference, [&](std::size_t node) {
+    const double dx = x[3 * node] - s.probe[0], dy = x[3 * node + 1] - s.probe[1],
+                 dz = x[3 * node + 2] - s.probe[2];
+    const double t =
+        std::clamp((std::sqrt(dx * dx + dy * dy + dz * dz) - inner) / (outer - inner), 0.0, 1.0);
+    return static_cast<float>(t * t * (3.0 - 2.0 * t));
+  });
+  return true;
+}
+
 void blend(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float> out) {
+  const bool hermite = s.scheme == Scheme::kHermite && f.slopes;
+  if (hermite && blend_sway(f, s, out)) return;
   Blend blend(1.0 - s.onset_weight);
-  if (s.scheme == Scheme::kHermite && f.slopes)
+  if (hermite)
     add_cell_hermite(f, s, &blend);
   else
     add_trilinear(f, s, &blend);
-  // Just past the contact onset: the depth model's share.
-  blend.set_scale(s.onset_weight * s.onset_depth);
-  for (int c = 0; c < 8; ++c)
-    if (s.onset_weight != 0.0 && s.depth_source[c] < f.meta->num_configurations)
-      blend.add(s.depth_source[c], 0, s.weight[c] * s.per_depth[c]);
+  add_depth_model(f, s, &blend);
   blend.apply(f, out);
 }
 
