@@ -167,7 +167,8 @@ struct Snapshot {
   // the half cells' force is the refined force; deform() interpolates the nodes farther than 4
   // radii from the probe there, those within 2 at cell_position, and blends between (the body's
   // sway follows the force, its dent the sphere: docs/playback.md, "Refined cells"). Elsewhere
-  // cell_position.
+  // cell_position (a snapshot built by hand sets it so; deform() ignores one outside the cell or
+  // farther than a quarter of the smallest spacing from cell_position).
   std::array<double, 3> sway_position{};
 };
 

@@ -42,7 +42,9 @@ typedef struct hs_snapshot {
   int32_t depth_source[8];
   int32_t midpoint[27]; /* 0, or 1 + the stored midpoint whose displacements hold at that point */
   double midpoint_blend[27][6]; /* near the contact onset: the blend at those points */
-  double sway_position[3];      /* refined contact cell: where the far nodes are interpolated */
+  /* refined contact cell: where the far nodes are interpolated (a hand-built snapshot sets it
+   * equal to cell_position) */
+  double sway_position[3];
 } hs_snapshot;
 
 /* sizeof(hs_snapshot) in the library as built. hs_snapshot grows when the playback format does

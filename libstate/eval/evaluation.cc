@@ -151,7 +151,7 @@ EvalResult evaluate_path(const Problem& problem, const PlaybackFile& file, const
     // The first cell after the probe comes onto the body (contact): left out of the
     // deformation errors, whose reference u* is there a small indentation.
     const bool free = probe->clear_of_body(p);
-    travel_in_contact = free ? 0 : travel_in_contact + (k > 0 ? (p - path[k - 1]).norm() : 0);
+    travel_in_contact = free ? 0 : travel_in_contact + (p - (k > 0 ? path[k - 1] : start)).norm();
     step.contact_onset = !free && travel_in_contact < result.spacing.minCoeff();
     Eigen::Matrix3Xd exact_u = solver.displacements();
     if (sagged) exact_u -= Eigen::Map<const Eigen::Matrix3Xd>(rest_u.data(), 3, exact_u.cols());

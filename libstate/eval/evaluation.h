@@ -23,8 +23,8 @@ struct EvalOptions {
   std::filesystem::path state;
   std::filesystem::path playback;   // "" = <state>/playback.bin
   std::filesystem::path path_file;  // a probe path CSV instead of the random path
-  // The paper's experiment as the certificate runs it (certify.steps): a path of seed s is then
-  // the certificate's path of seed s, and its errors are among the certificate's.
+  // The paper's experiment as the certificate runs it by default (certify.steps = 30): a path of
+  // seed s is then the certificate's path of seed s, and its errors are among the certificate's.
   int steps = 30;
   std::uint64_t seed = 1;
   double step_length = 0;        // mesh units; 0 = half the smallest grid spacing

@@ -177,8 +177,10 @@ Force CursorCore::force(const std::array<double, 3>& probe) {
   // Hermite in a refined contact cell: where the half cells' force is the refined one, for the
   // displacements far from the sphere (Snapshot::sway_position, shown_position; near the onset
   // both forces before the blend, as the displacements are fitted through it).
+  // (deform() needs the contact radius and the displacement slopes for it.)
   const bool shift = refined_ && scheme_ == Scheme::kHermite && out.inside_grid &&
-                     file_.is_contact() && !(onset_ && clear_cell_);
+                     file_.impl().meta->contact_radius > 0 && file_.impl().slopes &&
+                     !(onset_ && clear_cell_);
   const std::array<double, 3> shown = shift ? shown_position(s, value) : s;
   const OnsetBlend onset = onset_ ? apply_onset(B, dB, s, &value, &slope) : OnsetBlend{};
   if (!out.inside_grid) {

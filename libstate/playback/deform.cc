@@ -7,8 +7,9 @@
 // source's scaled. Where the snapshot marks stored midpoint displacements (Snapshot::midpoint)
 // the cubic is that of the half-spacing cell the probe is in, as the force's. Just past the
 // onset the depth model is blended in (Snapshot::onset_weight), and a midpoint inside the blend
-// is fitted through it (Snapshot::midpoint_blend). The weights are computed once
-// per frame; the arrays are streamed once.
+// is fitted through it (Snapshot::midpoint_blend). In a refined contact cell the nodes far from
+// the sphere are interpolated at Snapshot::sway_position. The weights are computed once per
+// frame; the arrays are streamed once (a block of nodes between near and far: twice).
 #include "playback/file_impl.h"
 #include "playback/hermite_bases.h"
 
@@ -346,6 +347,17 @@ void add_depth_model(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blen
 bool blend_sway(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float> out) {
   const double r = f.meta->contact_radius;
   if (s.sway_position == s.cell_position || !(r > 0) || !f.reference) return false;
+  // A snapshot from elsewhere is not trusted: the cursor's point lies in the cell, within a
+  // quarter of the smallest spacing of the probe.
+  const double* h = f.meta->spacing;
+  const double reach = 0.25 * std::min({h[0], h[1], h[2]}) * (1 + 1e-9);
+  double moved_by = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double t = s.sway_position[a];
+    if (!(t >= 0.0 && t <= 1.0)) return false;
+    moved_by += std::pow((t - s.cell_position[a]) * h[a], 2);
+  }
+  if (!(std::sqrt(moved_by) <= reach)) return false;
   Snapshot moved = s;
   moved.cell_position = s.sway_position;
   Blend near(1.0 - s.onset_weight), far(1.0 - s.onset_weight), difference(1.0 - s.onset_weight);
