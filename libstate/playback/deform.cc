@@ -22,8 +22,7 @@ namespace {
 // The arrays to add and their weights, one entry per distinct (configuration, array).
 class Blend {
  public:
-  // 8 corners x 4 arrays, 7 midpoints x 4 and 8 depth sources; twice in a difference.
-  static constexpr int kMax = 160;
+  static constexpr int kMax = 80;
   explicit Blend(double scale) : scale_(scale) {}
   void set_scale(double scale) { scale_ = scale; }  // of the weights added from now on
   // kind 0: the displacements of configuration k, kind 1 + a: its slopes along axis a; kind 4:
@@ -36,7 +35,8 @@ class Blend {
         weight_[j] += w;
         return;
       }
-    if (count_ == kMax) return;  // cannot happen (kMax)
+    // Cannot happen: 8 corners x 4 arrays, 7 midpoints x 4 and 8 depth sources at most.
+    if (count_ == kMax) return;
     config_[count_] = k, kind_[count_] = kind, weight_[count_++] = w;
   }
   // out += Σ weight x array, in blocks so that out stays in cache while the arrays stream by.
@@ -46,14 +46,14 @@ class Blend {
     for (std::size_t begin = 0; begin < m; begin += kBlock)
       add_block(s, begin, std::min(m, begin + kBlock), out.data(), 0);
   }
-  // Per block of nodes: out += near where factor(node) is 0 for every node of the block, far where
-  // it is 1 for every one, else near + factor x difference (difference = far - near).
+  // out += near + factor(node) x (far - near), per block of nodes: a block whose factors are all
+  // 0 streams near's arrays only, one whose factors are all 1 far's only.
   template <class Factor>
   static void apply_mixed(const PlaybackFile::Impl& f, std::span<float> out, const Blend& near,
-                          const Blend& far, const Blend& difference, Factor factor) {
-    const Sources sn(near, f), sf(far, f), sd(difference, f);
+                          const Blend& far, Factor factor) {
+    const Sources sn(near, f), sf(far, f);
     const std::size_t m = std::min(sn.n, out.size());
-    float mix[kBlock / 3 + 1], sum[kBlock];
+    float mix[kBlock / 3 + 1], at_near[kBlock], at_far[kBlock];
     for (std::size_t begin = 0; begin < m; begin += kBlock) {
       const std::size_t end = std::min(m, begin + kBlock);
       const std::size_t first = begin / 3, last = (end - 1) / 3;
@@ -67,10 +67,14 @@ class Blend {
       } else if (lo == 1) {
         add_block(sf, begin, end, out.data(), 0);
       } else {
-        add_block(sn, begin, end, out.data(), 0);
-        std::fill_n(sum, end - begin, 0.0f);
-        add_block(sd, begin, end, sum, begin);
-        for (std::size_t i = begin; i < end; ++i) out[i] += mix[i / 3 - first] * sum[i - begin];
+        std::fill_n(at_near, end - begin, 0.0f);
+        std::fill_n(at_far, end - begin, 0.0f);
+        add_block(sn, begin, end, at_near, begin);
+        add_block(sf, begin, end, at_far, begin);
+        for (std::size_t i = begin; i < end; ++i) {
+          const float a = at_near[i - begin], b = at_far[i - begin];
+          out[i] += a + mix[i / 3 - first] * (b - a);
+        }
       }
     }
   }
@@ -314,17 +318,19 @@ class HalfCellPoints {
   std::array<int, 3> sub_;
 };
 
-void add_cell_hermite(const PlaybackFile::Impl& f, const Snapshot& s, Blend* blend) {
+// The Hermite cell at cell position `at` (the probe's, or Snapshot::sway_position).
+void add_cell_hermite(const PlaybackFile::Impl& f, const Snapshot& s,
+                      const std::array<double, 3>& at, Blend* blend) {
   const Corners corners(f, s);
   const double* h = f.meta->spacing;
   const bool midpoints = std::any_of(s.midpoint.begin(), s.midpoint.end(),
                                      [&](std::int32_t code) { return stored_midpoint(f, code); });
-  if (!midpoints) return add_hermite(corners, s.cell_position, h, -1, 1.0, blend);
+  if (!midpoints) return add_hermite(corners, at, h, -1, 1.0, blend);
   int sub = 0;
   std::array<double, 3> t{};
   const double half[3] = {0.5 * h[0], 0.5 * h[1], 0.5 * h[2]};
   for (int a = 0; a < 3; ++a) {
-    const double p = std::clamp(s.cell_position[a], 0.0, 1.0);
+    const double p = std::clamp(at[a], 0.0, 1.0);
     const int side = p >= 0.5 ? 1 : 0;
     sub |= side << (2 - a);
     t[a] = 2.0 * p - side;
@@ -358,19 +364,14 @@ bool blend_sway(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float>
     moved_by += std::pow((t - s.cell_position[a]) * h[a], 2);
   }
   if (!(std::sqrt(moved_by) <= reach)) return false;
-  Snapshot moved = s;
-  moved.cell_position = s.sway_position;
-  Blend near(1.0 - s.onset_weight), far(1.0 - s.onset_weight), difference(1.0 - s.onset_weight);
-  add_cell_hermite(f, s, &near);
+  Blend near(1.0 - s.onset_weight), far(1.0 - s.onset_weight);
+  add_cell_hermite(f, s, s.cell_position, &near);
   add_depth_model(f, s, &near);
-  add_cell_hermite(f, moved, &far);
+  add_cell_hermite(f, s, s.sway_position, &far);
   add_depth_model(f, s, &far);
-  add_cell_hermite(f, moved, &difference);
-  difference.set_scale(-(1.0 - s.onset_weight));
-  add_cell_hermite(f, s, &difference);
   const float* x = f.reference;
   const double inner = 2 * r, outer = 4 * r;
-  Blend::apply_mixed(f, out, near, far, difference, [&](std::size_t node) {
+  Blend::apply_mixed(f, out, near, far, [&](std::size_t node) {
     const double dx = x[3 * node] - s.probe[0], dy = x[3 * node + 1] - s.probe[1],
                  dz = x[3 * node + 2] - s.probe[2];
     const double t =
@@ -385,7 +386,7 @@ void blend(const PlaybackFile::Impl& f, const Snapshot& s, std::span<float> out)
   if (hermite && blend_sway(f, s, out)) return;
   Blend blend(1.0 - s.onset_weight);
   if (hermite)
-    add_cell_hermite(f, s, &blend);
+    add_cell_hermite(f, s, s.cell_position, &blend);
   else
     add_trilinear(f, s, &blend);
   add_depth_model(f, s, &blend);
