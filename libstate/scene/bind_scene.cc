@@ -1,5 +1,6 @@
 #include "scene/bind.h"
 
+#include "mesh/winding_number.h"
 #include "scene/diagnostics.h"
 #include "scene/node_list.h"
 #include "scene/rigid_modes.h"
@@ -151,6 +152,19 @@ void check_sphere_clear(const SceneProbe& probe, const Eigen::Matrix3Xd& positio
       diagnostics.add(probe.line, os.str());
       return;
     }
+  }
+  // Farther than the radius from every triangle, but possibly inside the body.
+  TriangleSurface s;
+  s.xyz.assign(positions.data(), positions.data() + positions.size());
+  for (int t = 0; t < surface.cols(); ++t)
+    s.faces.push_back({surface(0, t), surface(1, t), surface(2, t)});
+  if (WindingNumber(s)(*probe.point) > 0.5) {
+    std::ostringstream os;
+    os.precision(6);
+    os << "probe: contact: the sphere at rest (centre " << format_point(*probe.point) << ", radius "
+       << *probe.radius
+       << ") is inside the body; put probe.point outside it, at least probe.radius away";
+    diagnostics.add(probe.line, os.str());
   }
 }
 

@@ -27,12 +27,13 @@ Mesh rest_shape(const Problem& problem) {
   return shape;
 }
 
-// The signed clearance of a contact probe (ProbeModel::clearance): whether the sphere's centre is
-// inside the body at rest comes from the winding number of the rest surface, built on first use
-// (only hapstate-index asks; one thread).
+// Whether a point is inside the body at rest, and the signed clearance of a contact probe
+// (ProbeModel::clearance): inside is the winding number of the rest surface above 1/2. Built
+// with the probe (the expansion's threads ask at once); O(surface triangles) a query, asked only
+// where no surface triangle (node) is within the sphere's reach.
 class RestInside {
  public:
-  explicit RestInside(const Mesh& mesh) : mesh_(mesh) {}
+  explicit RestInside(const Mesh& mesh) : winding_(surface_of(mesh)) {}
   // `nearest`: the nearest surface point (sliding) or candidate node (sticking) within `range`
   // of the sphere, `reach` the radius (sticking: the reach). Outside the rest body the distance
   // to it minus `reach`, gradient the unit vector from it to p; inside minus the distance minus
@@ -49,20 +50,17 @@ class RestInside {
     if (in) return {-dist - reach, -unit};
     return {dist - reach, unit};
   }
+  bool inside(const Eigen::Vector3d& p) const { return winding_(p) > 0.5; }
 
  private:
-  bool inside(const Eigen::Vector3d& p) const {
-    if (!winding_) {
-      TriangleSurface s;
-      s.xyz.assign(mesh_.nodes.data(), mesh_.nodes.data() + mesh_.nodes.size());
-      for (Eigen::Index t = 0; t < mesh_.surface.cols(); ++t)
-        s.faces.push_back({mesh_.surface(0, t), mesh_.surface(1, t), mesh_.surface(2, t)});
-      winding_ = std::make_unique<WindingNumber>(s);
-    }
-    return (*winding_)(p) > 0.5;
+  static TriangleSurface surface_of(const Mesh& mesh) {
+    TriangleSurface s;
+    s.xyz.assign(mesh.nodes.data(), mesh.nodes.data() + mesh.nodes.size());
+    for (Eigen::Index t = 0; t < mesh.surface.cols(); ++t)
+      s.faces.push_back({mesh.surface(0, t), mesh.surface(1, t), mesh.surface(2, t)});
+    return s;
   }
-  const Mesh& mesh_;
-  mutable std::unique_ptr<WindingNumber> winding_;
+  WindingNumber winding_;
 };
 
 class GrabProbe final : public ProbeModel {
@@ -136,9 +134,9 @@ class ContactProbe final : public ProbeModel {
   }
 
   bool clear_of_body(const Eigen::Vector3d& p) const override {
-    std::vector<int> inside;
-    index_.inside(p, reach_, &inside);
-    return inside.empty();
+    std::vector<int> near;
+    index_.inside(p, reach_, &near);
+    return near.empty() && !inside_.inside(p);
   }
 
   bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override {
@@ -202,20 +200,14 @@ class SlidingProbe final : public ProbeModel {
     solver.set_state(metres(v.u, problem_.unit), p - problem_.probe_rest, {}, v.multipliers);
   }
 
-  bool clear_of_body(const Eigen::Vector3d& p) const override { return trivial_move(p, p); }
+  bool clear_of_body(const Eigen::Vector3d& p) const override {
+    return sweeps_past(p, p) && !inside_.inside(p);
+  }
 
-  // Both ends free and the segment farther than the radius from every surface triangle.
+  // Both ends clear of the body and the segment farther than the radius from every surface
+  // triangle (so it cannot cross the surface either).
   bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override {
-    std::vector<int> near;
-    index_.inside(0.5 * (a + b), radius_ + spread_ + 0.5 * (b - a).norm(), &near);
-    const Triangles& tri = shape_.surface;
-    const Eigen::Matrix3Xd& x = shape_.nodes;
-    for (int t : near) {
-      const double d =
-          segment_triangle_distance(a, b, x.col(tri(0, t)), x.col(tri(1, t)), x.col(tri(2, t)));
-      if (d < radius_) return false;
-    }
-    return true;
+    return sweeps_past(a, b) && !inside_.inside(a) && !inside_.inside(b);
   }
   std::optional<Clearance> clearance(const Eigen::Vector3d& p, double range) const override {
     std::vector<int> near;
@@ -242,6 +234,20 @@ class SlidingProbe final : public ProbeModel {
   VectorLayout layout() const override { return {false, 0, 3, true}; }
 
  private:
+  // The segment from a to b farther than the radius from every rest surface triangle.
+  bool sweeps_past(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+    std::vector<int> near;
+    index_.inside(0.5 * (a + b), radius_ + spread_ + 0.5 * (b - a).norm(), &near);
+    const Triangles& tri = shape_.surface;
+    const Eigen::Matrix3Xd& x = shape_.nodes;
+    for (int t : near) {
+      const double d =
+          segment_triangle_distance(a, b, x.col(tri(0, t)), x.col(tri(1, t)), x.col(tri(2, t)));
+      if (d < radius_) return false;
+    }
+    return true;
+  }
+
   const Problem& problem_;
   Mesh shape_;  // the body in its rest state
   double radius_;

@@ -42,7 +42,9 @@ class ProbeModel {
   }
   // Whether the probe at p is clear of the body at rest (grab: never; contact: the sphere touches
   // nothing of the rest shape: no surface triangle within the radius when frictionless, no
-  // candidate node when sticking). Such a check-point is free: it holds the zero configuration.
+  // candidate node when sticking; and its centre is outside the rest body: a sphere deep inside
+  // touches nothing either, but only pushing gets it there). Such a check-point is free: it
+  // holds the zero configuration.
   virtual bool clear_of_body(const Eigen::Vector3d& p) const = 0;
   // Whether the probe at p leaves the body undeformed: the rest position and every position
   // clear of the body. Such a check-point holds a zero configuration.

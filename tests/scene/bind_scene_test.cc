@@ -283,6 +283,18 @@ TEST_F(BindScene, ContactSphereOverlappingTheBodyAtRestIsAnError) {
                "least probe.radius away from the body"));
 }
 
+TEST_F(BindScene, ContactSphereInsideTheBodyAtRestIsAnError) {
+  // Centre (1, 1, 1), 1 from every face of the cube: no surface point within the radius 0.5,
+  // but the sphere is inside the body (the winding number of its surface).
+  EXPECT_EQ(error_of([&] {
+              bind_scene(scene(kFixX0, "mode = \"contact\"\npoint = [1, 1, 1]\nradius = 0.5"),
+                         cube_);
+            }),
+            at(10,
+               "probe: contact: the sphere at rest (centre [1, 1, 1], radius 0.5) is inside the "
+               "body; put probe.point outside it, at least probe.radius away"));
+}
+
 TEST_F(BindScene, ContactProbeNeedsFixedNodesThatHoldTheBody) {
   EXPECT_NE(error_of([&] {
               bind_scene(scene("", "mode = \"contact\"\npoint = [1, 1, 3]\nradius = 0.5"), cube_);

@@ -42,6 +42,27 @@ TEST(ContactProbeModel, MoveIsTrivialOnlyIfTheSphereSweepsPastEveryNode) {
   EXPECT_FALSE(probe->trivial_move(a, Eigen::Vector3d(-0.7, 0.25, 0.5)));  // target touches
 }
 
+// A sphere whose centre is inside the rest body farther than its radius from the surface touches
+// no triangle (node) either, but it is not clear of the body: only pushing gets it there (a
+// check-point there is a workspace one, reached by expansion, never a free one with the zero
+// configuration), and no move into or out of it is trivial. Both models, on the block with a
+// sphere of radius 0.2 at mid-height (0.5 from the top face and from the base).
+TEST(ContactProbeModel, CentreDeepInsideTheBodyIsNotClear) {
+  for (Friction friction : {Friction::kStick, Friction::kNone}) {
+    Problem p = testing::block_problem(8, friction);
+    p.contact->radius = 0.2;
+    const auto probe = make_probe_model(p);
+    const Eigen::Vector3d inside(2.1, 2.2, 0.5), also_inside(2.6, 2.2, 0.5);
+    const Eigen::Vector3d above(2.1, 2.2, 1.5);  // 0.5 above the top face
+    EXPECT_FALSE(probe->clear_of_body(inside)) << int(friction);
+    EXPECT_FALSE(probe->holds_zero_configuration(inside)) << int(friction);
+    EXPECT_FALSE(probe->trivial_move(inside, also_inside)) << int(friction);
+    EXPECT_FALSE(probe->trivial_move(above, inside)) << int(friction);
+    EXPECT_TRUE(probe->clear_of_body(above)) << int(friction);
+    EXPECT_TRUE(probe->trivial_move(above, Eigen::Vector3d(2.6, 2.2, 1.5))) << int(friction);
+  }
+}
+
 // The clearance the playback file stores (docs/playback.md, "Contact onset"): the signed
 // distance of the centre from the rest surface minus the radius, negative and decreasing with
 // depth once the centre is inside the block, continuous through the surface.
