@@ -204,10 +204,10 @@ class SlidingProbe final : public ProbeModel {
     return sweeps_past(p, p) && !inside_.inside(p);
   }
 
-  // Both ends clear of the body and the segment farther than the radius from every surface
-  // triangle (so it cannot cross the surface either).
+  // Both ends clear of the body: the segment farther than the radius from every surface
+  // triangle, so it does not cross the surface and b is outside the body wherever a is.
   bool trivial_move(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const override {
-    return sweeps_past(a, b) && !inside_.inside(a) && !inside_.inside(b);
+    return sweeps_past(a, b) && !inside_.inside(a);
   }
   std::optional<Clearance> clearance(const Eigen::Vector3d& p, double range) const override {
     std::vector<int> near;
