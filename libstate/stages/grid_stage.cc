@@ -1,6 +1,7 @@
 #include "stages/grid_stage.h"
 
 #include "catalogue/transaction.h"
+#include "stages/refine_stage.h"
 #include "statedir/stage_context.h"
 #include "statedir/stage_run.h"
 #include "statespace/expand_batch.h"
@@ -170,7 +171,8 @@ void reopen_outside_transitions(Catalogue& cat, const WorkspaceCheckpoints& w, G
 }
 
 // The run's one line.
-std::string grid_message(const GridReport& report, bool contact_free, const Problem& problem) {
+std::string grid_message(const GridReport& report, bool contact_free, const Problem& problem,
+                         const GridSpec& grid) {
   std::string m = std::to_string(report.checkpoints_added) + " check-points added (" +
                   std::to_string(report.checkpoints_total) + " in all)";
   if (!contact_free && report.zero_configuration_added)
@@ -182,6 +184,10 @@ std::string grid_message(const GridReport& report, bool contact_free, const Prob
     m += ", " + std::to_string(report.transitions_reopened) +
          " transitions reopened into the enlarged workspace";
   if (problem.loads.has_force()) m += "; " + rest_state_text(problem);
+  if (problem.contact) {
+    const std::string note = contact_spacing_note(problem.contact->radius, grid.spacing.maxCoeff());
+    if (!note.empty()) m.append("; ").append(note);
+  }
   return m;
 }
 
@@ -221,7 +227,7 @@ GridReport run_grid(const GridOptions& options) {
   report.checkpoints_total = cat.num_checkpoints();
   insert_zero_configurations(ctx, w, report);
   if (report.checkpoints_added > 0) reopen_outside_transitions(cat, w, report);
-  report.message = grid_message(report, !w.free_ids.empty(), ctx.problem);
+  report.message = grid_message(report, !w.free_ids.empty(), ctx.problem, grid);
   frame.end(report);  // recorded with the grid, in its transaction
   tx.commit();
   return report;

@@ -25,6 +25,14 @@ constexpr double kDefaultRefineTolerance = 1e-3;
 constexpr double kDeepRefineRatio = 0.1;
 int default_refine_depth(double radius, double spacing);
 
+// The largest spacing over the radius at which the default depth's contact playback was measured
+// within Hermite 1.5 % and trilinear 3 % of the force (0.4 on liverCoarse; at 1.0 on liverSemiFine
+// Hermite reached 2.25 %: docs/scene.md, "Choosing the spacing for a contact probe").
+constexpr double kMeasuredSpacingRatio = 0.4;
+// For a contact sphere of `radius` with the largest grid `spacing` beyond kMeasuredSpacingRatio
+// times it, a note saying so and what to do (the grid stage's line shows it); else "".
+std::string contact_spacing_note(double radius, double spacing);
+
 struct RefineOptions {
   std::filesystem::path state;
   int threads = 1;                  // worker threads, one PathSolver each

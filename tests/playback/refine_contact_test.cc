@@ -81,6 +81,14 @@ TEST(RefineDepth, DefaultFollowsTheSpacingOverTheRadius) {
   EXPECT_EQ(default_refine_depth(0.0, 0.1), 1);  // the grab probe
 }
 
+// The grid stage notes a contact spacing beyond the measured range (h / r 0.4), never the grab's.
+TEST(RefineDepth, SpacingBeyondTheMeasuredRangeIsNoted) {
+  EXPECT_EQ(contact_spacing_note(0.5, 0.1), "");    // this beam: h / r = 0.2
+  EXPECT_EQ(contact_spacing_note(0.15, 0.06), "");  // 0.4
+  EXPECT_NE(contact_spacing_note(0.15, 0.15).find("1 x probe.radius"), std::string::npos);
+  EXPECT_EQ(contact_spacing_note(0.0, 0.5), "");  // the grab probe
+}
+
 // Walking from rest to a refined point strictly inside its cell, the Hermite cursor returns the
 // stored force where the sphere is in contact there and beyond the onset band (the blend
 // returns the fitted force exactly); in the band it may keep the half cells' interpolant. Most
