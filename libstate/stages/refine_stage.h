@@ -26,8 +26,9 @@ constexpr double kDeepRefineRatio = 0.1;
 int default_refine_depth(double radius, double spacing);
 
 // The largest spacing over the radius at which the default depth's contact playback was measured
-// within Hermite 1.5 % and trilinear 3 % of the force (0.4 on liverCoarse; at 1.0 on liverSemiFine
-// Hermite reached 2.25 %: docs/scene.md, "Choosing the spacing for a contact probe").
+// within Hermite 1.5 % and trilinear 3 % of the force (0.4 on liverCoarse; on liverSemiFine at 1.0
+// Hermite reached 2.25 %, at 1.7 5.99 %: docs/scene.md, "Choosing the spacing for a contact
+// probe").
 constexpr double kMeasuredSpacingRatio = 0.4;
 // For a contact sphere of `radius` with the largest grid `spacing` beyond kMeasuredSpacingRatio
 // times it, a note saying so and what to do (the grid stage's line shows it); else "".
