@@ -7,6 +7,7 @@
 #include "catalogue/catalogue.h"
 #include "eval/evaluation.h"
 #include "hapstate/playback.h"
+#include "io/probe_path.h"
 #include "refined_points.h"
 #include "stages/refine_stage.h"
 #include "state_suite.h"
@@ -258,6 +259,31 @@ TEST_F(RefineContact, RefinedFileIsMoreAccurateOnAverage) {
   // against 0.1177, largest 1.16 % against 1.20 %).
   EXPECT_LT(deform_refined, 1.1 * deform_plain);
   EXPECT_LT(deform_refined_max, 1.1 * deform_plain_max);
+}
+
+// hapstate-eval's contact onsets: a step in contact within one grid spacing (0.1) of path travel
+// since the last step clear of the beam (its top z = 1, the sphere's radius 0.5: clear above
+// z = 1.5) is an onset, left out of the deformation statistics; farther along it is not, and
+// leaving the beam starts the count again.
+TEST_F(RefineContact, EvalCountsTheStepsJustAfterTouchingAsOnsets) {
+  const ProbePath path = {{3.5, 0.5, 1.52},    // clear (the path starts here)
+                          {3.5, 0.5, 1.46},    // in contact, 0.06 travelled: onset
+                          {3.5, 0.5, 1.40},    // 0.12: not
+                          {3.5, 0.5, 1.55},    // clear again
+                          {3.5, 0.5, 1.47},    // 0.08: onset
+                          {3.55, 0.5, 1.45}};  // 0.134: not
+  write_probe_path(path, *root_ / "onset_path.csv");
+  EvalOptions o;
+  o.state = *state_;
+  o.path_file = *root_ / "onset_path.csv";
+  const EvalResult r = run_eval(o);
+  ASSERT_EQ(r.steps.size(), path.size());
+  const bool expected[] = {false, true, false, false, true, false};
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    EXPECT_TRUE(r.steps[k].solved) << k;
+    EXPECT_EQ(r.steps[k].contact_onset, expected[k]) << "step " << k;
+    EXPECT_EQ(r.steps[k].exact_force.norm() > 0, k % 3 != 0) << "step " << k;  // touching
+  }
 }
 
 }  // namespace
