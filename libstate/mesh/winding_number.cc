@@ -14,12 +14,25 @@ WindingNumber::WindingNumber(const TriangleSurface& s) {
       for (int k = 0; k < 3; ++k)
         corners_.push_back(s.xyz[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(k)]);
     }
-    const double* c = corners_.data() + corners_.size() - 9;
-    const Eigen::Vector3d a(c[0], c[1], c[2]);
-    const Eigen::Vector3d b(c[3], c[4], c[5]);
-    const Eigen::Vector3d d(c[6], c[7], c[8]);
-    volume_ += a.dot(b.cross(d)) / 6.0;
+    add_volume();
   }
+}
+
+WindingNumber::WindingNumber(const Eigen::Matrix3Xd& xyz, const Triangles& faces) {
+  corners_.reserve(9 * static_cast<std::size_t>(faces.cols()));
+  for (Eigen::Index t = 0; t < faces.cols(); ++t) {
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) corners_.push_back(xyz(k, faces(i, t)));
+    add_volume();
+  }
+}
+
+void WindingNumber::add_volume() {
+  const double* c = corners_.data() + corners_.size() - 9;
+  const Eigen::Vector3d a(c[0], c[1], c[2]);
+  const Eigen::Vector3d b(c[3], c[4], c[5]);
+  const Eigen::Vector3d d(c[6], c[7], c[8]);
+  volume_ += a.dot(b.cross(d)) / 6.0;
 }
 
 double WindingNumber::operator()(const Eigen::Vector3d& p) const {

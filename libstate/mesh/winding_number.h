@@ -5,6 +5,7 @@
 // carving fallback (carve.h) to decide which grid tets lie inside.
 #pragma once
 
+#include "mesh/mesh.h"
 #include "mesh/surface.h"
 
 #include <Eigen/Core>
@@ -16,6 +17,8 @@ namespace hapstate {
 class WindingNumber {
  public:
   explicit WindingNumber(const TriangleSurface& s);
+  // The surface triangles `faces` of nodes `xyz` (a Mesh's nodes and surface, mesh units).
+  WindingNumber(const Eigen::Matrix3Xd& xyz, const Triangles& faces);
 
   // Winding number at `p` (exact sum over all triangles; O(faces)). 0 at a surface vertex's
   // own triangles' corners (their solid angle is taken as 0).
@@ -26,6 +29,8 @@ class WindingNumber {
   double enclosed_volume() const { return volume_; }
 
  private:
+  // Adds the last triangle of corners_ to volume_.
+  void add_volume();
   std::vector<double> corners_;  // 9 coordinates per triangle
   double volume_ = 0;
 };

@@ -154,11 +154,7 @@ void check_sphere_clear(const SceneProbe& probe, const Eigen::Matrix3Xd& positio
     }
   }
   // Farther than the radius from every triangle, but possibly inside the body.
-  TriangleSurface s;
-  s.xyz.assign(positions.data(), positions.data() + positions.size());
-  for (int t = 0; t < surface.cols(); ++t)
-    s.faces.push_back({surface(0, t), surface(1, t), surface(2, t)});
-  if (WindingNumber(s)(*probe.point) > 0.5) {
+  if (WindingNumber(positions, surface)(*probe.point) > 0.5) {
     std::ostringstream os;
     os.precision(6);
     os << "probe: contact: the sphere at rest (centre " << format_point(*probe.point) << ", radius "

@@ -33,7 +33,7 @@ Mesh rest_shape(const Problem& problem) {
 // where no surface triangle (node) is within the sphere's reach.
 class RestInside {
  public:
-  explicit RestInside(const Mesh& mesh) : winding_(surface_of(mesh)) {}
+  explicit RestInside(const Mesh& mesh) : winding_(mesh.nodes, mesh.surface) {}
   // `nearest`: the nearest surface point (sliding) or candidate node (sticking) within `range`
   // of the sphere, `reach` the radius (sticking: the reach). Outside the rest body the distance
   // to it minus `reach`, gradient the unit vector from it to p; inside minus the distance minus
@@ -53,13 +53,6 @@ class RestInside {
   bool inside(const Eigen::Vector3d& p) const { return winding_(p) > 0.5; }
 
  private:
-  static TriangleSurface surface_of(const Mesh& mesh) {
-    TriangleSurface s;
-    s.xyz.assign(mesh.nodes.data(), mesh.nodes.data() + mesh.nodes.size());
-    for (Eigen::Index t = 0; t < mesh.surface.cols(); ++t)
-      s.faces.push_back({mesh.surface(0, t), mesh.surface(1, t), mesh.surface(2, t)});
-    return s;
-  }
   WindingNumber winding_;
 };
 
