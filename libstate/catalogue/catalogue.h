@@ -126,7 +126,7 @@ class Catalogue {
   // Inserts the points of one cell (all in one savepoint). Throws if a (cell, point) exists.
   void insert_refinement_points(const std::vector<RefinementPoint>& points);
   std::vector<RefinementPoint> read_all_refinement_points();  // by (cell, point)
-  // The cells with rows at depth 1 (quarter-spacing points) or 2 (eighth-spacing ones).
+  // The cells with rows at depth 1 (quarter-spacing points), 2 (eighth-spacing) or 3 (sixteenth).
   std::set<ConfigId> refined_cells(int depth = 1);
   std::int64_t num_refinement_points();
 

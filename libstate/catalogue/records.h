@@ -158,12 +158,21 @@ struct Transition {
   bool operator==(const Transition&) const = default;
 };
 
-// Table refinement (schema 6): one solved point of a refined cell's quarter-spacing lattice, or of
-// its eighth-spacing one (refinement depth 2).
+// Table refinement (schema 6): one solved point of a refined cell's quarter-spacing lattice, of
+// its eighth-spacing one (refinement depth 2) or of its sixteenth-spacing one (depth 3).
+// RefinementPoint::point: the first index of each depth's lattice, and the last index.
+inline constexpr int kEighthFirstPoint = 125, kSixteenthFirstPoint = 854,
+                     kLastRefinementPoint = 5766;
+// The refinement depth (1, 2 or 3) a RefinementPoint::point belongs to.
+constexpr int refinement_point_depth(int point) {
+  return point < kEighthFirstPoint ? 1 : point < kSixteenthFirstPoint ? 2 : 3;
+}
+
 struct RefinementPoint {
   ConfigId cell;  // the configuration at the cell's lowest corner
   // 25 i + 5 j + k for quarter steps (i, j, k) from that corner (0..124); 125 + 81 i + 9 j + k for
-  // eighth steps (125..853, at least one of them odd).
+  // eighth steps (125..853, at least one of them odd); 854 + 289 i + 17 j + k for sixteenth steps
+  // (854..5766, at least one of them odd; depth 3, only in the eighth cells the stage flagged).
   int point = 0;
   bool reached = false;
   std::array<double, 3> force{};      // felt by the user, N (when reached)

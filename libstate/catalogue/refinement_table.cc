@@ -2,6 +2,8 @@
 #include "catalogue/catalogue_impl.hpp"
 #include "util/error.h"
 
+#include <algorithm>
+
 namespace hapstate {
 namespace {
 
@@ -13,10 +15,11 @@ constexpr const char* kInsert = "INSERT INTO refinement (" HAPSTATE_REFINEMENT_C
                                 ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
 constexpr const char* kReadAll =
     "SELECT " HAPSTATE_REFINEMENT_COLUMNS " FROM refinement ORDER BY cell, point";
-constexpr const char* kCells =
-    "SELECT DISTINCT cell FROM refinement WHERE point < 125 ORDER BY cell";
-constexpr const char* kDeepCells =
-    "SELECT DISTINCT cell FROM refinement WHERE point >= 125 ORDER BY cell";
+// The cells with points of one depth (the bounds: records.h, kEighthFirstPoint and after).
+constexpr const char* kCells[3] = {
+    "SELECT DISTINCT cell FROM refinement WHERE point < 125 ORDER BY cell",
+    "SELECT DISTINCT cell FROM refinement WHERE point >= 125 AND point < 854 ORDER BY cell",
+    "SELECT DISTINCT cell FROM refinement WHERE point >= 854 ORDER BY cell"};
 constexpr const char* kCount = "SELECT count(*) FROM refinement";
 
 #undef HAPSTATE_REFINEMENT_COLUMNS
@@ -59,7 +62,7 @@ std::vector<RefinementPoint> Catalogue::read_all_refinement_points() {
   while (s->step()) {
     RefinementPoint p;
     p.cell = ConfigId(s->column_int(0));
-    p.point = ranged_column(*s, 1, 0, 853, impl_->label(), "refinement.point");
+    p.point = ranged_column(*s, 1, 0, kLastRefinementPoint, impl_->label(), "refinement.point");
     p.reached = ranged_column(*s, 2, 0, 2, impl_->label(), "refinement.outcome") == 0;
     if (p.reached) {
       for (int k = 0; k < 3; ++k) p.force[k] = s->column_double(3 + k);
@@ -74,7 +77,7 @@ std::vector<RefinementPoint> Catalogue::read_all_refinement_points() {
 }
 
 std::set<ConfigId> Catalogue::refined_cells(int depth) {
-  catalogue_detail::StatementUse s(impl_->statement(depth >= 2 ? kDeepCells : kCells));
+  catalogue_detail::StatementUse s(impl_->statement(kCells[std::clamp(depth, 1, 3) - 1]));
   std::set<ConfigId> out;
   while (s->step()) out.insert(ConfigId(s->column_int(0)));
   return out;

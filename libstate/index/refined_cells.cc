@@ -71,24 +71,29 @@ namespace {
 // A lattice's data in the file: points per axis, a cell's slot column in section 20 and its
 // points.
 struct LatticeLevel {
-  int n;           // points per axis (5 or 9)
+  int n;           // points per axis (5, 9 or 17)
   int slot;        // the column of section 20 with the slot; its constraints the next one
   double* points;  // 12 x n^3 per cell
 };
 
-// Sets the constraint bits of `level` for cell k and gives the points of the faces it shares
-// with a neighbour that has the same lattice one value.
+// Whether cell k (a file index, or -1) has the lattice of `level`.
+bool has_level(const playback::Content& c, const LatticeLevel& level, std::int32_t k) {
+  return k >= 0 && c.refined_cells[playback::kRefinedCellInts * k + level.slot] >= 0;
+}
+
+// Point (i, j, l) of cell k's lattice of `level` (which the cell has).
+double* level_point(playback::Content& c, const LatticeLevel& level, std::int32_t k, int i, int j,
+                    int l) {
+  const std::size_t n = std::size_t(level.n);
+  const std::size_t slot =
+      std::size_t(c.refined_cells[playback::kRefinedCellInts * k + level.slot]);
+  return level.points + 12 * (n * n * n * slot + n * n * i + n * j + l);
+}
+
+// Sets the constraint bits of `level` for cell k.
 void constrain(const Cells& grid, playback::Content& c, const LatticeLevel& level, std::int32_t k) {
   constexpr int ints = playback::kRefinedCellInts;
-  const int n = level.n, last = n - 1;
-  auto refined = [&](std::int32_t cell) {
-    return cell >= 0 && c.refined_cells[ints * cell + level.slot] >= 0;
-  };
-  auto point = [&](std::int32_t cell, int i, int j, int l) {
-    return level.points +
-           12 * (std::size_t(n) * n * n * std::size_t(c.refined_cells[ints * cell + level.slot]) +
-                 std::size_t(n) * n * i + std::size_t(n) * j + l);
-  };
+  auto refined = [&](std::int32_t cell) { return has_level(c, level, cell); };
   const std::array<std::int32_t, 8> own = grid.corners(k);
   const auto base = grid.base_of(k);
   // A face or an edge is constrained where a cell of the grid beside it is not a refined cell
@@ -115,28 +120,42 @@ void constrain(const Cells& grid, playback::Content& c, const LatticeLevel& leve
       }
   }
   c.refined_cells[ints * k + level.slot + 1] = bits;
-  // The points of a face shared with a refined neighbour were solved by both: one value for
-  // both (this cell's where it has one, else the neighbour's), so the force stays continuous
-  // even where one of the two solves failed.
+}
+
+// The points of the faces cell k shares with a neighbour that has the same lattice: one value
+// for both (this cell's where it has one, else the neighbour's), so the force stays continuous
+// where one of the two solves failed, or (a sixteenth-spacing lattice) where only one of them
+// flagged the eighth cell beside the face. Returns whether a value was copied.
+bool share_faces(const Cells& grid, playback::Content& c, const LatticeLevel& level,
+                 std::int32_t k) {
+  const int n = level.n, last = n - 1;
+  const std::array<std::int32_t, 8> own = grid.corners(k);
+  bool copied = false;
   for (int a = 0; a < 3; ++a) {
     Offset d{};
     d[a] = 1;
     const std::int32_t other = grid.neighbour(own, d);
-    if (!refined(other)) continue;
+    if (!has_level(c, level, other)) continue;
     for (int u = 0; u < n; ++u)
       for (int v = 0; v < n; ++v) {
         int mine[3], theirs[3];
         mine[a] = last, theirs[a] = 0;
         mine[(a + 1) % 3] = theirs[(a + 1) % 3] = u;
         mine[(a + 2) % 3] = theirs[(a + 2) % 3] = v;
-        double* x = point(k, mine[0], mine[1], mine[2]);
-        double* y = point(other, theirs[0], theirs[1], theirs[2]);
+        double* x = level_point(c, level, k, mine[0], mine[1], mine[2]);
+        double* y = level_point(c, level, other, theirs[0], theirs[1], theirs[2]);
+        if (std::isfinite(x[0]) == std::isfinite(y[0])) {
+          if (std::isfinite(x[0])) std::copy_n(x, 12, y);
+          continue;
+        }
         if (std::isfinite(x[0]))
           std::copy_n(x, 12, y);
         else
           std::copy_n(y, 12, x);
+        copied = true;
       }
   }
+  return copied;
 }
 
 }  // namespace
@@ -149,11 +168,13 @@ void add_refined_cells(const std::vector<RefinementPoint>& rows,
   constexpr int ints = playback::kRefinedCellInts;
   constexpr int kQuarterRows = 125 - 27, kEighthRows = 729 - 125;  // the points the stage stores
   const std::size_t n = c.config_checkpoint.size();
-  // file index -> its rows at depth 1 (point < 125) and at depth 2
-  std::map<std::int32_t, std::vector<const RefinementPoint*>> quarter, eighth;
+  // file index -> its rows at depth 1, 2 and 3 (sixteenth: as many as the stage flagged)
+  std::map<std::int32_t, std::vector<const RefinementPoint*>> quarter, eighth, sixteenth;
   for (const RefinementPoint& r : rows) {
     const auto it = index_of.find(r.cell.value());
-    if (it != index_of.end()) (r.point < 125 ? quarter : eighth)[it->second].push_back(&r);
+    if (it == index_of.end()) continue;
+    const int depth = refinement_point_depth(r.point);
+    (depth == 1 ? quarter : depth == 2 ? eighth : sixteenth)[it->second].push_back(&r);
   }
   // Complete cells only; an eighth-spacing lattice only where the quarter-spacing one is.
   for (auto it = quarter.begin(); it != quarter.end();)
@@ -162,13 +183,16 @@ void add_refined_cells(const std::vector<RefinementPoint>& rows,
     it = static_cast<int>(it->second.size()) == kEighthRows && quarter.count(it->first)
              ? std::next(it)
              : eighth.erase(it);
+  for (auto it = sixteenth.begin(); it != sixteenth.end();)
+    it = eighth.count(it->first) ? std::next(it) : sixteenth.erase(it);
   if (quarter.empty()) return;
   c.refined_cells.assign(ints * n, 0);
   for (std::size_t k = 0; k < n; ++k)
-    c.refined_cells[ints * k] = c.refined_cells[ints * k + 2] = -1;
+    c.refined_cells[ints * k] = c.refined_cells[ints * k + 2] = c.refined_cells[ints * k + 4] = -1;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   c.refined_points.assign(12 * playback::kRefinedPoints * quarter.size(), nan);
   c.eighth_points.assign(12 * playback::kEighthPoints * eighth.size(), nan);
+  c.sixteenth_points.assign(12 * playback::kSixteenthPoints * sixteenth.size(), nan);
   auto fill = [&](const std::map<std::int32_t, std::vector<const RefinementPoint*>>& cells,
                   int column, int points_per_cell, int first, std::vector<double>* out) {
     std::int32_t slot = 0;
@@ -184,11 +208,23 @@ void add_refined_cells(const std::vector<RefinementPoint>& rows,
     }
   };
   fill(quarter, 0, playback::kRefinedPoints, 0, &c.refined_points);
-  fill(eighth, 2, playback::kEighthPoints, 125, &c.eighth_points);
+  fill(eighth, 2, playback::kEighthPoints, kEighthFirstPoint, &c.eighth_points);
+  fill(sixteenth, 4, playback::kSixteenthPoints, kSixteenthFirstPoint, &c.sixteenth_points);
   const Cells grid(c);
-  for (const auto& entry : quarter)
-    constrain(grid, c, {5, 0, c.refined_points.data()}, entry.first);
-  for (const auto& entry : eighth) constrain(grid, c, {9, 2, c.eighth_points.data()}, entry.first);
+  const LatticeLevel levels[3] = {{5, 0, c.refined_points.data()},
+                                  {9, 2, c.eighth_points.data()},
+                                  {17, 4, c.sixteenth_points.data()}};
+  const std::map<std::int32_t, std::vector<const RefinementPoint*>>* cells[3] = {&quarter, &eighth,
+                                                                                 &sixteenth};
+  for (int l = 0; l < 3; ++l) {
+    for (const auto& entry : *cells[l]) constrain(grid, c, levels[l], entry.first);
+    // A point on an edge or at a corner is shared by up to 8 cells, each pair through a face:
+    // repeat until no value moves (at most 3 passes carry a value across a corner).
+    for (bool copied = true; copied;) {
+      copied = false;
+      for (const auto& entry : *cells[l]) copied |= share_faces(grid, c, levels[l], entry.first);
+    }
+  }
 }
 
 }  // namespace hapstate

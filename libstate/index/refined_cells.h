@@ -1,6 +1,6 @@
-// The refined cells of a playback file (sections 20, 21 and 23, docs/playback.md "Refined cells"):
-// the refine stage's points per cell, and which faces and edges of each border a cell that is
-// not refined.
+// The refined cells of a playback file (sections 20, 21, 23 and 27, docs/playback.md "Refined
+// cells"): the refine stage's points per cell, and which faces and edges of each border a cell that
+// is not refined.
 #pragma once
 
 #include "catalogue/records.h"

@@ -136,11 +136,15 @@ void add_transitions(Catalogue& cat, Json* out) {
   j["failures_by_reason"] = failures;
   const QueryResult refined = cat.query_read_only(
       "SELECT count(DISTINCT cell), count(*), count(*) FILTER (WHERE outcome = 2), "
-      "count(DISTINCT cell) FILTER (WHERE point >= 125) FROM refinement");
+      "count(DISTINCT cell) FILTER (WHERE point >= 125 AND point < 854), "
+      "count(DISTINCT cell) FILTER (WHERE point >= 854), "
+      "count(*) FILTER (WHERE point >= 854) FROM refinement");
   j["refinement"] = {{"cells", int_at(refined.rows.front(), 0)},
                      {"points", int_at(refined.rows.front(), 1)},
                      {"failed", int_at(refined.rows.front(), 2)},
-                     {"depth2_cells", int_at(refined.rows.front(), 3)}};
+                     {"depth2_cells", int_at(refined.rows.front(), 3)},
+                     {"depth3_cells", int_at(refined.rows.front(), 4)},
+                     {"depth3_points", int_at(refined.rows.front(), 5)}};
 }
 
 Json summary_json(const StateDir& dir, Catalogue& cat) {
@@ -236,7 +240,11 @@ std::string summary_text(const Json& j) {
   }
   const Json& r = j["refinement"];
   s << "refined cells: " << r["cells"] << ", " << r["depth2_cells"]
-    << " of them to eighth spacings (" << r["points"] << " points, " << r["failed"] << " failed)\n";
+    << " of them to eighth spacings";
+  if (r["depth3_cells"].get<std::int64_t>() > 0)
+    s << ", " << r["depth3_cells"] << " with sixteenth-spacing points (" << r["depth3_points"]
+      << ")";
+  s << " (" << r["points"] << " points, " << r["failed"] << " failed)\n";
   const Json& d = j["disk"];
   s << "disk: " << size_text(d["total_bytes"].get<std::int64_t>()) << " (catalogue "
     << size_text(d["catalogue_bytes"].get<std::int64_t>()) << ", vectors "

@@ -35,7 +35,13 @@ void HapticCursor::snapshot(Snapshot* out) const { core_->snapshot(out); }
 namespace playback {
 
 CursorCore::CursorCore(const PlaybackFile& file, Scheme scheme) : file_(file), scheme_(scheme) {
-  if (file.impl().eighth_points) eighth_ = std::make_unique<EighthCell>();
+  if (file.impl().eighth_points) eighth_ = std::make_unique<DeepCell<9>>();
+  if (file.impl().sixteenth_points) {
+    sixteenth_ = std::make_unique<DeepCell<17>>();
+    sixteenth_->sub_ready.assign(512, 0);
+    eighth_->sub_coef.resize(512);
+    eighth_->sub_ready.assign(512, 0);
+  }
   reset();
 }
 

@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace hapstate::playback {
 
@@ -126,25 +127,35 @@ class CursorCore {
   // A refined cell with kTrilinear: the force and the stiffness (row-major) at the 125 points of
   // its quarter-spacing lattice, 25 i + 5 j + k, interpolated trilinearly on each quarter cell.
   std::array<std::array<double, 12>, 125> quarter_trilinear_{};
-  // A refined cell with an eighth-spacing lattice (refinement depth 2): allocated at
-  // construction when the file has any, used when deep_. Its points are fitted lazily, those an
-  // eighth cell needs when the probe enters it (fit_eighth).
-  struct EighthCell {
-    Lattice<9> lattice;   // Hermite: the data at its 729 points
-    bool exact[9][9][9];  // a point that keeps the quarter cells' interpolant's data
+  // A refined cell's lattice below the quarter-spacing one: N = 9, its eighth-spacing lattice
+  // (refinement depth 2), N = 17, its sixteenth-spacing one (depth 3). Allocated at construction
+  // when the file has any, used when deep_ (deeper_). Its points are fitted lazily, those a cell
+  // of the lattice needs when the probe enters it (deep_point).
+  template <int N>
+  struct DeepCell {
+    Lattice<N> lattice;   // Hermite: the data at its N^3 points
+    bool exact[N][N][N];  // a point that keeps the coarser lattice's interpolant's data
     // Hermite, per point: 0 nothing yet, 1 value and gradient, 2 the gradient limited, 3 the
-    // cross derivatives (eighth_point).
-    std::uint8_t stage[9][9][9];
-    const double* stored = nullptr;  // the cell's solved points (section 23)
-    std::int32_t constraints = 0;    // its eighth-level constraint bits
-    CellCoefficients coef;  // of eighth-spacing sub-cell `sub`, fitted when the probe enters it
+    // cross derivatives (deep_point).
+    std::uint8_t stage[N][N][N];
+    const double* stored = nullptr;  // the cell's solved points (section 23 or 27)
+    std::int32_t constraints = 0;    // the lattice's constraint bits
+    CellCoefficients coef;           // of sub-cell `sub`, fitted when the probe enters it
     int sub = -1;
-    // kTrilinear: the force and the stiffness at its points, 81 i + 9 j + k, where ready.
-    std::array<std::array<double, 12>, 729> trilinear;
-    bool trilinear_ready[9][9][9];
+    // kTrilinear: the force and the stiffness at its points, (N i + j) N + k, where ready.
+    std::array<std::array<double, 12>, N * N * N> trilinear;
+    bool trilinear_ready[N][N][N];
+    // N = 9 with a sixteenth-spacing lattice: the coefficients of each eighth cell (64 i + 8 j +
+    // k), fitted when a sixteenth-spacing point reads them (sub_ready). N = 17: per eighth cell,
+    // 0 not yet known, 1 none of its 27 points has a solve of its own (the eighth cell's cubic is
+    // the interpolant there), 2 some have.
+    std::vector<CellCoefficients> sub_coef;
+    std::vector<std::uint8_t> sub_ready;
   };
-  std::unique_ptr<EighthCell> eighth_;
-  bool deep_ = false;  // the refined cell has an eighth-spacing lattice, fitted into eighth_
+  std::unique_ptr<DeepCell<9>> eighth_;
+  std::unique_ptr<DeepCell<17>> sixteenth_;
+  bool deep_ = false;    // the refined cell has an eighth-spacing lattice, fitted into eighth_
+  bool deeper_ = false;  // and a sixteenth-spacing one, fitted into sixteenth_
   std::array<std::int32_t, 27> midpoint_code_{};            // Snapshot::midpoint of this cell
   std::array<std::array<double, 6>, 27> midpoint_blend_{};  // Snapshot::midpoint_blend
   std::uint64_t blend_generation_ = 0;  // changes with midpoint_blend_ (copied to a slot then)
@@ -158,11 +169,22 @@ class CursorCore {
   void fit_refined_cell(std::int32_t slot);
   bool refined_target(const int (&p)[3], double step, const double* data, double* out) const;
   void fit_refined_trilinear(std::int32_t slot);
-  std::int32_t eighth_slot() const;
-  void fit_eighth(std::int32_t slot);
-  void eighth_point(int i, int j, int k, int stage);
-  void eighth_base(int i, int j, int k);
-  void eighth_trilinear_point(int i, int j, int k);
+  std::int32_t deep_slot(int column, std::int32_t count) const;
+  void fit_deep();
+  template <int N>
+  void deep_point(DeepCell<N>& D, int i, int j, int k, int stage);
+  template <int N>
+  void deep_base(DeepCell<N>& D, int i, int j, int k);
+  template <int N>
+  void deep_trilinear_point(DeepCell<N>& D, int i, int j, int k);
+  template <int N>
+  void deep_cell_at(DeepCell<N>& D, const std::array<double, 3>& s, std::array<double, 3>* value,
+                    std::array<double, 9>* slope);
+  template <int N>
+  void deep_trilinear_cell_at(DeepCell<N>& D, const std::array<double, 3>& s,
+                              std::array<double, 3>* value, std::array<double, 9>* k);
+  const CellCoefficients& eighth_coefficients(int sub);
+  bool sixteenth_here(const std::array<double, 3>& s);
   void eighth_at(const std::array<double, 3>& s, std::array<double, 3>* value,
                  std::array<double, 9>* slope);
   std::array<double, 3> shown_position(const std::array<double, 3>& s,

@@ -70,7 +70,7 @@ void CursorCore::midpoint_target(int k, MidpointTarget* out) const {
 void CursorCore::fit_cell() {
   fitted_ = true;
   refined_ = false;
-  deep_ = false;
+  deep_ = deeper_ = false;
   num_bubbles_ = 0;
   lattice_ = scheme_ == Scheme::kHermite && file_.impl().midpoint_stiffness;
   // A refined cell (played back refined by the half-spacing lattice or the trilinear scheme)

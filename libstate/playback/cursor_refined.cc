@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace hapstate::playback {
 
@@ -25,24 +26,25 @@ void take_solved(const playback::Meta& m, const double* target, double* value, d
     gradient[e] = std::clamp(target[3 + e], -m.stiffness_limit, m.stiffness_limit);
 }
 
-// The slope of an eighth-spacing lattice's solved point (i, j, k) limited by the values around
-// it (docs/playback.md, "Refined cells"): a solved stiffness is the derivative on one side of a
-// kink of the contact force (a triangle starting to carry force), which can be several times the
-// force's slope a lattice step away, and a cubic through it overshoots by about that difference
-// times the step. Each entry (component r, axis a) of the gradient is clamped into the interval
-// spanned by the backward and the forward difference of the values along a, widened each way by
-// half its width plus a tenth of the largest difference at the point: for a smooth force the
-// derivative lies in it (the differences err by the step squared), so the point keeps its solved
-// stiffness there. Along an axis where the point is on the lattice's boundary it keeps it too.
-// Reads the values of the point and its 6 neighbours.
-void limit_eighth_slope(const double* h, Lattice<9>* L, int i, int j, int k) {
+// The slope of a solved point (i, j, k) of an eighth- or sixteenth-spacing lattice (N = 9, 17)
+// limited by the values around it (docs/playback.md, "Refined cells"): a solved stiffness is the
+// derivative on one side of a kink of the contact force (a triangle starting to carry force),
+// which can be several times the force's slope a lattice step away, and a cubic through it
+// overshoots by about that difference times the step. Each entry (component r, axis a) of the
+// gradient is clamped into the interval spanned by the backward and the forward difference of the
+// values along a, widened each way by half its width plus a tenth of the largest difference at
+// the point: for a smooth force the derivative lies in it (the differences err by the step
+// squared), so the point keeps its solved stiffness there. Along an axis where the point is on
+// the lattice's boundary it keeps it too. Reads the values of the point and its 6 neighbours.
+template <int N>
+void limit_slope(const double* h, Lattice<N>* L, int i, int j, int k) {
   const int p[3] = {i, j, k};
   double back[3][3] = {}, ahead[3][3] = {}, scale = 0;  // [r][a]
   for (int a = 0; a < 3; ++a) {
-    if (p[a] == 0 || p[a] == 8) continue;
+    if (p[a] == 0 || p[a] == N - 1) continue;
     int lo[3] = {i, j, k}, hi[3] = {i, j, k};
     --lo[a], ++hi[a];
-    const double step = h[a] / 8.0;
+    const double step = h[a] / (N - 1);
     for (int r = 0; r < 3; ++r) {
       const double v = L->value[i][j][k][r];
       back[r][a] = (v - L->value[lo[0]][lo[1]][lo[2]][r]) / step;
@@ -51,7 +53,7 @@ void limit_eighth_slope(const double* h, Lattice<9>* L, int i, int j, int k) {
     }
   }
   for (int a = 0; a < 3; ++a) {
-    if (p[a] == 0 || p[a] == 8) continue;
+    if (p[a] == 0 || p[a] == N - 1) continue;
     for (int r = 0; r < 3; ++r) {
       const double slack = 0.5 * std::abs(ahead[r][a] - back[r][a]) + 0.1 * scale;
       double& g = L->gradient[i][j][k][3 * r + a];
@@ -59,6 +61,19 @@ void limit_eighth_slope(const double* h, Lattice<9>* L, int i, int j, int k) {
                      std::max(back[r][a], ahead[r][a]) + slack);
     }
   }
+}
+
+// The cell of a lattice with `n` steps per axis holding the lattice point p of a lattice with
+// twice as many (the lower one on a boundary, as lattice_trilinear_at picks): its index, and
+// p's position in it (0, 1/2 or 1 per axis).
+int coarse_cell(const int (&p)[3], int n, std::array<double, 3>* t) {
+  int sub = 0;
+  for (int a = 0; a < 3; ++a) {
+    const int q = std::min(p[a] / 2, n - 1);
+    sub = n * sub + q;
+    (*t)[a] = 0.5 * (p[a] - 2 * q);
+  }
+  return sub;
 }
 
 }  // namespace
@@ -81,14 +96,15 @@ std::int32_t CursorCore::refined_cell() const {
   return slot;
 }
 
-// The eighth-spacing lattice (an index into section 23) of the current cell, a refined cell, or
-// -1.
-std::int32_t CursorCore::eighth_slot() const {
+// The lattice below the quarter-spacing one of the current cell, a refined cell, whose slot is
+// in column `column` of section 20 (2: eighth-spacing, section 23; 4: sixteenth-spacing, section
+// 27, `count` lattices), or -1.
+std::int32_t CursorCore::deep_slot(int column, std::int32_t count) const {
   const PlaybackFile::Impl& f = file_.impl();
-  if (!eighth_ || !f.eighth_points) return -1;
   const std::int32_t slot =
-      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 2];
-  return slot >= 0 && slot < f.num_eighth_cells ? slot : -1;
+      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) +
+                      column];
+  return slot >= 0 && slot < count ? slot : -1;
 }
 
 // What a refined cell's fit aims at lattice point p (`step` cell spacings apart: 1/4 or 1/8),
@@ -197,134 +213,197 @@ void CursorCore::fit_refined_cell(std::int32_t slot) {
   lattice_cross(m.spacing, &Q, exact);
   sub_cell_coefficients(Q, quarter_coef_.data());
   refined_ = true;
-  const std::int32_t deep = eighth_slot();
-  if (deep >= 0) fit_eighth(deep);
+  fit_deep();
 }
 
 // A refined cell's eighth-spacing lattice (depth 2): the quarter cells' construction one level
 // down. Its 729 points take the quarter cells' interpolant's value, gradient and cross
 // derivatives; the points of the quarter-spacing lattice keep their value and gradient, the
 // others take the solved force and stiffness (clamped and fitted through the onset blend as in
-// fit_refined_cell), their slopes limited by the values around them (limit_eighth_slope); the
-// cross derivatives are recomputed along the lattice lines but at the points that keep the
-// quarter cells' interpolant (on a face or an edge whose neighbour has no eighth-spacing
-// lattice, a point without a solve): the eighth cells there reproduce the quarter cells' cubic,
-// so the force stays continuous. Entering the cell fits nothing yet (either scheme): an eighth
-// cell's points, and the points their cross derivatives and slopes read, are fitted when the
-// probe enters it (eighth_at, eighth_trilinear_at), so a query pays for a few dozen points, not
-// 729.
-void CursorCore::fit_eighth(std::int32_t slot) {
+// fit_refined_cell), their slopes limited by the values around them (limit_slope); the cross
+// derivatives are recomputed along the lattice lines but at the points that keep the quarter
+// cells' interpolant (on a face or an edge whose neighbour has no eighth-spacing lattice, a point
+// without a solve): the eighth cells there reproduce the quarter cells' cubic on the face, so the
+// force stays continuous. Its sixteenth-spacing lattice (depth 3) is the same construction from
+// the eighth cells, but there every point without a solve of its own keeps the eighth cells'
+// interpolant, the eighth-spacing points included: an eighth cell none of whose 27 points was
+// solved is its own cubic (sixteenth_here), so depth 3 changes nothing away from its solves.
+// Entering the cell fits nothing yet (either scheme): a cell's points, and the points their
+// cross derivatives and slopes read, are fitted when the probe enters it (deep_cell_at,
+// deep_trilinear_cell_at), so a query pays for a few dozen points, not 729 or 4913.
+void CursorCore::fit_deep() {
   const PlaybackFile::Impl& f = file_.impl();
-  EighthCell& E = *eighth_;
-  E.constraints =
-      f.refined_cells[playback::kRefinedCellInts * std::int64_t(corners_[0].configuration) + 3];
-  E.stored = f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(slot);
-  std::fill_n(&E.stage[0][0][0], 729, std::uint8_t{0});
-  std::fill_n(&E.trilinear_ready[0][0][0], 729, false);
-  E.sub = -1;
-  deep_ = true;
+  const std::int64_t row = playback::kRefinedCellInts * std::int64_t(corners_[0].configuration);
+  auto reset = [&](auto& D, const double* stored, int column) {
+    constexpr int n = std::extent_v<decltype(D.stage)>;
+    D.constraints = f.refined_cells[row + column + 1];
+    D.stored = stored;
+    std::fill_n(&D.stage[0][0][0], n * n * n, std::uint8_t{0});
+    std::fill_n(&D.trilinear_ready[0][0][0], n * n * n, false);
+    std::fill(D.sub_ready.begin(), D.sub_ready.end(), std::uint8_t{0});
+    D.sub = -1;
+  };
+  const std::int32_t eighth = eighth_ ? deep_slot(2, f.num_eighth_cells) : -1;
+  deep_ = eighth >= 0;
+  if (!deep_) return;
+  reset(*eighth_, f.eighth_points + 12 * playback::kEighthPoints * std::int64_t(eighth), 2);
+  const std::int32_t sixteenth = sixteenth_ ? deep_slot(4, f.num_sixteenth_cells) : -1;
+  deeper_ = sixteenth >= 0;
+  if (deeper_)
+    reset(*sixteenth_,
+          f.sixteenth_points + 12 * playback::kSixteenthPoints * std::int64_t(sixteenth), 4);
 }
 
-// Point (i, j, k) of the eighth-spacing lattice: the quarter cells' interpolant there (any quarter
-// cell holding the point gives the same data: value, gradient and cross derivatives are
-// continuous across their faces) and, at a solved point, the solve's force and stiffness.
-void CursorCore::eighth_base(int i, int j, int k) {
-  const playback::Meta& m = *file_.impl().meta;
-  EighthCell& E = *eighth_;
-  Lattice<9>& L = E.lattice;
-  const int p[3] = {i, j, k};
-  const double quarter[3] = {0.25 * m.spacing[0], 0.25 * m.spacing[1], 0.25 * m.spacing[2]};
-  int sub = 0;
-  std::array<double, 3> t{};
-  for (int a = 0; a < 3; ++a) {
-    const int q = std::min(p[a] / 2, 3);
-    sub = 4 * sub + q;
-    t[a] = 0.5 * (p[a] - 2 * q);
+// The coefficients of eighth cell `sub` (64 i + 8 j + k) of the current deep cell, its points
+// fitted first (a sixteenth-spacing point's base reads them).
+const CursorCore::CellCoefficients& CursorCore::eighth_coefficients(int sub) {
+  DeepCell<9>& E = *eighth_;
+  if (!E.sub_ready[std::size_t(sub)]) {
+    const int lo[3] = {sub / 64, sub / 8 % 8, sub % 8};
+    for (int c = 0; c < 8; ++c) {
+      const auto o = corner_offset(c);
+      deep_point(E, lo[0] + o[0], lo[1] + o[1], lo[2] + o[2], 3);
+    }
+    sub_cell_coefficient(E.lattice, sub, &E.sub_coef[std::size_t(sub)]);
+    E.sub_ready[std::size_t(sub)] = 1;
   }
-  hermite_point(quarter_coef_[sub], quarter, t, L.value[i][j][k], L.gradient[i][j][k],
-                L.cross[i][j][k]);
-  const double* data = E.stored + 12 * (81 * i + 9 * j + k);
+  return E.sub_coef[std::size_t(sub)];
+}
+
+// Point (i, j, k) of lattice D: the coarser lattice's interpolant there (the quarter cells for
+// the eighth-spacing lattice, the eighth cells for the sixteenth-spacing one; any cell holding
+// the point gives the same data: value, gradient and cross derivatives are continuous across
+// their faces) and, at a solved point, the solve's force and stiffness.
+template <int N>
+void CursorCore::deep_base(DeepCell<N>& D, int i, int j, int k) {
+  static_assert(N == 9 || N == 17);
+  const playback::Meta& m = *file_.impl().meta;
+  Lattice<N>& L = D.lattice;
+  const int p[3] = {i, j, k};
+  constexpr int coarse = (N - 1) / 2;  // the coarser lattice's steps per axis
+  const double h[3] = {m.spacing[0] / coarse, m.spacing[1] / coarse, m.spacing[2] / coarse};
+  std::array<double, 3> t{};
+  const int sub = coarse_cell(p, coarse, &t);
+  if constexpr (N == 9) {
+    hermite_point(quarter_coef_[std::size_t(sub)], h, t, L.value[i][j][k], L.gradient[i][j][k],
+                  L.cross[i][j][k]);
+  } else {
+    hermite_point(eighth_coefficients(sub), h, t, L.value[i][j][k], L.gradient[i][j][k],
+                  L.cross[i][j][k]);
+  }
+  const double* data = D.stored + 12 * ((N * i + j) * N + k);
   const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
-  bool& exact = E.exact[i][j][k];
-  exact = constrained(p, 8, E.constraints) || (!lattice && !finite(data, 12));
+  bool& exact = D.exact[i][j][k];
+  exact = constrained(p, N - 1, D.constraints) || (!lattice && !finite(data, 12)) ||
+          (N == 17 && lattice);
   if (lattice || exact) return;
   double target[12];
-  if (!refined_target(p, 0.125, data, target)) {
+  if (!refined_target(p, 1.0 / (N - 1), data, target)) {
     exact = true;
     return;
   }
-  double* v = L.value[i][j][k];
-  double* g = L.gradient[i][j][k];
-  take_solved(m, target, v, g);
+  take_solved(m, target, L.value[i][j][k], L.gradient[i][j][k]);
 }
 
-// Brings point (i, j, k) of the eighth-spacing lattice to `stage` (EighthCell::stage): its
-// limited slope reads its neighbours' values, its cross derivatives the limited gradients along
-// its lattice lines.
-void CursorCore::eighth_point(int i, int j, int k, int stage) {
-  EighthCell& E = *eighth_;
-  std::uint8_t& at = E.stage[i][j][k];
+// Brings point (i, j, k) of lattice D to `stage` (DeepCell::stage): its limited slope reads its
+// neighbours' values, its cross derivatives the limited gradients along its lattice lines.
+template <int N>
+void CursorCore::deep_point(DeepCell<N>& D, int i, int j, int k, int stage) {
+  std::uint8_t& at = D.stage[i][j][k];
   if (at >= stage) return;
   const int p[3] = {i, j, k};
   if (at < 1) {
-    eighth_base(i, j, k);
+    deep_base(D, i, j, k);
     at = 1;
   }
   const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
   const double* h = file_.impl().meta->spacing;
   if (stage >= 2 && at < 2) {
-    if (!lattice && !E.exact[i][j][k]) {
+    if (!lattice && !D.exact[i][j][k]) {
       for (int a = 0; a < 3; ++a)
         for (int d = -1; d <= 1; d += 2) {
           int q[3] = {i, j, k};
           q[a] += d;
-          if (q[a] >= 0 && q[a] <= 8) eighth_point(q[0], q[1], q[2], 1);
+          if (q[a] >= 0 && q[a] <= N - 1) deep_point(D, q[0], q[1], q[2], 1);
         }
-      limit_eighth_slope(h, &E.lattice, i, j, k);
+      limit_slope(h, &D.lattice, i, j, k);
     }
     at = 2;
   }
   if (stage >= 3 && at < 3) {
-    if (!E.exact[i][j][k]) {
+    if (!D.exact[i][j][k]) {
       for (int a = 0; a < 3; ++a) {
-        const int first = std::clamp(p[a] - 1, 0, 6);
+        const int first = std::clamp(p[a] - 1, 0, N - 3);
         for (int n = 0; n < 3; ++n) {
           int q[3] = {i, j, k};
           q[a] = first + n;
-          eighth_point(q[0], q[1], q[2], 2);
+          deep_point(D, q[0], q[1], q[2], 2);
         }
       }
-      lattice_point_cross(h, &E.lattice, i, j, k);
+      lattice_point_cross(h, &D.lattice, i, j, k);
     }
     at = 3;
   }
 }
 
-// The eighth-spacing Hermite cell holding s in a deep refined cell: its value and derivative (its
+// The Hermite cell of lattice D holding s in a deep refined cell: its value and derivative (its
 // points and coefficients fitted when the probe enters it).
-void CursorCore::eighth_at(const std::array<double, 3>& s, std::array<double, 3>* value,
-                           std::array<double, 9>* slope) {
+template <int N>
+void CursorCore::deep_cell_at(DeepCell<N>& D, const std::array<double, 3>& s,
+                              std::array<double, 3>* value, std::array<double, 9>* slope) {
   const double* h = file_.impl().meta->spacing;
-  EighthCell& E = *eighth_;
+  constexpr int n = N - 1;
   int sub = 0, lo[3];
   std::array<double, 3> t{};
   double spacing[3], B[3][4], dB[3][4];
   for (int a = 0; a < 3; ++a) {
-    lo[a] = std::min(static_cast<int>(8.0 * s[a]), 7);
-    sub = 8 * sub + lo[a];
-    t[a] = std::min(8.0 * s[a] - lo[a], 1.0);
-    spacing[a] = h[a] / 8.0;
+    lo[a] = std::min(static_cast<int>(n * s[a]), n - 1);
+    sub = n * sub + lo[a];
+    t[a] = std::min(n * s[a] - lo[a], 1.0);
+    spacing[a] = h[a] / n;
   }
-  if (sub != E.sub) {
+  if (sub != D.sub) {
     for (int c = 0; c < 8; ++c) {
       const auto o = corner_offset(c);
-      eighth_point(lo[0] + o[0], lo[1] + o[1], lo[2] + o[2], 3);
+      deep_point(D, lo[0] + o[0], lo[1] + o[1], lo[2] + o[2], 3);
     }
-    sub_cell_coefficient(E.lattice, sub, &E.coef);
-    E.sub = sub;
+    sub_cell_coefficient(D.lattice, sub, &D.coef);
+    D.sub = sub;
   }
   hermite_bases(t, spacing, B, dB);
-  hermite_contract(E.coef, B, dB, value, slope);
+  hermite_contract(D.coef, B, dB, value, slope);
+}
+
+// Whether the eighth cell holding s in a cell with a sixteenth-spacing lattice has a point of
+// that lattice with a solve of its own (not on a constrained face or edge); without one the
+// eighth cell's cubic is the sixteenth-spacing interpolant there.
+bool CursorCore::sixteenth_here(const std::array<double, 3>& s) {
+  DeepCell<17>& D = *sixteenth_;
+  int lo[3];
+  for (int a = 0; a < 3; ++a) lo[a] = std::min(static_cast<int>(8.0 * s[a]), 7);
+  std::uint8_t& known = D.sub_ready[std::size_t(64 * lo[0] + 8 * lo[1] + lo[2])];
+  if (known == 0) {
+    known = 1;
+    for (int i = 2 * lo[0]; i <= 2 * lo[0] + 2; ++i)
+      for (int j = 2 * lo[1]; j <= 2 * lo[1] + 2; ++j)
+        for (int k = 2 * lo[2]; k <= 2 * lo[2] + 2; ++k) {
+          const int p[3] = {i, j, k};
+          if ((i % 2 || j % 2 || k % 2) && finite(D.stored + 12 * ((17 * i + j) * 17 + k), 12) &&
+              !constrained(p, 16, D.constraints))
+            known = 2;
+        }
+  }
+  return known == 2;
+}
+
+// A deep refined cell's interpolant at s: its sixteenth-spacing cell where the eighth cell holding
+// s has solved sixteenth-spacing points, else its eighth-spacing cell.
+void CursorCore::eighth_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+                           std::array<double, 9>* slope) {
+  if (deeper_ && sixteenth_here(s))
+    deep_cell_at(*sixteenth_, s, value, slope);
+  else
+    deep_cell_at(*eighth_, s, value, slope);
 }
 
 // A refined cell with kTrilinear: each point of the quarter-spacing lattice takes the solved
@@ -356,46 +435,69 @@ void CursorCore::fit_refined_trilinear(std::int32_t slot) {
         take_solved(m, target, out.data(), out.data() + 3);
       }
   refined_ = true;
-  const std::int32_t deep = eighth_slot();
-  if (deep >= 0) fit_eighth(deep);
+  fit_deep();
 }
 
-// A deep refined cell with kTrilinear: point (i, j, k) of the eighth-spacing lattice takes the
-// solved force and stiffness (as in fit_refined_trilinear, against the quarter-spacing trilinear
-// interpolant), or where there is none, at the points of the quarter-spacing lattice and on a
-// face or an edge whose neighbour has no eighth-spacing lattice, that interpolant's value and
-// stiffness: trilinear on each quarter cell, so the eighth cells reproduce it there.
-void CursorCore::eighth_trilinear_point(int i, int j, int k) {
-  EighthCell& E = *eighth_;
-  if (E.trilinear_ready[i][j][k]) return;
-  E.trilinear_ready[i][j][k] = true;
+// A deep refined cell with kTrilinear: point (i, j, k) of lattice D takes the solved force and
+// stiffness (as in fit_refined_trilinear, against the coarser lattice's trilinear interpolant:
+// the quarter-spacing one for the eighth-spacing lattice, the eighth-spacing one for the
+// sixteenth), or where there is none, at the points of the coarser lattice and on a face or an
+// edge whose neighbour has no such lattice, that interpolant's value and stiffness: trilinear on
+// each coarser cell, so the finer cells reproduce it there.
+template <int N>
+void CursorCore::deep_trilinear_point(DeepCell<N>& D, int i, int j, int k) {
+  if (D.trilinear_ready[i][j][k]) return;
+  D.trilinear_ready[i][j][k] = true;
   const playback::Meta& m = *file_.impl().meta;
   const int p[3] = {i, j, k};
-  std::array<double, 12>& out = E.trilinear[81 * i + 9 * j + k];
+  constexpr int coarse = (N - 1) / 2;
+  std::array<double, 12>& out = D.trilinear[std::size_t((N * i + j) * N + k)];
   std::array<double, 3> value{};
   std::array<double, 9> stiffness{};
-  lattice_trilinear_at({0.125 * i, 0.125 * j, 0.125 * k}, 4, quarter_trilinear_.data(), &value,
-                       &stiffness);
+  const std::array<double, 3> at = {double(i) / (N - 1), double(j) / (N - 1), double(k) / (N - 1)};
+  if constexpr (N == 9) {
+    lattice_trilinear_at(at, coarse, quarter_trilinear_.data(), &value, &stiffness);
+  } else {
+    std::array<double, 3> t{};
+    const int sub = coarse_cell(p, coarse, &t);
+    const int lo[3] = {sub / 64, sub / 8 % 8, sub % 8};
+    for (int c = 0; c < 8; ++c) {
+      const auto o = corner_offset(c);
+      deep_trilinear_point(*eighth_, lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]);
+    }
+    lattice_trilinear_at(at, coarse, eighth_->trilinear.data(), &value, &stiffness);
+  }
   std::copy(value.begin(), value.end(), out.begin());
   std::copy(stiffness.begin(), stiffness.end(), out.begin() + 3);
-  const double* data = E.stored + 12 * (81 * i + 9 * j + k);
+  const double* data = D.stored + 12 * ((N * i + j) * N + k);
   const bool lattice = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
   double target[12];
-  if (lattice || constrained(p, 8, E.constraints) || !finite(data, 12) ||
-      !refined_target(p, 0.125, data, target))
+  if (lattice || constrained(p, N - 1, D.constraints) || !finite(data, 12) ||
+      !refined_target(p, 1.0 / (N - 1), data, target))
     return;
   take_solved(m, target, out.data(), out.data() + 3);
 }
 
-// The eighth-spacing trilinear cell holding s in a deep refined cell (its 8 points fitted first).
-void CursorCore::eighth_trilinear_at(const std::array<double, 3>& s, std::array<double, 3>* value,
-                                     std::array<double, 9>* k) {
+// The trilinear cell of lattice D holding s in a deep refined cell (its 8 points fitted first).
+template <int N>
+void CursorCore::deep_trilinear_cell_at(DeepCell<N>& D, const std::array<double, 3>& s,
+                                        std::array<double, 3>* value, std::array<double, 9>* k) {
   int lo[3];
-  for (int a = 0; a < 3; ++a) lo[a] = std::min(static_cast<int>(8.0 * s[a]), 7);
+  for (int a = 0; a < 3; ++a) lo[a] = std::min(static_cast<int>((N - 1) * s[a]), N - 2);
   for (int c = 0; c < 8; ++c) {
     const auto o = corner_offset(c);
-    eighth_trilinear_point(lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]);
+    deep_trilinear_point(D, lo[0] + o[0], lo[1] + o[1], lo[2] + o[2]);
   }
-  lattice_trilinear_at(s, 8, eighth_->trilinear.data(), value, k);
+  lattice_trilinear_at(s, N - 1, D.trilinear.data(), value, k);
+}
+
+// A deep refined cell with kTrilinear at s: its sixteenth-spacing lattice where the eighth cell
+// holding s has solved sixteenth-spacing points (sixteenth_here), else its eighth-spacing one.
+void CursorCore::eighth_trilinear_at(const std::array<double, 3>& s, std::array<double, 3>* value,
+                                     std::array<double, 9>* k) {
+  if (deeper_ && sixteenth_here(s))
+    deep_trilinear_cell_at(*sixteenth_, s, value, k);
+  else
+    deep_trilinear_cell_at(*eighth_, s, value, k);
 }
 }  // namespace hapstate::playback

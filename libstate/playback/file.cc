@@ -69,6 +69,8 @@ std::string section_name(SectionId id) {
       return "certificate";
     case SectionId::kEighthPoints:
       return "eighth-spacing points";
+    case SectionId::kSixteenthPoints:
+      return "sixteenth-spacing points";
     case SectionId::kOnsetTriangles:
       return "onset triangles";
     case SectionId::kOnsetCells:
@@ -249,6 +251,12 @@ void check_section_sizes(const playback::Meta& m2, const Sections& sections) {
     unusable("section 'eighth-spacing points' has " + std::to_string(eighth_bytes) +
              " bytes, not a multiple of " + std::to_string(eighth_cell_bytes) +
              (refined_bytes == 0 ? " with section 'refined points'" : ""));
+  const std::uint64_t sixteenth_bytes = bytes[static_cast<int>(SectionId::kSixteenthPoints)];
+  const std::uint64_t sixteenth_cell_bytes = 96 * playback::kSixteenthPoints;
+  if (sixteenth_bytes % sixteenth_cell_bytes != 0 || (sixteenth_bytes != 0 && eighth_bytes == 0))
+    unusable("section 'sixteenth-spacing points' has " + std::to_string(sixteenth_bytes) +
+             " bytes, not a multiple of " + std::to_string(sixteenth_cell_bytes) +
+             (eighth_bytes == 0 ? " with section 'eighth-spacing points'" : ""));
   const std::uint64_t certificate_bytes = bytes[static_cast<int>(SectionId::kCertificate)];
   if (certificate_bytes != 0 && certificate_bytes != sizeof(playback::CertificateRecord))
     unusable("section 'certificate' has " + std::to_string(certificate_bytes) +
@@ -325,6 +333,7 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
   const std::uint64_t refined_bytes = sections.size(SectionId::kRefinedPoints);
   const std::uint64_t cell_bytes = 96 * playback::kRefinedPoints;
   const std::uint64_t eighth_bytes = sections.size(SectionId::kEighthPoints);
+  const std::uint64_t sixteenth_bytes = sections.size(SectionId::kSixteenthPoints);
   const std::uint64_t certificate_bytes = sections.size(SectionId::kCertificate);
   f.checkpoints = reinterpret_cast<const std::int32_t*>(section(SectionId::kCheckpoints));
   f.config_checkpoint =
@@ -358,6 +367,11 @@ PlaybackFile::PlaybackFile(const std::filesystem::path& file) : path_(file), imp
       f.eighth_points = reinterpret_cast<const double*>(section(SectionId::kEighthPoints));
       f.num_eighth_cells =
           static_cast<std::int32_t>(eighth_bytes / (96 * std::uint64_t(playback::kEighthPoints)));
+    }
+    if (sixteenth_bytes != 0) {
+      f.sixteenth_points = reinterpret_cast<const double*>(section(SectionId::kSixteenthPoints));
+      f.num_sixteenth_cells = static_cast<std::int32_t>(
+          sixteenth_bytes / (96 * std::uint64_t(playback::kSixteenthPoints)));
     }
   }
   if (certificate_bytes != 0)
@@ -451,10 +465,14 @@ void PlaybackFile::verify() const {
   for (std::int64_t c = 0; f.refined_cells && c < n; ++c) {
     const std::int32_t* r = f.refined_cells + playback::kRefinedCellInts * c;
     if (r[0] < -1 || r[0] >= f.num_refined_cells || r[1] < 0 || r[1] >= (1 << 18) || r[2] < -1 ||
-        r[2] >= f.num_eighth_cells || (r[2] >= 0 && r[0] < 0) || r[3] < 0 || r[3] >= (1 << 18))
+        r[2] >= f.num_eighth_cells || (r[2] >= 0 && r[0] < 0) || r[3] < 0 || r[3] >= (1 << 18) ||
+        r[4] < -1 || r[4] >= f.num_sixteenth_cells || (r[4] >= 0 && r[2] < 0) || r[5] < 0 ||
+        r[5] >= (1 << 18))
       fail("configuration " + std::to_string(c) + ": refined cell " + std::to_string(r[0]) +
-           ", its eighth-spacing lattice " + std::to_string(r[2]) + " or their constraints " +
-           std::to_string(r[1]) + ", " + std::to_string(r[3]) + " out of range");
+           ", its eighth-spacing lattice " + std::to_string(r[2]) +
+           ", its sixteenth-spacing lattice " + std::to_string(r[4]) + " or their constraints " +
+           std::to_string(r[1]) + ", " + std::to_string(r[3]) + ", " + std::to_string(r[5]) +
+           " out of range");
   }
   for (std::int64_t k = 0; k < 12 * playback::kRefinedPoints * std::int64_t(f.num_refined_cells);
        ++k)
@@ -464,6 +482,11 @@ void PlaybackFile::verify() const {
   for (std::int64_t k = 0; k < 12 * playback::kEighthPoints * std::int64_t(f.num_eighth_cells); ++k)
     if (std::isinf(f.eighth_points[k]))
       fail("eighth-spacing lattice " + std::to_string(k / (12 * playback::kEighthPoints)) +
+           ": a force or stiffness is infinite");
+  for (std::int64_t k = 0;
+       k < 12 * playback::kSixteenthPoints * std::int64_t(f.num_sixteenth_cells); ++k)
+    if (std::isinf(f.sixteenth_points[k]))
+      fail("sixteenth-spacing lattice " + std::to_string(k / (12 * playback::kSixteenthPoints)) +
            ": a force or stiffness is infinite");
   for (std::int64_t g = 0; f.clearance && g < points; ++g)
     if (!finite(f.clearance + 4 * g, 4))

@@ -40,7 +40,8 @@ struct PlaybackFile::Impl {
   // 12 x kMidpointDirections per view node per configuration (section 19); with the mask.
   const float* midpoint_displacements = nullptr;
   // kRefinedCellInts per configuration: refined cell (-1: none) and constraint bits, its
-  // eighth-spacing lattice (-1: none) and constraint bits; nullptr: none refined.
+  // eighth-spacing lattice (-1: none) and constraint bits, its sixteenth-spacing lattice (-1:
+  // none) and constraint bits; nullptr: none refined.
   const std::int32_t* refined_cells = nullptr;
   // 12 x kRefinedPoints per refined cell (section 21), with refined_cells.
   const double* refined_points = nullptr;
@@ -48,6 +49,9 @@ struct PlaybackFile::Impl {
   // 12 x kEighthPoints per eighth-spacing lattice (section 23); nullptr: none.
   const double* eighth_points = nullptr;
   std::int32_t num_eighth_cells = 0;
+  // 12 x kSixteenthPoints per sixteenth-spacing lattice (section 27); nullptr: none.
+  const double* sixteenth_points = nullptr;
+  std::int32_t num_sixteenth_cells = 0;
   const playback::CertificateRecord* certificate = nullptr;  // section 22, nullptr: none
   // Sections 24-26 (contact, frictionless; their sizes checked at open, their contents by
   // verify(): the cursor checks what it reads); nullptr: none.

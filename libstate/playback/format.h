@@ -1,5 +1,5 @@
 // The playback file's layout on disk (docs/playback.md): little-endian, a 64-byte header,
-// a table of sections, every section's data 64-byte aligned. Version 12 (kVersion).
+// a table of sections, every section's data 64-byte aligned. Version 13 (kVersion).
 //
 //   header | section table | section data ...
 //
@@ -23,8 +23,9 @@ inline constexpr char kMagic[8] = {'H', 'A', 'P', 'S', 'P', 'L', 'A', 'Y'};
 // 3: displacement slopes, 4: clearance, 5: midpoint forces, 6: midpoint stiffness, 7: midpoint
 // displacements, 8: the change bound of the half cells' second-order cross derivatives,
 // 9: refined cells, 10: the certificate, 11: refined cells' eighth-spacing points, 12: the depth
-// model's quadratic term and the rest triangles near the onset (sections 24-26)
-inline constexpr std::uint32_t kVersion = 12;
+// model's quadratic term and the rest triangles near the onset (sections 24-26), 13: refined
+// cells' sixteenth-spacing points (section 27)
+inline constexpr std::uint32_t kVersion = 13;
 inline constexpr std::uint64_t kAlignment = 64;
 
 struct FileHeader {
@@ -82,7 +83,9 @@ enum class SectionId : std::uint32_t {
   // int32 x kRefinedCellInts per configuration: the refined cell whose lowest corner it is (an
   // index into section 21, -1: none) and that cell's constrained faces and edges (kRefinedFace,
   // kRefinedEdge bits); then its eighth-spacing lattice (an index into section 23, -1: none) and
-  // the faces and edges where that lattice is constrained; empty when no cell is refined.
+  // the faces and edges where that lattice is constrained; then its sixteenth-spacing lattice (an
+  // index into section 27, -1: none) and its constrained faces and edges; empty when no cell is
+  // refined.
   kRefinedCells = 20,
   // float64 x 12 x kRefinedPoints per refined cell: at each point of the cell's quarter-spacing
   // lattice (25 i + 5 j + k), the force (N) and the haptic stiffness (row-major, N per mesh unit);
@@ -106,8 +109,13 @@ enum class SectionId : std::uint32_t {
   kOnsetCells = 25,
   // int32: the cells' lists of triangles (indices into section 24).
   kOnsetTriangleList = 26,
+  // float64 x 12 x kSixteenthPoints per refined cell of depth 3: at each point of the cell's
+  // sixteenth-spacing lattice (289 i + 17 j + k), the force and the haptic stiffness as in
+  // section 21; NaN where none was solved (the eighth-spacing lattice's points, the eighth cells
+  // the refine stage did not flag, a failed solve).
+  kSixteenthPoints = 27,
 };
-inline constexpr int kSectionCount = 26;
+inline constexpr int kSectionCount = 27;
 
 // The band above the contact onset, in units of the smallest spacing, over which the cursor
 // blends the force from the depth model into the interpolated force (docs/playback.md).
@@ -121,14 +129,17 @@ inline double onset_band(const double* spacing) {
 inline constexpr int kRefinedPoints = 125;
 // Its eighth-spacing lattice (refinement depth 2): 9 points per axis.
 inline constexpr int kEighthPoints = 729;
+// Its sixteenth-spacing lattice (refinement depth 3): 17 points per axis.
+inline constexpr int kSixteenthPoints = 4913;
 // Section 20's values per configuration: quarter slot, its constraints, eighth slot, its
-// constraints.
-inline constexpr int kRefinedCellInts = 4;
+// constraints, sixteenth slot, its constraints.
+inline constexpr int kRefinedCellInts = 6;
 // Constraint bits of a refined cell (section 20): face (axis a, side s) at bit 2 a + s; the edge
 // along axis a at side s1 of the next axis (a + 1) % 3 and s2 of the one after at bit
 // 6 + 4 a + 2 s1 + s2. A constrained face or edge borders a cell that is not refined: the cursor
 // interpolates there as that cell does (docs/playback.md, "Refined cells"). The eighth-spacing
-// lattice's bits mean the same for a neighbour without an eighth-spacing lattice.
+// lattice's bits mean the same for a neighbour without an eighth-spacing lattice, the sixteenth-
+// spacing lattice's for one without a sixteenth-spacing lattice.
 constexpr int refined_face_bit(int axis, int side) { return 2 * axis + side; }
 constexpr int refined_edge_bit(int axis, int side1, int side2) {
   return 6 + 4 * axis + 2 * side1 + side2;

@@ -136,8 +136,11 @@ void check_content(const Content& c, const std::filesystem::path& file) {
     if (std::isinf(v)) bad("a midpoint stiffness is infinite");
   const std::size_t refined = c.refined_points.size() / (12 * kRefinedPoints);
   const std::size_t eighth = c.eighth_points.size() / (12 * kEighthPoints);
+  const std::size_t sixteenth = c.sixteenth_points.size() / (12 * kSixteenthPoints);
   if (c.refined_points.size() != 12 * kRefinedPoints * refined ||
       c.eighth_points.size() != 12 * kEighthPoints * eighth ||
+      c.sixteenth_points.size() != 12 * kSixteenthPoints * sixteenth ||
+      (sixteenth > 0 && eighth == 0) ||
       (!c.refined_cells.empty() && c.refined_cells.size() != kRefinedCellInts * n) ||
       (!c.refined_cells.empty() && c.midpoint_stiffness.empty()) ||
       (refined > 0 && c.refined_cells.empty()) || (eighth > 0 && refined == 0))
@@ -146,12 +149,16 @@ void check_content(const Content& c, const std::filesystem::path& file) {
     if (c.refined_cells[k] < -1 || c.refined_cells[k] >= static_cast<std::int32_t>(refined) ||
         c.refined_cells[k + 2] < -1 ||
         c.refined_cells[k + 2] >= static_cast<std::int32_t>(eighth) ||
-        (c.refined_cells[k + 2] >= 0 && c.refined_cells[k] < 0))
+        (c.refined_cells[k + 2] >= 0 && c.refined_cells[k] < 0) || c.refined_cells[k + 4] < -1 ||
+        c.refined_cells[k + 4] >= static_cast<std::int32_t>(sixteenth) ||
+        (c.refined_cells[k + 4] >= 0 && c.refined_cells[k + 2] < 0))
       bad("a refined cell index is out of range");
   for (double v : c.refined_points)
     if (std::isinf(v)) bad("a refined point's force or stiffness is infinite");
   for (double v : c.eighth_points)
     if (std::isinf(v)) bad("an eighth-spacing point's force or stiffness is infinite");
+  for (double v : c.sixteenth_points)
+    if (std::isinf(v)) bad("a sixteenth-spacing point's force or stiffness is infinite");
 }
 
 // The clamp limits of the bubbles' corrections (edge, face, cell; N per component).
@@ -196,7 +203,8 @@ double stiffness_limit(const Content& c) {
   for (double k : c.stiffness) limit = std::max(limit, std::abs(k));
   for (double k : c.midpoint_stiffness)
     if (std::isfinite(k)) limit = std::max(limit, std::abs(k));
-  for (const std::vector<double>* points : {&c.refined_points, &c.eighth_points})
+  for (const std::vector<double>* points :
+       {&c.refined_points, &c.eighth_points, &c.sixteenth_points})
     for (std::size_t k = 0; k < points->size(); ++k)
       if (k % 12 >= 3 && std::isfinite((*points)[k]))
         limit = std::max(limit, std::abs((*points)[k]));
@@ -277,7 +285,16 @@ double force_change_bound(const Content& c) {
   const double eighth_stiffness =
       std::max({3.0 * c.meta.stiffness_limit, quarter_cells, 6.3 * eighth_slope});
   const double eighth_cells = 5.25 * std::sqrt(3.0) * (eighth_slope + eighth_stiffness) * rho * rho;
-  return std::max({corners + bubbles, half_cells, quarter_cells, eighth_cells});
+  if (c.sixteenth_points.empty())
+    return std::max({corners + bubbles, half_cells, quarter_cells, eighth_cells});
+  // Sixteenth-spacing lattices: once more, from the eighth cells' interpolant, points at least
+  // h_min / 16 apart, their slopes limited as the eighth-spacing points' are.
+  const double sixteenth_slope = eighth_cells + 32.0 * std::sqrt(3.0) * lambda / hmin;
+  const double sixteenth_stiffness =
+      std::max({3.0 * c.meta.stiffness_limit, eighth_cells, 6.3 * sixteenth_slope});
+  const double sixteenth_cells =
+      5.25 * std::sqrt(3.0) * (sixteenth_slope + sixteenth_stiffness) * rho * rho;
+  return std::max({corners + bubbles, half_cells, quarter_cells, eighth_cells, sixteenth_cells});
 }
 
 namespace {
@@ -400,6 +417,8 @@ void write_file(Content c, const std::filesystem::path& file) {
       {SectionId::kOnsetCells, 4, bytes_of(c.onset_cells), 4 * c.onset_cells.size()},
       {SectionId::kOnsetTriangleList, 4, bytes_of(c.onset_triangle_list),
        4 * c.onset_triangle_list.size()},
+      {SectionId::kSixteenthPoints, 96 * kSixteenthPoints, bytes_of(c.sixteenth_points),
+       8 * c.sixteenth_points.size()},
   };
 
   const std::filesystem::path tmp = temporary_beside(file);

@@ -44,12 +44,15 @@ struct Content {
   std::function<void(std::int32_t c, std::span<float> out)> midpoint_displacements;
   // Per configuration (kRefinedCellInts): the refined cell whose lowest corner it is (index into
   // refined_points, or -1) and its constraint bits (format.h), its eighth-spacing lattice (index
-  // into eighth_points, or -1) and that lattice's constraint bits; empty: no refined cell.
+  // into eighth_points, or -1) and that lattice's constraint bits, its sixteenth-spacing lattice
+  // (index into sixteenth_points, or -1) and its constraint bits; empty: no refined cell.
   std::vector<std::int32_t> refined_cells;
   // 12 x kRefinedPoints per refined cell: force and stiffness per lattice point (NaN: none).
   std::vector<double> refined_points;
   // 12 x kEighthPoints per eighth-spacing lattice, as refined_points.
   std::vector<double> eighth_points;
+  // 12 x kSixteenthPoints per sixteenth-spacing lattice, as refined_points.
+  std::vector<double> sixteenth_points;
   // Fills `out` (3 per view node) with the displacements of configuration c.
   std::function<void(std::int32_t c, std::span<float> out)> displacements;
   // Fills `out` (9 per view node: the x, y, z arrays of 3 per view node) with the

@@ -357,7 +357,7 @@ SceneGrid parse_grid(const TableReader& r) {
   r.allow_only({"spacing", "dims", "box", "refine_tolerance", "refine_depth"});
   SceneGrid grid;
   grid.refine_tolerance = r.number("refine_tolerance", positive());
-  grid.refine_depth = r.integer("refine_depth", closed(1, 2));
+  grid.refine_depth = r.integer("refine_depth", closed(1, 3));
   if (const toml::node* node = r.get("spacing")) {
     if (node->is_array()) {
       auto h = r.point("spacing");

@@ -102,8 +102,9 @@ struct SceneGrid {
   // > 0: the refine stage refines a cell whose estimated interpolation error exceeds it times
   // the largest force in the cell (default 1e-3; docs/scene.md).
   std::optional<double> refine_tolerance;
-  // 1 or 2: how far the refine stage refines a flagged cell, 1 the quarter-spacing lattice, 2
-  // also the eighth-spacing one (default: run_refine's default_refine_depth).
+  // 1, 2 or 3: how far the refine stage refines a flagged cell, 1 the quarter-spacing lattice, 2
+  // also the eighth-spacing one, 3 also sixteenth-spacing points in its eighth cells above the
+  // tolerance (default: run_refine's default_refine_depth).
   std::optional<int> refine_depth;
 };
 

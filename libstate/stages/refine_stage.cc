@@ -20,6 +20,7 @@
 #include <exception>
 #include <map>
 #include <mutex>
+#include <set>
 #include <thread>
 #include <unordered_map>
 
@@ -39,7 +40,7 @@ struct Cell {
 };
 
 // A point to solve: its catalogue index (RefinementPoint::point), its steps from the cell's
-// lowest corner and the steps per spacing (4 or 8).
+// lowest corner and the steps per spacing (4, 8 or 16).
 struct LatticePoint {
   int index = 0;
   std::array<int, 3> q{};
@@ -53,10 +54,19 @@ int nearest_corner(const LatticePoint& p) {
   return c;
 }
 
+// Sorts points by the corner they are solved from (a worker then reloads a source state and its
+// factorisation less often).
+std::vector<LatticePoint> by_corner(const std::vector<LatticePoint>& all) {
+  std::vector<LatticePoint> out;
+  for (int c = 0; c < 8; ++c)
+    for (const LatticePoint& p : all)
+      if (nearest_corner(p) == c) out.push_back(p);
+  return out;
+}
+
 // The points a refined cell stores at `depth` (1: the quarter-spacing lattice points with an odd
 // quarter index, the others being the corners and the moves' midpoints; 2: the eighth-spacing
-// ones with an odd eighth index), grouped by the corner they are solved from (a worker then
-// reloads a source state and its factorisation less often).
+// ones with an odd eighth index), grouped by the corner they are solved from.
 std::vector<LatticePoint> new_points(int depth) {
   const int n = depth >= 2 ? 8 : 4;
   std::vector<LatticePoint> all;
@@ -64,14 +74,30 @@ std::vector<LatticePoint> new_points(int depth) {
     for (int j = 0; j <= n; ++j)
       for (int k = 0; k <= n; ++k) {
         if (i % 2 == 0 && j % 2 == 0 && k % 2 == 0) continue;
-        const int index = n == 4 ? 25 * i + 5 * j + k : 125 + 81 * i + 9 * j + k;
+        const int index = n == 4 ? 25 * i + 5 * j + k : kEighthFirstPoint + 81 * i + 9 * j + k;
         all.push_back({index, {i, j, k}, n});
       }
-  std::vector<LatticePoint> out;
-  for (int c = 0; c < 8; ++c)
-    for (const LatticePoint& p : all)
-      if (nearest_corner(p) == c) out.push_back(p);
-  return out;
+  return by_corner(all);
+}
+
+// The sixteenth-spacing points (depth 3) of the flagged eighth cells (64 i + 8 j + k) with an odd
+// sixteenth step, each once, but those in `have` (points a cell already has rows for).
+std::vector<LatticePoint> sixteenth_points(const std::vector<int>& eighth_cells,
+                                           const std::set<int>& have) {
+  std::set<int> seen;
+  std::vector<LatticePoint> all;
+  for (const int e : eighth_cells) {
+    const int lo[3] = {2 * (e / 64), 2 * (e / 8 % 8), 2 * (e % 8)};
+    for (int i = lo[0]; i <= lo[0] + 2; ++i)
+      for (int j = lo[1]; j <= lo[1] + 2; ++j)
+        for (int k = lo[2]; k <= lo[2] + 2; ++k) {
+          if (i % 2 == 0 && j % 2 == 0 && k % 2 == 0) continue;
+          const int index = kSixteenthFirstPoint + 289 * i + 17 * j + k;
+          if (have.count(index) || !seen.insert(index).second) continue;
+          all.push_back({index, {i, j, k}, 16});
+        }
+  }
+  return by_corner(all);
 }
 
 class Refiner {
@@ -129,6 +155,43 @@ class Refiner {
             cell.scale = std::max(cell.scale, std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
         }
       out.push_back(cell);
+    }
+    return out;
+  }
+
+  // The force and stiffness at the 729 points of `cell`'s eighth-spacing lattice (81 i + 9 j + k):
+  // its corners', its moves' midpoints' and its refined rows' (`rows`, depths 1 and 2).
+  std::vector<LatticeSample> eighth_lattice(const Cell& cell,
+                                            const std::vector<const RefinementPoint*>& rows) const {
+    std::vector<LatticeSample> out(729);
+    auto put = [&](int i, int j, int k, const std::array<double, 3>& f,
+                   const std::array<double, 9>& K) {
+      LatticeSample& s = out[std::size_t(81 * i + 9 * j + k)];
+      s.force = f, s.stiffness = K, s.known = true;
+    };
+    for (int c = 0; c < 8; ++c) {
+      const auto o = corner_offset(c);
+      put(8 * o[0], 8 * o[1], 8 * o[2], cell.corner[c]->force, cell.corner[c]->stiffness);
+      for (int d = 1; d < 8; ++d) {
+        const auto e = corner_offset(d);
+        if ((o[0] && e[0]) || (o[1] && e[1]) || (o[2] && e[2])) continue;
+        const Transition* t = transition(cell.corner[c]->id, e);
+        if (!t || t->target != cell.corner[c | d]->id || !t->midpoint_force ||
+            !t->midpoint_stiffness)
+          continue;
+        put(8 * o[0] + 4 * e[0], 8 * o[1] + 4 * e[1], 8 * o[2] + 4 * e[2], *t->midpoint_force,
+            *t->midpoint_stiffness);
+      }
+    }
+    for (const RefinementPoint* r : rows) {
+      if (!r->reached) continue;
+      if (r->point < kEighthFirstPoint) {
+        const int q = r->point;
+        put(2 * (q / 25), 2 * (q / 5 % 5), 2 * (q % 5), r->force, r->stiffness);
+      } else if (r->point < kSixteenthFirstPoint) {
+        const int q = r->point - kEighthFirstPoint;
+        put(q / 81, q / 9 % 9, q % 9, r->force, r->stiffness);
+      }
     }
     return out;
   }
@@ -245,8 +308,8 @@ void RefineOptions::check() const {
   if (threads < 1) throw InputError("--threads must be >= 1 (got " + std::to_string(threads) + ")");
   if (tolerance && !(*tolerance > 0))
     throw InputError("refinement tolerance must be > 0 (got " + std::to_string(*tolerance) + ")");
-  if (depth && (*depth < 1 || *depth > 2))
-    throw InputError("refinement depth must be 1 or 2 (got " + std::to_string(*depth) + ")");
+  if (depth && (*depth < 1 || *depth > 3))
+    throw InputError("refinement depth must be 1, 2 or 3 (got " + std::to_string(*depth) + ")");
 }
 
 RefineReport run_refine(const RefineOptions& options) {
@@ -275,6 +338,7 @@ RefineReport run_refine(const RefineOptions& options) {
     std::vector<LatticePoint> points;  // the depths it lacks
   };
   std::vector<Work> pending;
+  std::vector<Cell> flagged;  // the cells above the tolerance
   long long total_points = 0, done_points = 0;
   for (const Cell& cell : refiner.cells()) {
     ++report.cells;
@@ -285,6 +349,7 @@ RefineReport run_refine(const RefineOptions& options) {
     report.refined_before += has1;
     if (!(relative > report.tolerance)) continue;
     ++report.flagged;
+    flagged.push_back(cell);
     Work work{cell, {}};
     if (!has1) work.points = quarter;
     if (!has2) work.points.insert(work.points.end(), eighth.begin(), eighth.end());
@@ -295,11 +360,6 @@ RefineReport run_refine(const RefineOptions& options) {
     pending.push_back(std::move(work));
   }
   done_points += total_points;  // flagged cells' points solved by earlier runs
-  char summary[300];
-  std::snprintf(summary, sizeof summary,
-                "%lld cells, %lld above the tolerance %.3g (estimated interpolation error / "
-                "the cell's largest force; largest %.3g), depth %d",
-                report.cells, report.flagged, report.tolerance, report.largest_error, report.depth);
   // The cells in a scrambled but fixed order (by a hash of their lowest corner's id): near a
   // contact the points beside the body cost several times those farther out, and in id order
   // they would come last, so the progress line's rate, and its ETA, would be the cheap cells'.
@@ -310,17 +370,63 @@ RefineReport run_refine(const RefineOptions& options) {
     x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
     return x ^ (x >> 31);
   };
-  std::sort(pending.begin(), pending.end(),
-            [&](const Work& a, const Work& b) { return scrambled(a.cell) < scrambled(b.cell); });
-  if (pending.empty()) {
-    return frame.unchanged(report, std::string("nothing to do: ") + summary + ", " +
+  auto by_scramble = [&](const Work& a, const Work& b) {
+    return scrambled(a.cell) < scrambled(b.cell);
+  };
+  std::sort(pending.begin(), pending.end(), by_scramble);
+  // Depth 3, once every flagged cell has its eighth-spacing lattice: per cell, the sixteenth-
+  // spacing points of the eighth cells whose estimate from that lattice (flag_eighth_cells)
+  // exceeds kSixteenthToleranceFactor times the tolerance times the cell's largest force, but
+  // those it has.
+  auto sixteenth_work = [&] {
+    std::map<ConfigId, std::vector<const RefinementPoint*>> rows_of;
+    const std::vector<RefinementPoint> rows = cat.read_all_refinement_points();
+    for (const RefinementPoint& r : rows) rows_of[r.cell].push_back(&r);
+    const std::set<ConfigId> deep = cat.refined_cells(2);
+    std::vector<Work> out;
+    report.eighth_flagged = 0;
+    for (const Cell& cell : flagged) {
+      const ConfigId id = cell.corner[0]->id;
+      if (!deep.count(id)) continue;
+      const std::vector<const RefinementPoint*>& mine = rows_of[id];
+      const std::array<double, 3> h = {ctx.grid.spacing.x(), ctx.grid.spacing.y(),
+                                       ctx.grid.spacing.z()};
+      const std::vector<int> cells =
+          flag_eighth_cells(refiner.eighth_lattice(cell, mine), h,
+                            kSixteenthToleranceFactor * report.tolerance * cell.scale);
+      report.eighth_flagged += static_cast<long long>(cells.size());
+      std::set<int> have;
+      for (const RefinementPoint* r : mine)
+        if (r->point >= kSixteenthFirstPoint) have.insert(r->point);
+      Work work{cell, sixteenth_points(cells, have)};
+      if (!work.points.empty()) out.push_back(std::move(work));
+    }
+    std::sort(out.begin(), out.end(), by_scramble);
+    return out;
+  };
+  auto summary = [&] {
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "%lld cells, %lld above the tolerance %.3g (estimated interpolation error / "
+                  "the cell's largest force; largest %.3g), depth %d",
+                  report.cells, report.flagged, report.tolerance, report.largest_error,
+                  report.depth);
+    std::string out = text;
+    if (report.depth >= 3)
+      out += ", " + std::to_string(report.eighth_flagged) + " eighth cells above " +
+             std::to_string(kSixteenthToleranceFactor) + " x the tolerance at depth 3";
+    return out;
+  };
+  std::vector<Work> deeper;
+  if (pending.empty() && report.depth >= 3) deeper = sixteenth_work();
+  if (pending.empty() && deeper.empty()) {
+    return frame.unchanged(report, "nothing to do: " + summary() + ", " +
                                        std::to_string(report.refined_before) + " refined");
   }
-  frame.run(report, [&] {
-    Progress progress("hapstate-refine: points", total_points, options.progress);
-    progress.set_resumed(done_points);  // flagged cells refined by earlier runs: not in the rate
-    for (const Work& work : pending) {
-      if (StageRunFrame::stop(report)) break;
+  // Solves each work's points and commits them, a cell per transaction; false when stopped.
+  auto solve_all = [&](const std::vector<Work>& works, Progress& progress, long long& done) {
+    for (const Work& work : works) {
+      if (StageRunFrame::stop(report)) return false;
       const std::vector<RefinementPoint> points = refiner.solve(work.cell, work.points);
       Transaction tx(cat);
       cat.insert_refinement_points(points);
@@ -328,16 +434,33 @@ RefineReport run_refine(const RefineOptions& options) {
       ++report.refined;
       report.points += static_cast<long long>(points.size());
       for (const RefinementPoint& p : points) report.failed += !p.reached;
-      done_points += static_cast<long long>(points.size());
-      progress.update(done_points, report.failed);
+      done += static_cast<long long>(points.size());
+      progress.update(done, report.failed);
     }
-    progress.set_note(report.stopped_by_signal ? "stopped" : "complete");
-    progress.finish();
-    report.outcome = report.stopped_by_signal ? StageOutcome::kPartial : StageOutcome::kOk;
+    return true;
+  };
+  frame.run(report, [&] {
+    bool complete = true;
+    if (!pending.empty()) {
+      Progress progress("hapstate-refine: points", total_points, options.progress);
+      progress.set_resumed(done_points);  // flagged cells refined by earlier runs: not in the rate
+      complete = solve_all(pending, progress, done_points);
+      progress.set_note(complete ? "complete" : "stopped");
+      progress.finish();
+      if (complete && report.depth >= 3) deeper = sixteenth_work();
+    }
+    if (complete && !deeper.empty()) {
+      long long total = 0, done = 0;
+      for (const Work& work : deeper) total += static_cast<long long>(work.points.size());
+      Progress progress("hapstate-refine: sixteenth-spacing points", total, options.progress);
+      complete = solve_all(deeper, progress, done);
+      progress.set_note(complete ? "complete" : "stopped");
+      progress.finish();
+    }
+    report.outcome = complete ? StageOutcome::kOk : StageOutcome::kPartial;
     report.message =
-        std::string(report.stopped_by_signal ? "stopped (Ctrl-C or SIGTERM; run again to resume)"
-                                             : "complete") +
-        ": " + summary + "; refined " + std::to_string(report.refined) + " cells now (" +
+        std::string(complete ? "complete" : "stopped (Ctrl-C or SIGTERM; run again to resume)") +
+        ": " + summary() + "; refined " + std::to_string(report.refined) + " cells now (" +
         std::to_string(report.points) + " points, " + std::to_string(report.failed) + " failed)";
   });
   return report;

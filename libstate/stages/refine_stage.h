@@ -17,6 +17,13 @@ namespace hapstate {
 // force in the cell (grid.refine_tolerance in the scene overrides it).
 constexpr double kDefaultRefineTolerance = 1e-3;
 
+// Depth 3 refines the eighth cells of a flagged cell whose estimate from its eighth-spacing
+// lattice exceeds this many times the tolerance times the cell's largest force. Measured on the
+// liver touched at h = r (docs/contact.md, "Refined contact cells"): of its 43 cells' 22 016
+// eighth cells 9 630 are above 10^-3, 1 858 above 10^-2 and 408 above 2 x 10^-2, each about 9
+// solves.
+constexpr int kSixteenthToleranceFactor = 10;
+
 // The default refinement depth (grid.refine_depth overrides it): 2 for a contact sphere of
 // `radius` where the largest grid `spacing` exceeds kDeepRefineRatio times the radius, else 1
 // (radius 0: the grab probe). The contact force's kinks err by about h / (8 r) of the force
@@ -38,8 +45,9 @@ struct RefineOptions {
   std::filesystem::path state;
   int threads = 1;                  // worker threads, one PathSolver each
   std::optional<double> tolerance;  // relative, > 0; default: the scene's
-  // 1: a flagged cell's quarter-spacing lattice; 2: also its eighth-spacing one. Default: the
-  // scene's grid.refine_depth, else default_refine_depth.
+  // 1: a flagged cell's quarter-spacing lattice; 2: also its eighth-spacing one; 3: also the
+  // sixteenth-spacing points of its eighth cells above the tolerance. Default: the scene's
+  // grid.refine_depth, else default_refine_depth.
   std::optional<int> depth;
   std::FILE* progress = stderr;  // progress line; nullptr: none
 
@@ -54,7 +62,8 @@ struct RefineReport : StageReport {
   long long cells = 0;               // cells with all 8 corners stored
   long long flagged = 0;             // of which above the tolerance
   long long refined_before = 0;      // flagged or not, refined (depth 1) by earlier runs
-  long long refined = 0;             // cells refined (further) in this run
+  long long refined = 0;             // cells refined (further) in this run, per depth pass
+  long long eighth_flagged = 0;      // depth 3: the eighth cells above the tolerance
   long long points = 0, failed = 0;  // points solved in this run, of which failed
   double largest_error = 0;          // the largest relative estimate over the cells
 };
@@ -63,11 +72,13 @@ struct RefineReport : StageReport {
 // estimated error (refine_indicator.h, the largest over the cell's 19 recorded moves) exceeds the
 // tolerance times the largest force at the cell's corners and midpoints, and solves the 98 new
 // points of each that has none yet (depth 1) and, at depth 2, the 604 points of its eighth-spacing
-// lattice that it lacks, one cell per catalogue transaction, so a run killed or stopped
-// (stop_requested) resumes with the next cell. Each point is solved from the nearest corner's
-// stored state. Records a "refine" stage run; "unchanged" when no flagged cell is left.
-// With a contact probe each point is a contact solve from that corner, as the expansion's moves
-// are (the cells clear of the body have no force and are never flagged).
+// lattice that it lacks; at depth 3, once every flagged cell has those, the sixteenth-spacing
+// points (up to 19 each) of the eighth cells whose estimate from the eighth-spacing lattice
+// (flag_eighth_cells) exceeds the tolerance times the cell's largest force. One cell per catalogue
+// transaction, so a run killed or stopped (stop_requested) resumes with the next cell. Each point
+// is solved from the nearest corner's stored state. Records a "refine" stage run; "unchanged" when
+// no flagged cell is left. With a contact probe each point is a contact solve from that corner, as
+// the expansion's moves are (the cells clear of the body have no force and are never flagged).
 // Throws InputError if the directory is not expanded.
 RefineReport run_refine(const RefineOptions& options);
 

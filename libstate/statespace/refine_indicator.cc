@@ -46,4 +46,52 @@ double half_spacing_error(const RecordedMove& move) {
   return std::isfinite(worst) ? worst : 0.0;
 }
 
+std::vector<int> flag_eighth_cells(const std::vector<LatticeSample>& lattice,
+                                   const std::array<double, 3>& spacing, double limit,
+                                   double* largest) {
+  constexpr int n = 9;
+  std::vector<bool> flagged(512, false);
+  double worst = 0.0;
+  auto at = [&](const int(&p)[3]) -> const LatticeSample& {
+    return lattice[std::size_t(81 * p[0] + 9 * p[1] + p[2])];
+  };
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    const double length = 2.0 * spacing[a] / 8.0;  // the move: two eighth steps along a
+    for (int u = 0; u < n; ++u)
+      for (int v = 0; v < n; ++v)
+        for (int first = 0; first + 2 < n; ++first) {
+          RecordedMove move;
+          bool known = true;
+          for (int m = 0; m < 3; ++m) {
+            int p[3];
+            p[a] = first + m, p[b] = u, p[c] = v;
+            const LatticeSample& s = at(p);
+            known = known && s.known;
+            move.force[m] = s.force;
+            for (int r = 0; r < 3; ++r) move.slope[m][r] = s.stiffness[3 * r + a] * length;
+          }
+          if (!known) continue;
+          const double error = half_spacing_error(move);
+          worst = std::max(worst, error);
+          if (!(error > limit)) continue;
+          // The eighth cells with the edge (first, first + 1) or (first + 1, first + 2) along a
+          // at (u, v): those whose b and c steps are u - 1 or u, v - 1 or v.
+          for (int e = first; e <= first + 1; ++e)
+            for (int du = -1; du <= 0; ++du)
+              for (int dv = -1; dv <= 0; ++dv) {
+                int q[3];
+                q[a] = e, q[b] = u + du, q[c] = v + dv;
+                if (q[b] < 0 || q[b] > 7 || q[c] < 0 || q[c] > 7) continue;
+                flagged[std::size_t(64 * q[0] + 8 * q[1] + q[2])] = true;
+              }
+        }
+  }
+  if (largest) *largest = worst;
+  std::vector<int> out;
+  for (int e = 0; e < 512; ++e)
+    if (flagged[std::size_t(e)]) out.push_back(e);
+  return out;
+}
+
 }  // namespace hapstate

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 
 namespace hapstate {
 
@@ -21,5 +22,24 @@ struct RecordedMove {
 // quintic is the more accurate by a factor of h^2, so the difference estimates the pieces'
 // error; it is 0 for a cubic force and exact for a quintic one. N.
 double half_spacing_error(const RecordedMove& move);
+
+// A point of a refined cell's eighth-spacing lattice: the force and the haptic stiffness
+// (row-major, N per mesh unit) there, when known (a corner, a move's midpoint, a solved point).
+struct LatticeSample {
+  std::array<double, 3> force{};
+  std::array<double, 9> stiffness{};
+  bool known = false;
+};
+
+// The eighth cells of a refined cell (64 i + 8 j + k, (i, j, k) the eighth steps of a cell's
+// lowest corner) that refinement depth 3 refines, from the cell's eighth-spacing lattice
+// (`lattice`: 729 samples, 81 i + 9 j + k) and `spacing` (mesh units): along every lattice line,
+// each run of three neighbouring points is a RecordedMove two eighth steps long whose
+// half_spacing_error estimates the error of the eighth cells' Hermite pieces on its two edges;
+// above `limit` (N) every eighth cell that has either edge is flagged. A run with an unknown
+// sample flags nothing. `largest`: the largest estimate (N), when not null.
+std::vector<int> flag_eighth_cells(const std::vector<LatticeSample>& lattice,
+                                   const std::array<double, 3>& spacing, double limit,
+                                   double* largest = nullptr);
 
 }  // namespace hapstate

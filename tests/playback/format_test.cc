@@ -102,9 +102,9 @@ TEST_F(PlaybackFormat, DamagedHeaderIsRefusedAtOpen) {
   b[0] = 'X';
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "bad magic");
   b = bytes_;
-  b[8] = 11;  // version 11: a depth model without its quadratic term
+  b[8] = 12;  // version 12: no sixteenth-spacing points
   expect_input_error([&] { PlaybackFile p(damaged(b)); },
-                     "format version 11, this build reads version 12 (run hapstate-index again)");
+                     "format version 12, this build reads version 13 (run hapstate-index again)");
   b = bytes_;
   b[30] ^= 1;  // section table offset, covered by the header checksum
   expect_input_error([&] { PlaybackFile p(damaged(b)); }, "header checksum mismatch");

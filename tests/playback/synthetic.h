@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <set>
 #include <vector>
 
 namespace hapstate::test_util {
@@ -231,14 +232,16 @@ inline void add_midpoint_displacements(playback::Content* c, const Field& field)
 
 // Refines the cells whose lowest corner is at each of `bases` (grid indices): the force and
 // stiffness of `field` at every point of their quarter-spacing lattice the refine stage solves,
-// and of the eighth-spacing one for those in `deep` (refinement depth 2), through the index
-// stage's add_refined_cells (which sets the constraint bits). `failed`: (base, catalogue point
-// index) pairs whose solve failed. Call after add_midpoint_forces with stiffness.
+// and of the eighth-spacing one for those in `deep` (refinement depth 2), and of the sixteenth-
+// spacing one in the eighth cells (64 i + 8 j + k) listed for a base in `sixteenth` (depth 3),
+// through the index stage's add_refined_cells (which sets the constraint bits). `failed`: (base,
+// catalogue point index) pairs whose solve failed. Call after add_midpoint_forces with stiffness.
 template <class ForceField>
-void add_refined_cells(playback::Content* c, const ForceField& field,
-                       const std::vector<std::array<int, 3>>& bases,
-                       const std::vector<std::pair<std::array<int, 3>, int>>& failed = {},
-                       const std::vector<std::array<int, 3>>& deep = {}) {
+void add_refined_cells(
+    playback::Content* c, const ForceField& field, const std::vector<std::array<int, 3>>& bases,
+    const std::vector<std::pair<std::array<int, 3>, int>>& failed = {},
+    const std::vector<std::array<int, 3>>& deep = {},
+    const std::vector<std::pair<std::array<int, 3>, std::vector<int>>>& sixteenth = {}) {
   const playback::Meta& m = c->meta;
   std::vector<RefinementPoint> rows;
   std::map<std::int64_t, std::int32_t> index_of;
@@ -248,8 +251,21 @@ void add_refined_cells(playback::Content* c, const ForceField& field,
     const int g = ((b[0] - m.lo[0]) * m.dims[1] + (b[1] - m.lo[1])) * m.dims[2] + (b[2] - m.lo[2]);
     const int config = c->checkpoints[2 * g];
     const bool is_deep = std::find(deep.begin(), deep.end(), b) != deep.end();
-    for (int p = 0; p < (is_deep ? 125 + 729 : 125); ++p) {
-      const int n = p < 125 ? 5 : 9, e = p < 125 ? p : p - 125;
+    std::set<int> finer;  // its sixteenth-spacing points
+    for (const auto& [base, eighth_cells] : sixteenth)
+      if (base == b)
+        for (const int e : eighth_cells)
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+              for (int k = 0; k < 3; ++k)
+                finer.insert(kSixteenthFirstPoint + 289 * (2 * (e / 64) + i) +
+                             17 * (2 * (e / 8 % 8) + j) + 2 * (e % 8) + k);
+    std::vector<int> points;
+    for (int p = 0; p < (is_deep ? 125 + 729 : 125); ++p) points.push_back(p);
+    points.insert(points.end(), finer.begin(), finer.end());
+    for (const int p : points) {
+      const int n = p < 125 ? 5 : p < kSixteenthFirstPoint ? 9 : 17;
+      const int e = p < 125 ? p : p < kSixteenthFirstPoint ? p - 125 : p - kSixteenthFirstPoint;
       const int q[3] = {e / (n * n), e / n % n, e % n};
       if (q[0] % 2 == 0 && q[1] % 2 == 0 && q[2] % 2 == 0) continue;
       Eigen::Vector3d x;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <vector>
 
 namespace hapstate {
 namespace {
@@ -49,6 +50,57 @@ TEST(RefineIndicator, LargeWhereTheForceTurns) {
               half_spacing_error(turning));
   EXPECT_LT(half_spacing_error(smooth), 2e-4);
   EXPECT_GT(half_spacing_error(turning), 30.0 * half_spacing_error(smooth));
+}
+
+// An eighth-spacing lattice of a cell of `h` sampling force f and its Jacobian J (p from the cell's
+// lowest corner), the samples at the x step `unknown_x` left unknown.
+using Vector = std::array<double, 3>;
+using Jacobian = std::array<double, 9>;
+std::vector<LatticeSample> lattice_of(const Vector& h,
+                                      const std::function<Vector(const Vector&)>& f,
+                                      const std::function<Jacobian(const Vector&)>& J,
+                                      int unknown_x = -1) {
+  std::vector<LatticeSample> out(729);
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      for (int k = 0; k < 9; ++k) {
+        const Vector p = {i * h[0] / 8, j * h[1] / 8, k * h[2] / 8};
+        LatticeSample& s = out[std::size_t(81 * i + 9 * j + k)];
+        s.force = f(p), s.stiffness = J(p), s.known = i != unknown_x;
+      }
+  return out;
+}
+
+// Depth 3's choice of eighth cells: none for a cubic force; for a force with a kink across the
+// plane x = 2.4 eighth steps exactly the eighth cells on the edges of the runs of three points
+// along x that straddle it, (1, 2, 3) and (2, 3, 4): x steps 1 to 3, all across y and z. A run
+// with an unknown sample flags nothing.
+TEST(RefineIndicator, FlagsTheEighthCellsAroundAKink) {
+  const Vector h = {0.4, 0.5, 0.6};
+  const auto cubic = lattice_of(
+      h,
+      [](const Vector& p) {
+        return Vector{p[0] * p[1] * p[2], p[1] * p[1] * p[1], 1.0};
+      },
+      [](const Vector& p) {
+        return Jacobian{p[1] * p[2], p[0] * p[2], p[0] * p[1], 0, 3 * p[1] * p[1], 0, 0, 0, 0};
+      });
+  double largest = -1;
+  EXPECT_TRUE(flag_eighth_cells(cubic, h, 1e-12, &largest).empty());
+  EXPECT_LT(largest, 1e-12);
+  const double x0 = 2.4 * h[0] / 8;
+  const auto force = [&](const Vector& p) { return Vector{std::max(0.0, p[0] - x0), 0.0, 0.0}; };
+  const auto jacobian = [&](const Vector& p) {
+    return Jacobian{p[0] > x0 ? 1.0 : 0.0, 0, 0, 0, 0, 0, 0, 0, 0};
+  };
+  const std::vector<int> flagged =
+      flag_eighth_cells(lattice_of(h, force, jacobian), h, 1e-4, &largest);
+  std::printf("[ info ] kink: %zu eighth cells flagged, largest estimate %.3g N\n", flagged.size(),
+              largest);
+  ASSERT_EQ(flagged.size(), 3u * 64);
+  for (const int e : flagged) EXPECT_TRUE(e / 64 >= 1 && e / 64 <= 3) << e;
+  // Every run that straddles the kink has a point at x step 2.
+  EXPECT_TRUE(flag_eighth_cells(lattice_of(h, force, jacobian, 2), h, 1e-4).empty());
 }
 
 }  // namespace
