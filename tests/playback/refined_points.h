@@ -12,15 +12,20 @@
 namespace hapstate::test_util {
 
 // A row's point as steps from its cell's lowest corner: q and the steps per spacing n (4 for the
-// quarter-spacing lattice, 8 for the eighth-spacing one: RefinementPoint::point).
+// quarter-spacing lattice, 8 for the eighth-spacing one, 16 for the sixteenth-spacing one:
+// RefinementPoint::point).
 struct LatticeStep {
   std::array<int, 3> q{};
   int n = 4;
 };
 inline LatticeStep lattice_step(int point) {
-  if (point < 125) return {{point / 25, point / 5 % 5, point % 5}, 4};
-  const int e = point - 125;
-  return {{e / 81, e / 9 % 9, e % 9}, 8};
+  if (point < kEighthFirstPoint) return {{point / 25, point / 5 % 5, point % 5}, 4};
+  if (point < kSixteenthFirstPoint) {
+    const int e = point - kEighthFirstPoint;
+    return {{e / 81, e / 9 % 9, e % 9}, 8};
+  }
+  const int e = point - kSixteenthFirstPoint;
+  return {{e / 289, e / 17 % 17, e % 17}, 16};
 }
 
 // The position (mesh units) of each row's point: its cell's lowest check-point plus its lattice
