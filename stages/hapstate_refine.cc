@@ -42,9 +42,10 @@ int main(int argc, char** argv) {
       ->check(positive());
   app.add_option("--depth", depth,
                  "1: solve a flagged cell's quarter-spacing points; 2: also its eighth-spacing "
-                 "ones; 3: also the sixteenth-spacing points of its eighth cells above the "
-                 "tolerance (default: the scene's grid.refine_depth, else 2 for a contact sphere "
-                 "whose radius is under 10 grid spacings, 1 otherwise)")
+                 "ones; 3: also the sixteenth-spacing points of its eighth cells above 10 x the "
+                 "tolerance (default: the scene's grid.refine_depth, else for a contact sphere 3 "
+                 "where the grid spacing exceeds 0.4 x its radius, 2 where it exceeds 0.1 x, 1 "
+                 "otherwise and for the grab probe)")
       ->check(CLI::Range(1, 3));
   app.add_flag("-q,--quiet", quiet, "no progress line");
   try {

@@ -287,7 +287,8 @@ class Refiner {
 }  // namespace
 
 int default_refine_depth(double radius, double spacing) {
-  return radius > 0 && spacing > kDeepRefineRatio * radius ? 2 : 1;
+  if (!(radius > 0)) return 1;
+  return spacing > kDeeperRefineRatio * radius ? 3 : spacing > kDeepRefineRatio * radius ? 2 : 1;
 }
 
 std::string contact_spacing_note(double radius, double spacing) {
@@ -296,8 +297,8 @@ std::string contact_spacing_note(double radius, double spacing) {
   std::snprintf(
       text, sizeof text,
       "note: the grid spacing is %.2g x probe.radius; contact playback was measured "
-      "within Hermite 1.5 %% and trilinear 3 %% of the force up to %.1f x (at 1 x "
-      "Hermite reached 2.25 %%, at 1.7 x 6 %%): a smaller grid.spacing or a larger "
+      "within Hermite 1.5 %% and trilinear 3 %% of the force up to %.1f x (refined to depth "
+      "3; at 1.7 x Hermite reached 5.1 %%): a smaller grid.spacing or a larger "
       "probe.radius is more accurate (docs/scene.md, \"Choosing the spacing for a contact probe\")",
       spacing / radius, kMeasuredSpacingRatio);
   return text;

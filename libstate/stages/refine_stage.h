@@ -24,19 +24,21 @@ constexpr double kDefaultRefineTolerance = 1e-3;
 // solves.
 constexpr int kSixteenthToleranceFactor = 10;
 
-// The default refinement depth (grid.refine_depth overrides it): 2 for a contact sphere of
-// `radius` where the largest grid `spacing` exceeds kDeepRefineRatio times the radius, else 1
-// (radius 0: the grab probe). The contact force's kinks err by about h / (8 r) of the force
-// per cell; measured on an unseen liver (docs/contact.md, "Refined contact cells"), depth 1 at
-// h / r = 0.1 meets the accuracy bounds (Hermite 0.87 %, trilinear 1.79 %), at 0.2 not.
+// The default refinement depth (grid.refine_depth overrides it): for a contact sphere of
+// `radius`, 3 where the largest grid `spacing` exceeds kDeeperRefineRatio times the radius, 2
+// where it exceeds kDeepRefineRatio times it, else 1 (radius 0: the grab probe). The contact
+// force's kinks err by about h / (8 r) of the force per cell; measured (docs/contact.md, "Refined
+// contact cells"): depth 1 at h / r = 0.1 meets the accuracy bounds (Hermite 0.87 %, trilinear
+// 1.79 %), at 0.2 not; depth 2 up to 0.4, at 1.0 not (Hermite 2.25 %); depth 3 at 1.0 (1.36 %).
 constexpr double kDeepRefineRatio = 0.1;
+constexpr double kDeeperRefineRatio = 0.4;
 int default_refine_depth(double radius, double spacing);
 
 // The largest spacing over the radius at which the default depth's contact playback was measured
-// within Hermite 1.5 % and trilinear 3 % of the force (0.4 on liverCoarse; on liverSemiFine at 1.0
-// Hermite reached 2.25 %, at 1.7 5.99 %: docs/scene.md, "Choosing the spacing for a contact
-// probe").
-constexpr double kMeasuredSpacingRatio = 0.4;
+// within Hermite 1.5 % and trilinear 3 % of the force (on liverSemiFine at 1.0, depth 3: Hermite
+// 1.36 %, trilinear 1.61 %; at 1.7, depth 3: Hermite 5.13 %, trilinear 5.07 %: docs/scene.md,
+// "Choosing the spacing for a contact probe").
+constexpr double kMeasuredSpacingRatio = 1.0;
 // For a contact sphere of `radius` with the largest grid `spacing` beyond kMeasuredSpacingRatio
 // times it, a note saying so and what to do (the grid stage's line shows it); else "".
 std::string contact_spacing_note(double radius, double spacing);

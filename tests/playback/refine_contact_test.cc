@@ -116,22 +116,25 @@ TEST_F(RefineContact, DepthThreeSolvesTheFlaggedEighthCells) {
   EXPECT_NE(again.out.find("nothing to do"), std::string::npos) << again.out;
 }
 
-// The default depth: 2 where the contact sphere's radius is under 10 grid spacings (this beam:
-// 0.5 cm at 0.1 cm), 1 on a finer grid (pipelines/liver-contact: 2.5 cm at 0.125 cm) and with the
-// grab probe.
+// The default depth: 3 where the grid spacing exceeds 0.4 times the contact sphere's radius (the
+// liver touched at h = r), 2 where it exceeds a tenth of it (this beam: 0.5 cm at 0.1 cm), 1 on a
+// finer grid (pipelines/liver-contact: 2.5 cm at 0.125 cm) and with the grab probe.
 TEST(RefineDepth, DefaultFollowsTheSpacingOverTheRadius) {
   EXPECT_EQ(default_refine_depth(0.5, 0.1), 2);
   EXPECT_EQ(default_refine_depth(2.5, 0.125), 1);
   EXPECT_EQ(default_refine_depth(2.5, 0.25), 1);  // h / r = 0.1: depth 1 meets the bounds
   EXPECT_EQ(default_refine_depth(2.5, 0.5), 2);
+  EXPECT_EQ(default_refine_depth(0.15, 0.06), 2);  // h / r = 0.4: depth 2 meets the bounds
+  EXPECT_EQ(default_refine_depth(0.15, 0.15), 3);
   EXPECT_EQ(default_refine_depth(0.0, 0.1), 1);  // the grab probe
 }
 
-// The grid stage notes a contact spacing beyond the measured range (h / r 0.4), never the grab's.
+// The grid stage notes a contact spacing beyond the measured range (h / r 1 at depth 3), never
+// the grab's.
 TEST(RefineDepth, SpacingBeyondTheMeasuredRangeIsNoted) {
   EXPECT_EQ(contact_spacing_note(0.5, 0.1), "");    // this beam: h / r = 0.2
-  EXPECT_EQ(contact_spacing_note(0.15, 0.06), "");  // 0.4
-  EXPECT_NE(contact_spacing_note(0.15, 0.15).find("1 x probe.radius"), std::string::npos);
+  EXPECT_EQ(contact_spacing_note(0.15, 0.15), "");  // 1
+  EXPECT_NE(contact_spacing_note(0.15, 0.25).find("1.7 x probe.radius"), std::string::npos);
   EXPECT_EQ(contact_spacing_note(0.0, 0.5), "");  // the grab probe
 }
 
