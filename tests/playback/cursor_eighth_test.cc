@@ -5,47 +5,27 @@
 // the force's derivative, and no allocation in the haptic query.
 #include "allocation_counter.h"
 #include "hapstate/playback.h"
-#include "synthetic.h"
+#include "lattice_fixture.h"
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <cmath>
 #include <cstdio>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace hapstate {
 namespace {
 
-namespace fs = std::filesystem;
+using test_util::arr;
 using test_util::Field;
+using test_util::mat;
+using test_util::vec;
 
-Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
-Eigen::Matrix3d mat(const std::array<double, 9>& a) {
-  Eigen::Matrix3d m;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) m(r, c) = a[3 * r + c];
-  return m;
-}
-std::array<double, 3> arr(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
-
-class EighthLattice : public ::testing::Test {
+class EighthLattice : public test_util::LatticeFixture {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("hapstate_eighth_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path write(playback::Content content, const std::string& name) {
-    const fs::path f = dir_ / name;
-    playback::write_file(std::move(content), f);
-    return f;
-  }
-  Eigen::Vector3d at(double x, double y, double z) const {
-    return {field_.origin[0] + x * h_[0], field_.origin[1] + y * h_[1],
-            field_.origin[2] + z * h_[2]};
-  }
+  EighthLattice() : LatticeFixture("eighth") {}
   // Refined cells (0,0,0), (-1,0,0) and (0,-1,0); the first two also at depth 2 when `deep`.
   template <class F>
   playback::Content content(const F& field, bool deep,
@@ -76,10 +56,6 @@ class EighthLattice : public ::testing::Test {
     }
     return jump;
   }
-
-  fs::path dir_;
-  const Field field_;
-  const Eigen::Vector3d h_{0.5, 0.4, 0.6};
 };
 
 TEST_F(EighthLattice, PassesThroughItsPointsAndIsMoreAccurate) {
@@ -151,20 +127,10 @@ TEST_F(EighthLattice, StaysContinuousAndItsStiffnessIsTheDerivative) {
     EXPECT_LT(jump, 1e-7);
   }
   HapticCursor cursor(file, Scheme::kHermite);
-  double worst = 0, scale = 0;
-  for (int n = 0; n < 20; ++n) {
-    const Eigen::Vector3d p = at(-0.95 + 0.09 * n, 0.3 + 0.02 * n, 0.9 - 0.04 * n);
-    const Eigen::Matrix3d k = mat(cursor.force(arr(p)).stiffness);
-    for (int a = 0; a < 3; ++a) {
-      Eigen::Vector3d d = Eigen::Vector3d::Zero();
-      d[a] = 1e-6;
-      const Eigen::Vector3d fd =
-          (vec(cursor.force(arr(p + d)).value) - vec(cursor.force(arr(p - d)).value)) / 2e-6;
-      worst = std::max(worst, (fd - k.col(a)).norm());
-      scale = std::max(scale, k.col(a).norm());
-    }
-  }
-  EXPECT_LT(worst, 1e-6 * scale);
+  std::vector<Eigen::Vector3d> points;
+  for (int n = 0; n < 20; ++n)
+    points.push_back(at(-0.95 + 0.09 * n, 0.3 + 0.02 * n, 0.9 - 0.04 * n));
+  EXPECT_LT(test_util::stiffness_mismatch(cursor, points), 1e-6);
   // The haptic query allocates nothing, entering deep cells included.
   g_allocations = 0;
   g_counting = true;
