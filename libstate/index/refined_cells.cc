@@ -2,6 +2,7 @@
 
 #include "util/grid_direction.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -125,7 +126,9 @@ void constrain(const Cells& grid, playback::Content& c, const LatticeLevel& leve
 // The points of the faces cell k shares with a neighbour that has the same lattice: one value
 // for both (this cell's where it has one, else the neighbour's), so the force stays continuous
 // where one of the two solves failed, or (a sixteenth-spacing lattice) where only one of them
-// flagged the eighth cell beside the face. Returns whether a value was copied.
+// flagged the eighth cell beside the face. Returns whether a value changed: repeated until none
+// does, every point on an edge or at a corner holds the value of the lowest of its cells that
+// has one (values move toward higher cells, and from a higher one only into a NaN).
 bool share_faces(const Cells& grid, playback::Content& c, const LatticeLevel& level,
                  std::int32_t k) {
   const int n = level.n, last = n - 1;
@@ -144,14 +147,14 @@ bool share_faces(const Cells& grid, playback::Content& c, const LatticeLevel& le
         mine[(a + 2) % 3] = theirs[(a + 2) % 3] = v;
         double* x = level_point(c, level, k, mine[0], mine[1], mine[2]);
         double* y = level_point(c, level, other, theirs[0], theirs[1], theirs[2]);
-        if (std::isfinite(x[0]) == std::isfinite(y[0])) {
-          if (std::isfinite(x[0])) std::copy_n(x, 12, y);
+        if (std::isfinite(x[0])) {
+          if (std::equal(x, x + 12, y)) continue;
+          std::copy_n(x, 12, y);
+        } else if (std::isfinite(y[0])) {
+          std::copy_n(y, 12, x);
+        } else {
           continue;
         }
-        if (std::isfinite(x[0]))
-          std::copy_n(x, 12, y);
-        else
-          std::copy_n(y, 12, x);
         copied = true;
       }
   }

@@ -293,7 +293,7 @@ int default_refine_depth(double radius, double spacing) {
 
 std::string contact_spacing_note(double radius, double spacing) {
   if (!(radius > 0) || spacing <= kMeasuredSpacingRatio * radius) return "";
-  char text[320];
+  char text[512];
   std::snprintf(
       text, sizeof text,
       "note: the grid spacing is %.2g x probe.radius; contact playback was measured "
@@ -379,6 +379,7 @@ RefineReport run_refine(const RefineOptions& options) {
   // spacing points of the eighth cells whose estimate from that lattice (flag_eighth_cells)
   // exceeds kSixteenthToleranceFactor times the tolerance times the cell's largest force, but
   // those it has.
+  bool counted_eighth = false;  // sixteenth_work has counted the eighth cells above the limit
   auto sixteenth_work = [&] {
     std::map<ConfigId, std::vector<const RefinementPoint*>> rows_of;
     const std::vector<RefinementPoint> rows = cat.read_all_refinement_points();
@@ -386,6 +387,7 @@ RefineReport run_refine(const RefineOptions& options) {
     const std::set<ConfigId> deep = cat.refined_cells(2);
     std::vector<Work> out;
     report.eighth_flagged = 0;
+    counted_eighth = true;
     for (const Cell& cell : flagged) {
       const ConfigId id = cell.corner[0]->id;
       if (!deep.count(id)) continue;
@@ -413,7 +415,7 @@ RefineReport run_refine(const RefineOptions& options) {
                   report.cells, report.flagged, report.tolerance, report.largest_error,
                   report.depth);
     std::string out = text;
-    if (report.depth >= 3)
+    if (counted_eighth)
       out += ", " + std::to_string(report.eighth_flagged) + " eighth cells above " +
              std::to_string(kSixteenthToleranceFactor) + " x the tolerance at depth 3";
     return out;

@@ -41,13 +41,17 @@ class SixteenthLattice : public test_util::LatticeFixture {
   SixteenthLattice() : LatticeFixture("sixteenth") {}
   // Refined cells (0,0,0), (-1,0,0) and (0,-1,0), the first two at depth 2, and the first with
   // sixteenth-spacing points in flagged_eighth_cells() when `deeper`.
+  // With `both`, cell (-1,0,0) has sixteenth-spacing points too, in its eighth cells beside
+  // the column (x step 7).
   template <class F>
   playback::Content content(const F& field, bool deeper,
-                            const std::vector<std::pair<std::array<int, 3>, int>>& failed = {}) {
+                            const std::vector<std::pair<std::array<int, 3>, int>>& failed = {},
+                            bool both = false) {
     playback::Content c = test_util::synthetic_content(field_, h_);
     test_util::add_midpoint_forces(&c, field_, true);
     std::vector<std::pair<std::array<int, 3>, std::vector<int>>> sixteenth;
     if (deeper) sixteenth.push_back({{0, 0, 0}, flagged_eighth_cells()});
+    if (both) sixteenth.push_back({{-1, 0, 0}, {64 * 7 + 8 * 1 + 5, 64 * 7 + 8 * 2 + 5}});
     test_util::add_refined_cells(&c, field, {{0, 0, 0}, {-1, 0, 0}, {0, -1, 0}}, failed,
                                  {{0, 0, 0}, {-1, 0, 0}}, sixteenth);
     return c;
@@ -162,6 +166,44 @@ TEST_F(SixteenthLattice, StaysContinuousAndItsStiffnessIsTheDerivative) {
   for (int n = 0; n < 200; ++n) cursor.force(arr(at(-0.5 + 0.01 * n, 0.45, 0.5)));
   g_counting = false;
   EXPECT_EQ(g_allocations.load(), 0);
+}
+
+// Two neighbouring cells with sixteenth-spacing points on both sides of their shared face: the
+// face is not constrained at depth 3, its points hold one value (one of them failed in one
+// cell), the force is continuous across the face and exact at the face's solved points.
+TEST_F(SixteenthLattice, NeighboursShareTheirFacesPoints) {
+  const int failed = kSixteenthFirstPoint + 289 * 16 + 17 * 3 + 11;  // on (-1,0,0)'s face x = 1
+  playback::Content c =
+      content(test_util::Perturbed<Field>{field_}, true, {{{-1, 0, 0}, failed}}, true);
+  const std::int32_t* r = &c.refined_cells[playback::kRefinedCellInts * c.checkpoints[2 * 62]];
+  ASSERT_GE(r[4], 0);
+  EXPECT_EQ(r[5] & (1 << playback::refined_face_bit(0, 0)), 0);
+  PlaybackFile file(write(std::move(c), "both.bin"));
+  file.verify();
+  const test_util::Perturbed<Field> exact{field_};
+  for (Scheme scheme : {Scheme::kHermite, Scheme::kTrilinear}) {
+    HapticCursor cursor(file, scheme);
+    double jump = 0, worst = 0;
+    for (int j = 2; j <= 6; ++j)
+      for (int k = 10; k <= 12; ++k) {
+        const Eigen::Vector3d p = at(0, j / 16.0, k / 16.0);
+        if (j % 2 || k % 2) {
+          worst = std::max(worst, (vec(cursor.force(arr(p)).value) - exact.force(p)).norm());
+        }
+        for (double y : {0.013, 0.029}) {
+          const Eigen::Vector3d q = at(0, (j + y) / 16.0, (k + y) / 16.0);
+          const Eigen::Vector3d e(1e-9, 0, 0);
+          jump = std::max(
+              jump,
+              (vec(cursor.force(arr(q + e)).value) - vec(cursor.force(arr(q - e)).value)).norm());
+        }
+      }
+    std::printf(
+        "[ info ] shared face (%s): largest jump %.3g N, largest error at its points %.3g N\n",
+        scheme == Scheme::kHermite ? "Hermite" : "trilinear", jump, worst);
+    EXPECT_LT(jump, 1e-7);
+    EXPECT_LT(worst, 1e-12);
+  }
 }
 
 }  // namespace

@@ -134,8 +134,10 @@ TEST(RefineDepth, DefaultFollowsTheSpacingOverTheRadius) {
 TEST(RefineDepth, SpacingBeyondTheMeasuredRangeIsNoted) {
   EXPECT_EQ(contact_spacing_note(0.5, 0.1), "");    // this beam: h / r = 0.2
   EXPECT_EQ(contact_spacing_note(0.15, 0.15), "");  // 1
-  EXPECT_NE(contact_spacing_note(0.15, 0.25).find("1.7 x probe.radius"), std::string::npos);
-  EXPECT_EQ(contact_spacing_note(0.0, 0.5), "");  // the grab probe
+  const std::string note = contact_spacing_note(0.15, 0.25);
+  EXPECT_NE(note.find("1.7 x probe.radius"), std::string::npos) << note;
+  EXPECT_EQ(note.size() - note.rfind("contact probe\")"), 15u) << note;  // whole, not cut short
+  EXPECT_EQ(contact_spacing_note(0.0, 0.5), "");                         // the grab probe
 }
 
 // Walking from rest to a refined point strictly inside its cell, the Hermite cursor returns the
