@@ -1,5 +1,6 @@
 // The cursor in a refined cell (docs/playback.md, "Refined cells"): the quarter-spacing lattice
-// of solved points, and the eighth-spacing one where the cell has it, Hermite or trilinear.
+// of solved points, the eighth-spacing one where the cell has it and the sixteenth-spacing one
+// in the eighth cells with solves of their own, Hermite or trilinear.
 #include "playback/cursor_core.h"
 
 #include "playback/cell_lattice.h"
