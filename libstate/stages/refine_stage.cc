@@ -100,6 +100,44 @@ std::vector<LatticePoint> sixteenth_points(const std::vector<int>& eighth_cells,
   return by_corner(all);
 }
 
+// Whether `upper` lies across `lower`'s upper face along axis a (0: x): the four corners on that
+// face are the same configurations.
+bool across_upper_face(const Cell& lower, const Cell& upper, int a) {
+  const int bit = 4 >> a;
+  for (int c = 0; c < 8; ++c)
+    if (!(c & bit) && lower.corner[c | bit] != upper.corner[c]) return false;
+  return true;
+}
+
+// A cell's eighth-spacing lattice (`own`, 729 samples, 81 i + 9 j + k) with its face neighbours'
+// next points (`neighbour[2 a]`: the lattice across the lower face along a, `[2 a + 1]`: the
+// upper; null where there is none) as flag_eighth_cells reads it (halo_index).
+std::vector<LatticeSample> with_halo(
+    const std::vector<LatticeSample>& own,
+    const std::array<const std::vector<LatticeSample>*, 6>& neighbour) {
+  std::vector<LatticeSample> out(std::size_t(kHaloSide * kHaloSide * kHaloSide));
+  auto own_at = [](const std::vector<LatticeSample>& l, const int(&p)[3]) -> const LatticeSample& {
+    return l[std::size_t(81 * p[0] + 9 * p[1] + p[2])];
+  };
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      for (int k = 0; k < 9; ++k) out[halo_index(i, j, k)] = own_at(own, {i, j, k});
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const std::vector<LatticeSample>* other = neighbour[std::size_t(2 * a + side)];
+      if (!other) continue;
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      for (int u = 0; u < 9; ++u)
+        for (int v = 0; v < 9; ++v) {
+          int here[3], there[3];
+          here[a] = side ? 9 : -1, there[a] = side ? 1 : 7;
+          here[b] = there[b] = u, here[c] = there[c] = v;
+          out[halo_index(here[0], here[1], here[2])] = own_at(*other, there);
+        }
+    }
+  return out;
+}
+
 class Refiner {
  public:
   Refiner(StageContext& ctx, int threads)
@@ -376,9 +414,9 @@ RefineReport run_refine(const RefineOptions& options) {
   };
   std::sort(pending.begin(), pending.end(), by_scramble);
   // Depth 3, once every flagged cell has its eighth-spacing lattice: per cell, the sixteenth-
-  // spacing points of the eighth cells whose estimate from that lattice (flag_eighth_cells)
-  // exceeds kSixteenthToleranceFactor times the tolerance times the cell's largest force, but
-  // those it has.
+  // spacing points of the eighth cells whose estimate from that lattice and its refined face
+  // neighbours' (flag_eighth_cells) exceeds kSixteenthToleranceFactor times the tolerance times the
+  // cell's largest force, but those it has.
   bool counted_eighth = false;  // sixteenth_work has counted the eighth cells above the limit
   auto sixteenth_work = [&] {
     std::map<ConfigId, std::vector<const RefinementPoint*>> rows_of;
@@ -388,14 +426,34 @@ RefineReport run_refine(const RefineOptions& options) {
     std::vector<Work> out;
     report.eighth_flagged = 0;
     counted_eighth = true;
+    // The eighth-spacing lattices of the flagged cells refined to depth 2, and which of them lie
+    // across each other's faces: a run of three lattice points crossing a face reads both.
+    std::vector<const Cell*> deep_cells;
+    std::vector<std::vector<LatticeSample>> lattices;
+    std::map<ConfigId, std::size_t> by_lowest;
     for (const Cell& cell : flagged) {
       const ConfigId id = cell.corner[0]->id;
       if (!deep.count(id)) continue;
-      const std::vector<const RefinementPoint*>& mine = rows_of[id];
-      const std::array<double, 3> h = {ctx.grid.spacing.x(), ctx.grid.spacing.y(),
-                                       ctx.grid.spacing.z()};
+      by_lowest.emplace(id, deep_cells.size());
+      deep_cells.push_back(&cell);
+      lattices.push_back(refiner.eighth_lattice(cell, rows_of[id]));
+    }
+    std::vector<std::array<const std::vector<LatticeSample>*, 6>> neighbours(deep_cells.size());
+    for (std::size_t n = 0; n < deep_cells.size(); ++n)
+      for (int a = 0; a < 3; ++a) {
+        const auto it = by_lowest.find(deep_cells[n]->corner[4 >> a]->id);
+        if (it == by_lowest.end() || !across_upper_face(*deep_cells[n], *deep_cells[it->second], a))
+          continue;
+        neighbours[n][std::size_t(2 * a + 1)] = &lattices[it->second];
+        neighbours[it->second][std::size_t(2 * a)] = &lattices[n];
+      }
+    const std::array<double, 3> h = {ctx.grid.spacing.x(), ctx.grid.spacing.y(),
+                                     ctx.grid.spacing.z()};
+    for (std::size_t n = 0; n < deep_cells.size(); ++n) {
+      const Cell& cell = *deep_cells[n];
+      const std::vector<const RefinementPoint*>& mine = rows_of[cell.corner[0]->id];
       const std::vector<int> cells =
-          flag_eighth_cells(refiner.eighth_lattice(cell, mine), h,
+          flag_eighth_cells(with_halo(lattices[n], neighbours[n]), h,
                             kSixteenthToleranceFactor * report.tolerance * cell.scale);
       report.eighth_flagged += static_cast<long long>(cells.size());
       std::set<int> have;

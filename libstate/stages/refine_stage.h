@@ -75,14 +75,14 @@ struct RefineReport : StageReport {
 // tolerance times the largest force at the cell's corners and midpoints, and solves the 98 new
 // points of each that has none yet (depth 1) and, at depth 2, the 604 points of its eighth-spacing
 // lattice that it lacks; at depth 3, once every flagged cell has those, the sixteenth-spacing
-// points (up to 19 each) of the eighth cells whose estimate from the eighth-spacing lattice
-// (flag_eighth_cells) exceeds kSixteenthToleranceFactor times the tolerance times the cell's
-// largest force. One cell per catalogue
-// transaction, so a run killed or stopped (stop_requested) resumes with the next cell. Each point
-// is solved from the nearest corner's stored state. Records a "refine" stage run; "unchanged" when
-// no flagged cell is left. With a contact probe each point is a contact solve from that corner, as
-// the expansion's moves are (the cells clear of the body have no force and are never flagged).
-// Throws InputError if the directory is not expanded.
+// points (up to 19 each) of the eighth cells whose estimate from the eighth-spacing lattice and
+// its face neighbours' (flag_eighth_cells) exceeds kSixteenthToleranceFactor times the tolerance
+// times the cell's largest force. One cell per catalogue transaction, so a run killed or stopped
+// (stop_requested) resumes with the next cell. Each point is solved from the nearest corner's
+// stored state. Records a "refine" stage run; "unchanged" when no flagged cell is left. With a
+// contact probe each point is a contact solve from that corner, as the expansion's moves are (the
+// cells clear of the body have no force and are never flagged). Throws InputError if the directory
+// is not expanded.
 RefineReport run_refine(const RefineOptions& options);
 
 }  // namespace hapstate

@@ -53,14 +53,14 @@ std::vector<int> flag_eighth_cells(const std::vector<LatticeSample>& lattice,
   std::vector<bool> flagged(512, false);
   double worst = 0.0;
   auto at = [&](const int(&p)[3]) -> const LatticeSample& {
-    return lattice[std::size_t(81 * p[0] + 9 * p[1] + p[2])];
+    return lattice[halo_index(p[0], p[1], p[2])];
   };
   for (int a = 0; a < 3; ++a) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     const double length = 2.0 * spacing[a] / 8.0;  // the move: two eighth steps along a
     for (int u = 0; u < n; ++u)
       for (int v = 0; v < n; ++v)
-        for (int first = 0; first + 2 < n; ++first) {
+        for (int first = -1; first + 2 <= n; ++first) {
           RecordedMove move;
           bool known = true;
           for (int m = 0; m < 3; ++m) {
@@ -82,7 +82,7 @@ std::vector<int> flag_eighth_cells(const std::vector<LatticeSample>& lattice,
               for (int dv = -1; dv <= 0; ++dv) {
                 int q[3];
                 q[a] = e, q[b] = u + du, q[c] = v + dv;
-                if (q[b] < 0 || q[b] > 7 || q[c] < 0 || q[c] > 7) continue;
+                if (q[a] < 0 || q[a] > 7 || q[b] < 0 || q[b] > 7 || q[c] < 0 || q[c] > 7) continue;
                 flagged[std::size_t(64 * q[0] + 8 * q[1] + q[2])] = true;
               }
         }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <vector>
 
 namespace hapstate {
@@ -31,13 +32,23 @@ struct LatticeSample {
   bool known = false;
 };
 
+// A refined cell's eighth-spacing lattice with one layer of its face neighbours' lattices around
+// it: eighth steps -1 .. 9 along each axis from the cell's lowest corner, kHaloSide^3 samples at
+// halo_index(i, j, k). Steps 0 .. 8 are the cell's own; a step -1 or 9 along one axis (the others
+// in 0 .. 8) is the neighbour's across that face, its step 7 or 1; the rest is never read.
+constexpr int kHaloSide = 11;
+constexpr std::size_t halo_index(int i, int j, int k) {
+  return std::size_t(kHaloSide * kHaloSide * (i + 1) + kHaloSide * (j + 1) + (k + 1));
+}
+
 // The eighth cells of a refined cell (64 i + 8 j + k, (i, j, k) the eighth steps of a cell's
-// lowest corner) that refinement depth 3 refines, from the cell's eighth-spacing lattice
-// (`lattice`: 729 samples, 81 i + 9 j + k) and `spacing` (mesh units): along every lattice line,
-// each run of three neighbouring points is a RecordedMove two eighth steps long whose
-// half_spacing_error estimates the error of the eighth cells' Hermite pieces on its two edges;
-// above `limit` (N) every eighth cell that has either edge is flagged. A run with an unknown
-// sample flags nothing. `largest`: the largest estimate (N), when not null.
+// lowest corner) that refinement depth 3 refines, from the cell's eighth-spacing lattice and its
+// neighbours' (`lattice`: kHaloSide^3 samples, halo_index) and `spacing` (mesh units): along
+// every lattice line, each run of three neighbouring points (those crossing a face included) is
+// a RecordedMove two eighth steps long whose half_spacing_error estimates the error of the eighth
+// cells' Hermite pieces on its two edges; above `limit` (N) every eighth cell of this cell that
+// has either edge is flagged. A run with an unknown sample flags nothing (a neighbour without an
+// eighth-spacing lattice, or none). `largest`: the largest estimate (N), when not null.
 std::vector<int> flag_eighth_cells(const std::vector<LatticeSample>& lattice,
                                    const std::array<double, 3>& spacing, double limit,
                                    double* largest = nullptr);

@@ -53,19 +53,22 @@ TEST(RefineIndicator, LargeWhereTheForceTurns) {
 }
 
 // An eighth-spacing lattice of a cell of `h` sampling force f and its Jacobian J (p from the cell's
-// lowest corner), the samples at the x step `unknown_x` left unknown.
+// lowest corner), the samples at the x step `unknown_x` left unknown, with its face neighbours'
+// next points (halo_index) when `halo`.
 using Vector = std::array<double, 3>;
 using Jacobian = std::array<double, 9>;
 std::vector<LatticeSample> lattice_of(const Vector& h,
                                       const std::function<Vector(const Vector&)>& f,
                                       const std::function<Jacobian(const Vector&)>& J,
-                                      int unknown_x = -1) {
-  std::vector<LatticeSample> out(729);
-  for (int i = 0; i < 9; ++i)
-    for (int j = 0; j < 9; ++j)
-      for (int k = 0; k < 9; ++k) {
+                                      int unknown_x = -2, bool halo = false) {
+  std::vector<LatticeSample> out(std::size_t(kHaloSide * kHaloSide * kHaloSide));
+  for (int i = -1; i <= 9; ++i)
+    for (int j = -1; j <= 9; ++j)
+      for (int k = -1; k <= 9; ++k) {
+        const int outside = (i < 0 || i > 8) + (j < 0 || j > 8) + (k < 0 || k > 8);
+        if (outside > (halo ? 1 : 0)) continue;
         const Vector p = {i * h[0] / 8, j * h[1] / 8, k * h[2] / 8};
-        LatticeSample& s = out[std::size_t(81 * i + 9 * j + k)];
+        LatticeSample& s = out[halo_index(i, j, k)];
         s.force = f(p), s.stiffness = J(p), s.known = i != unknown_x;
       }
   return out;
@@ -101,6 +104,27 @@ TEST(RefineIndicator, FlagsTheEighthCellsAroundAKink) {
   for (const int e : flagged) EXPECT_TRUE(e / 64 >= 1 && e / 64 <= 3) << e;
   // Every run that straddles the kink has a point at x step 2.
   EXPECT_TRUE(flag_eighth_cells(lattice_of(h, force, jacobian, 2), h, 1e-4).empty());
+}
+
+// A kink across x = 8.4 eighth steps, just past the cell's upper face, lies in the neighbour's
+// first eighth cells: no run inside the cell straddles it, but the run (7, 8, 9) crossing the
+// face does, and flags the cell's eighth cells on the edge (7, 8): x step 7, all across y and z.
+// So does a kink just before the lower face (x = -0.4 steps) for the edge (0, 1). Without the
+// neighbours' points nothing is flagged.
+TEST(RefineIndicator, FlagsTheEighthCellsBesideAKinkAcrossAFace) {
+  const Vector h = {0.4, 0.5, 0.6};
+  for (const double steps : {8.4, -0.4}) {
+    const double x0 = steps * h[0] / 8;
+    const auto force = [&](const Vector& p) { return Vector{0.0, std::max(0.0, p[0] - x0), 0.0}; };
+    const auto jacobian = [&](const Vector& p) {
+      return Jacobian{0, 0, 0, p[0] > x0 ? 1.0 : 0.0, 0, 0, 0, 0, 0};
+    };
+    EXPECT_TRUE(flag_eighth_cells(lattice_of(h, force, jacobian), h, 1e-4).empty()) << steps;
+    const std::vector<int> flagged =
+        flag_eighth_cells(lattice_of(h, force, jacobian, -2, true), h, 1e-4);
+    ASSERT_EQ(flagged.size(), 64u) << steps;
+    for (const int e : flagged) EXPECT_EQ(e / 64, steps > 0 ? 7 : 0) << e;
+  }
 }
 
 }  // namespace
