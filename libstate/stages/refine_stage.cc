@@ -168,30 +168,23 @@ class Refiner {
       }
       if (!complete) continue;
       cell.origin = position(c0);
-      // The 19 moves inside the cell: from each corner along each direction with offsets >= 0
-      // that stays in the cell, when it reached the cell's corner and recorded its midpoint.
-      for (int c = 0; c < 8; ++c)
-        for (int d = 1; d < 8; ++d) {
-          const auto o = corner_offset(c), e = corner_offset(d);
-          if ((o[0] && e[0]) || (o[1] && e[1]) || (o[2] && e[2])) continue;
-          const Configuration* from = cell.corner[c];
-          const Configuration* to = cell.corner[c | d];
-          const Transition* t = transition(from->id, e);
-          if (!t || t->target != to->id || !t->midpoint_force || !t->midpoint_stiffness) continue;
-          const Eigen::Vector3d v(e[0] * h.x(), e[1] * h.y(), e[2] * h.z());
-          RecordedMove move;
-          const std::array<double, 9>* k[3] = {&from->stiffness, &*t->midpoint_stiffness,
-                                               &to->stiffness};
-          move.force[0] = from->force, move.force[1] = *t->midpoint_force,
-          move.force[2] = to->force;
-          for (int n = 0; n < 3; ++n)
-            for (int r = 0; r < 3; ++r)
-              move.slope[n][r] =
-                  (*k[n])[3 * r] * v.x() + (*k[n])[3 * r + 1] * v.y() + (*k[n])[3 * r + 2] * v.z();
-          cell.error = std::max(cell.error, half_spacing_error(move));
-          for (const auto& f : move.force)
-            cell.scale = std::max(cell.scale, std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
-        }
+      for_each_recorded_move(cell, [&](int c, int d, const Transition& t) {
+        const Configuration* from = cell.corner[c];
+        const Configuration* to = cell.corner[c | d];
+        const auto e = corner_offset(d);
+        const Eigen::Vector3d v(e[0] * h.x(), e[1] * h.y(), e[2] * h.z());
+        RecordedMove move;
+        const std::array<double, 9>* k[3] = {&from->stiffness, &*t.midpoint_stiffness,
+                                             &to->stiffness};
+        move.force[0] = from->force, move.force[1] = *t.midpoint_force, move.force[2] = to->force;
+        for (int n = 0; n < 3; ++n)
+          for (int r = 0; r < 3; ++r)
+            move.slope[n][r] =
+                (*k[n])[3 * r] * v.x() + (*k[n])[3 * r + 1] * v.y() + (*k[n])[3 * r + 2] * v.z();
+        cell.error = std::max(cell.error, half_spacing_error(move));
+        for (const auto& f : move.force)
+          cell.scale = std::max(cell.scale, std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
+      });
       out.push_back(cell);
     }
     return out;
@@ -210,17 +203,12 @@ class Refiner {
     for (int c = 0; c < 8; ++c) {
       const auto o = corner_offset(c);
       put(8 * o[0], 8 * o[1], 8 * o[2], cell.corner[c]->force, cell.corner[c]->stiffness);
-      for (int d = 1; d < 8; ++d) {
-        const auto e = corner_offset(d);
-        if ((o[0] && e[0]) || (o[1] && e[1]) || (o[2] && e[2])) continue;
-        const Transition* t = transition(cell.corner[c]->id, e);
-        if (!t || t->target != cell.corner[c | d]->id || !t->midpoint_force ||
-            !t->midpoint_stiffness)
-          continue;
-        put(8 * o[0] + 4 * e[0], 8 * o[1] + 4 * e[1], 8 * o[2] + 4 * e[2], *t->midpoint_force,
-            *t->midpoint_stiffness);
-      }
     }
+    for_each_recorded_move(cell, [&](int c, int d, const Transition& t) {
+      const auto o = corner_offset(c), e = corner_offset(d);
+      put(8 * o[0] + 4 * e[0], 8 * o[1] + 4 * e[1], 8 * o[2] + 4 * e[2], *t.midpoint_force,
+          *t.midpoint_stiffness);
+    });
     for (const RefinementPoint* r : rows) {
       if (!r->reached) continue;
       if (r->point < kEighthFirstPoint) {
@@ -289,6 +277,22 @@ class Refiner {
   }
 
  private:
+  // Calls fn(c, d, t) for each of the 19 moves inside `cell` that reached the cell's corner and
+  // recorded its midpoint: from corner c along direction d (offsets >= 0, staying in the cell) to
+  // corner c | d, by transition t.
+  template <class Fn>
+  void for_each_recorded_move(const Cell& cell, Fn&& fn) const {
+    for (int c = 0; c < 8; ++c)
+      for (int d = 1; d < 8; ++d) {
+        const auto o = corner_offset(c), e = corner_offset(d);
+        if ((o[0] && e[0]) || (o[1] && e[1]) || (o[2] && e[2])) continue;
+        const Transition* t = transition(cell.corner[c]->id, e);
+        if (!t || t->target != cell.corner[c | d]->id || !t->midpoint_force ||
+            !t->midpoint_stiffness)
+          continue;
+        fn(c, d, *t);
+      }
+  }
   const Transition* transition(ConfigId source, const std::array<int, 3>& o) const {
     const auto it = transitions_.find({source, Direction::from_offset(o[0], o[1], o[2]).index()});
     return it == transitions_.end() ? nullptr : &it->second;
