@@ -109,35 +109,6 @@ bool across_upper_face(const Cell& lower, const Cell& upper, int a) {
   return true;
 }
 
-// A cell's eighth-spacing lattice (`own`, 729 samples, 81 i + 9 j + k) with its face neighbours'
-// next points (`neighbour[2 a]`: the lattice across the lower face along a, `[2 a + 1]`: the
-// upper; null where there is none) as flag_eighth_cells reads it (halo_index).
-std::vector<LatticeSample> with_halo(
-    const std::vector<LatticeSample>& own,
-    const std::array<const std::vector<LatticeSample>*, 6>& neighbour) {
-  std::vector<LatticeSample> out(std::size_t(kHaloSide * kHaloSide * kHaloSide));
-  auto own_at = [](const std::vector<LatticeSample>& l, const int(&p)[3]) -> const LatticeSample& {
-    return l[std::size_t(81 * p[0] + 9 * p[1] + p[2])];
-  };
-  for (int i = 0; i < 9; ++i)
-    for (int j = 0; j < 9; ++j)
-      for (int k = 0; k < 9; ++k) out[halo_index(i, j, k)] = own_at(own, {i, j, k});
-  for (int a = 0; a < 3; ++a)
-    for (int side = 0; side < 2; ++side) {
-      const std::vector<LatticeSample>* other = neighbour[std::size_t(2 * a + side)];
-      if (!other) continue;
-      const int b = (a + 1) % 3, c = (a + 2) % 3;
-      for (int u = 0; u < 9; ++u)
-        for (int v = 0; v < 9; ++v) {
-          int here[3], there[3];
-          here[a] = side ? 9 : -1, there[a] = side ? 1 : 7;
-          here[b] = there[b] = u, here[c] = there[c] = v;
-          out[halo_index(here[0], here[1], here[2])] = own_at(*other, there);
-        }
-    }
-  return out;
-}
-
 class Refiner {
  public:
   Refiner(StageContext& ctx, int threads)
@@ -457,7 +428,7 @@ RefineReport run_refine(const RefineOptions& options) {
       const Cell& cell = *deep_cells[n];
       const std::vector<const RefinementPoint*>& mine = rows_of[cell.corner[0]->id];
       const std::vector<int> cells =
-          flag_eighth_cells(with_halo(lattices[n], neighbours[n]), h,
+          flag_eighth_cells(lattice_with_halo(lattices[n], neighbours[n]), h,
                             kSixteenthToleranceFactor * report.tolerance * cell.scale);
       report.eighth_flagged += static_cast<long long>(cells.size());
       std::set<int> have;

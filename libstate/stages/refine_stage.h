@@ -22,9 +22,10 @@ constexpr double kDefaultRefineTolerance = 1e-3;
 // 0.15 to 0.25 of the error a force ramp much narrower than an eighth cell causes (the quintic
 // through a run of three points bends less than the cubic pieces miss), so 5 x 10^-3 catches the
 // ramps that cost more than about 2 to 3 % of the force. Measured on the liver touched at h = r
-// (docs/contact.md, "Refined contact cells"): of its 43 cells' 22 016 eighth cells 9 630 are
-// above 10^-3, 5 095 above 5 x 10^-3 and 2 145 above 10^-2, each about 9 solves; the certificate's
-// worst Hermite error 2.59 % at 10^-2, 1.34 % at 5 x 10^-3.
+// (docs/contact.md, "Refined contact cells"): of its 43 cells' 22 016 eighth cells 5 095 are above
+// 5 x 10^-3 and 2 145 above 10^-2 (runs across faces included; inside cells only, 9 630 were above
+// 10^-3), each about 10 solves; the certificate's worst Hermite error 2.59 % at 10^-2, 1.34 % at
+// 5 x 10^-3.
 constexpr int kSixteenthToleranceFactor = 5;
 
 // The default refinement depth (grid.refine_depth overrides it): for a contact sphere of
@@ -79,13 +80,13 @@ struct RefineReport : StageReport {
 // points of each that has none yet (depth 1) and, at depth 2, the 604 points of its eighth-spacing
 // lattice that it lacks; at depth 3, once every flagged cell has those, the sixteenth-spacing
 // points (up to 19 each) of the eighth cells whose estimate from the eighth-spacing lattice and
-// its face neighbours' (flag_eighth_cells) exceeds kSixteenthToleranceFactor times the tolerance
-// times the cell's largest force. One cell per catalogue transaction, so a run killed or stopped
-// (stop_requested) resumes with the next cell. Each point is solved from the nearest corner's
-// stored state. Records a "refine" stage run; "unchanged" when no flagged cell is left. With a
-// contact probe each point is a contact solve from that corner, as the expansion's moves are (the
-// cells clear of the body have no force and are never flagged). Throws InputError if the directory
-// is not expanded.
+// its flagged face neighbours' (flag_eighth_cells) exceeds kSixteenthToleranceFactor times the
+// tolerance times the cell's largest force. One cell per catalogue transaction, so a run killed or
+// stopped (stop_requested) resumes with the next cell. Each point is solved from the nearest
+// corner's stored state. Records a "refine" stage run; "unchanged" when no flagged cell is left.
+// With a contact probe each point is a contact solve from that corner, as the expansion's moves are
+// (the cells clear of the body have no force and are never flagged). Throws InputError if the
+// directory is not expanded.
 RefineReport run_refine(const RefineOptions& options);
 
 }  // namespace hapstate

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace hapstate {
 namespace {
@@ -46,9 +48,38 @@ double half_spacing_error(const RecordedMove& move) {
   return std::isfinite(worst) ? worst : 0.0;
 }
 
+std::vector<LatticeSample> lattice_with_halo(
+    const std::vector<LatticeSample>& own,
+    const std::array<const std::vector<LatticeSample>*, 6>& neighbour) {
+  std::vector<LatticeSample> out(std::size_t(kHaloSide * kHaloSide * kHaloSide));
+  auto own_at = [](const std::vector<LatticeSample>& l, const int(&p)[3]) -> const LatticeSample& {
+    return l.at(std::size_t(81 * p[0] + 9 * p[1] + p[2]));
+  };
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      for (int k = 0; k < 9; ++k) out[halo_index(i, j, k)] = own_at(own, {i, j, k});
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const std::vector<LatticeSample>* other = neighbour[std::size_t(2 * a + side)];
+      if (!other) continue;
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      for (int u = 0; u < 9; ++u)
+        for (int v = 0; v < 9; ++v) {
+          int here[3], there[3];
+          here[a] = side ? 9 : -1, there[a] = side ? 1 : 7;
+          here[b] = there[b] = u, here[c] = there[c] = v;
+          out[halo_index(here[0], here[1], here[2])] = own_at(*other, there);
+        }
+    }
+  return out;
+}
+
 std::vector<int> flag_eighth_cells(const std::vector<LatticeSample>& lattice,
                                    const std::array<double, 3>& spacing, double limit,
                                    double* largest) {
+  if (lattice.size() != std::size_t(kHaloSide * kHaloSide * kHaloSide))
+    throw std::invalid_argument("flag_eighth_cells: the lattice has " +
+                                std::to_string(lattice.size()) + " samples, not 11^3");
   constexpr int n = 9;
   std::vector<bool> flagged(512, false);
   double worst = 0.0;

@@ -41,6 +41,15 @@ constexpr std::size_t halo_index(int i, int j, int k) {
   return std::size_t(kHaloSide * kHaloSide * (i + 1) + kHaloSide * (j + 1) + (k + 1));
 }
 
+// A cell's eighth-spacing lattice (`own`, 729 samples, 81 i + 9 j + k) with its face neighbours'
+// next points (`neighbour[2 a]`: the lattice across the lower face along axis a (0: x), whose step
+// 7 along a is our step -1; `[2 a + 1]`: the one across the upper face, whose step 1 is our step
+// 9; null where there is none) as flag_eighth_cells reads it (kHaloSide^3 samples, halo_index;
+// the halo's edges and corners unknown).
+std::vector<LatticeSample> lattice_with_halo(
+    const std::vector<LatticeSample>& own,
+    const std::array<const std::vector<LatticeSample>*, 6>& neighbour);
+
 // The eighth cells of a refined cell (64 i + 8 j + k, (i, j, k) the eighth steps of a cell's
 // lowest corner) that refinement depth 3 refines, from the cell's eighth-spacing lattice and its
 // neighbours' (`lattice`: kHaloSide^3 samples, halo_index) and `spacing` (mesh units): along
@@ -48,7 +57,8 @@ constexpr std::size_t halo_index(int i, int j, int k) {
 // a RecordedMove two eighth steps long whose half_spacing_error estimates the error of the eighth
 // cells' Hermite pieces on its two edges; above `limit` (N) every eighth cell of this cell that
 // has either edge is flagged. A run with an unknown sample flags nothing (a neighbour without an
-// eighth-spacing lattice, or none). `largest`: the largest estimate (N), when not null.
+// eighth-spacing lattice, or none). `largest`: the largest estimate (N), when not null. Throws
+// std::invalid_argument unless `lattice` holds kHaloSide^3 samples.
 std::vector<int> flag_eighth_cells(const std::vector<LatticeSample>& lattice,
                                    const std::array<double, 3>& spacing, double limit,
                                    double* largest = nullptr);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <stdexcept>
 #include <vector>
 
 namespace hapstate {
@@ -125,6 +126,62 @@ TEST(RefineIndicator, FlagsTheEighthCellsBesideAKinkAcrossAFace) {
     ASSERT_EQ(flagged.size(), 64u) << steps;
     for (const int e : flagged) EXPECT_EQ(e / 64, steps > 0 ? 7 : 0) << e;
   }
+}
+
+// The halo a refined cell's neighbours give it: across each face the neighbour's next point (the
+// upper neighbour's step 1 at step 9, the lower one's step 7 at step -1), the cell's own points
+// inside, nothing at the halo's edges and corners or where a neighbour is missing; a lattice of
+// another size is refused.
+TEST(RefineIndicator, LatticeWithHaloTakesTheNeighboursNextPoints) {
+  // A lattice whose sample at (i, j, k) carries its steps and `tag` in the force.
+  auto tagged = [](double tag) {
+    std::vector<LatticeSample> out(729);
+    for (int i = 0; i < 9; ++i)
+      for (int j = 0; j < 9; ++j)
+        for (int k = 0; k < 9; ++k) {
+          LatticeSample& s = out[std::size_t(81 * i + 9 * j + k)];
+          s.force = {tag + i, tag + j, tag + k};
+          s.known = true;
+        }
+    return out;
+  };
+  const std::vector<LatticeSample> own = tagged(0);
+  std::vector<std::vector<LatticeSample>> others;
+  for (int n = 0; n < 6; ++n) others.push_back(tagged(100.0 * (n + 1)));
+  std::array<const std::vector<LatticeSample>*, 6> neighbour{};
+  for (int n = 0; n < 6; ++n) neighbour[std::size_t(n)] = &others[std::size_t(n)];
+  const std::vector<LatticeSample> halo = lattice_with_halo(own, neighbour);
+  ASSERT_EQ(halo.size(), std::size_t(kHaloSide * kHaloSide * kHaloSide));
+  int known = 0;
+  for (int i = -1; i <= 9; ++i)
+    for (int j = -1; j <= 9; ++j)
+      for (int k = -1; k <= 9; ++k) {
+        const LatticeSample& s = halo[halo_index(i, j, k)];
+        known += s.known;
+        const int p[3] = {i, j, k};
+        int outside = -1, count = 0;
+        for (int a = 0; a < 3; ++a)
+          if (p[a] < 0 || p[a] > 8) outside = a, ++count;
+        if (count != 1) {
+          EXPECT_EQ(s.known, count == 0) << i << " " << j << " " << k;
+          if (count == 0)
+            EXPECT_EQ(s.force, (std::array<double, 3>{double(i), double(j), double(k)}));
+          continue;
+        }
+        const int side = p[outside] > 8 ? 1 : 0;
+        const double tag = 100.0 * (2 * outside + side + 1);
+        int q[3] = {i, j, k};
+        q[outside] = side ? 1 : 7;
+        ASSERT_TRUE(s.known) << i << " " << j << " " << k;
+        EXPECT_EQ(s.force, (std::array<double, 3>{tag + q[0], tag + q[1], tag + q[2]}))
+            << i << " " << j << " " << k;
+      }
+  EXPECT_EQ(known, 729 + 6 * 81);
+  neighbour[3] = nullptr;  // none across the upper face along y
+  const std::vector<LatticeSample> open = lattice_with_halo(own, neighbour);
+  for (int i = 0; i < 9; ++i) EXPECT_FALSE(open[halo_index(i, 9, 4)].known);
+  EXPECT_TRUE(open[halo_index(4, -1, 4)].known);
+  EXPECT_THROW(flag_eighth_cells(own, {0.1, 0.1, 0.1}, 1e-4), std::invalid_argument);
 }
 
 }  // namespace
