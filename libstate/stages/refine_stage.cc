@@ -389,7 +389,7 @@ RefineReport run_refine(const RefineOptions& options) {
   };
   std::sort(pending.begin(), pending.end(), by_scramble);
   // Depth 3, once every flagged cell has its eighth-spacing lattice: per cell, the sixteenth-
-  // spacing points of the eighth cells whose estimate from that lattice and its refined face
+  // spacing points of the eighth cells whose estimate from that lattice and its flagged face
   // neighbours' (flag_eighth_cells) exceeds kSixteenthToleranceFactor times the tolerance times the
   // cell's largest force, but those it has.
   bool counted_eighth = false;  // sixteenth_work has counted the eighth cells above the limit
