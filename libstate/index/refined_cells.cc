@@ -123,42 +123,68 @@ void constrain(const Cells& grid, playback::Content& c, const LatticeLevel& leve
   c.refined_cells[ints * k + level.slot + 1] = bits;
 }
 
-// The points of the faces cell k shares with a neighbour that has the same lattice: one value
-// for both (this cell's where it has one, else the neighbour's), so the force stays continuous
-// where one of the two solves failed, or (a sixteenth-spacing lattice) where only one of them
-// flagged the eighth cell beside the face. Returns whether a value changed: repeated until none
-// does, every point on an edge or at a corner holds the value of the lowest of its cells that
-// has one (values move toward higher cells, and from a higher one only into a NaN).
-bool share_faces(const Cells& grid, playback::Content& c, const LatticeLevel& level,
-                 std::int32_t k) {
+// One value for each point that several cells' lattices of `level` hold (`cells`, the cells that
+// have it, by file index ascending): points joined through shared faces form a group, and every
+// member takes the value of the first member that has one, the cells taken by their lowest
+// corner's grid position (i, then j, then k; then by file index). So the force stays continuous
+// where one of two cells' solves failed, or (a sixteenth-spacing lattice) where only one of them
+// flagged the eighth cell beside the face; a point on an edge or at a corner holds one value in
+// all of its up to 8 cells, even where two of them solved it to values that differ within the
+// solver's tolerance and the cell between them has no such lattice (an L of refined cells).
+void share_points(const Cells& grid, playback::Content& c, const LatticeLevel& level,
+                  const std::vector<std::int32_t>& cells) {
   const int n = level.n, last = n - 1;
-  const std::array<std::int32_t, 8> own = grid.corners(k);
-  bool copied = false;
-  for (int a = 0; a < 3; ++a) {
-    Offset d{};
-    d[a] = 1;
-    const std::int32_t other = grid.neighbour(own, d);
-    if (!has_level(c, level, other)) continue;
-    for (int u = 0; u < n; ++u)
-      for (int v = 0; v < n; ++v) {
-        int mine[3], theirs[3];
-        mine[a] = last, theirs[a] = 0;
-        mine[(a + 1) % 3] = theirs[(a + 1) % 3] = u;
-        mine[(a + 2) % 3] = theirs[(a + 2) % 3] = v;
-        double* x = level_point(c, level, k, mine[0], mine[1], mine[2]);
-        double* y = level_point(c, level, other, theirs[0], theirs[1], theirs[2]);
-        if (std::isfinite(x[0])) {
-          if (std::equal(x, x + 12, y)) continue;
-          std::copy_n(x, 12, y);
-        } else if (std::isfinite(y[0])) {
-          std::copy_n(y, 12, x);
-        } else {
-          continue;
+  const std::size_t per_cell = std::size_t(n) * n * n;
+  std::map<std::int32_t, std::size_t> position;  // file index -> its place in `cells`
+  for (std::size_t i = 0; i < cells.size(); ++i) position[cells[i]] = i;
+  std::vector<std::size_t> parent(per_cell * cells.size());
+  for (std::size_t e = 0; e < parent.size(); ++e) parent[e] = e;
+  auto root = [&](std::size_t e) {
+    while (parent[e] != e) e = parent[e] = parent[parent[e]];
+    return e;
+  };
+  auto entry = [&](std::size_t place, const int(&q)[3]) {
+    return per_cell * place + std::size_t(n) * (std::size_t(n) * q[0] + q[1]) + q[2];
+  };
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const std::array<std::int32_t, 8> own = grid.corners(cells[i]);
+    for (int a = 0; a < 3; ++a) {
+      Offset d{};
+      d[a] = 1;
+      const auto other = position.find(grid.neighbour(own, d));
+      if (other == position.end()) continue;
+      for (int u = 0; u < n; ++u)
+        for (int v = 0; v < n; ++v) {
+          int mine[3], theirs[3];
+          mine[a] = last, theirs[a] = 0;
+          mine[(a + 1) % 3] = theirs[(a + 1) % 3] = u;
+          mine[(a + 2) % 3] = theirs[(a + 2) % 3] = v;
+          parent[root(entry(i, mine))] = root(entry(other->second, theirs));
         }
-        copied = true;
-      }
+    }
   }
-  return copied;
+  // The cells in the order whose first value a group takes.
+  std::vector<std::size_t> order(cells.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return grid.base_of(cells[x]) < grid.base_of(cells[y]);
+  });
+  auto point = [&](std::size_t e) {
+    const std::size_t q = e % per_cell;
+    return level_point(c, level, cells[e / per_cell], int(q / (std::size_t(n) * n)),
+                       int(q / std::size_t(n) % std::size_t(n)), int(q % std::size_t(n)));
+  };
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> first(parent.size(), kNone);  // a group's root -> its value's entry
+  for (const std::size_t i : order)
+    for (std::size_t e = per_cell * i; e < per_cell * (i + 1); ++e) {
+      const std::size_t r = root(e);
+      if (first[r] == kNone && std::isfinite(point(e)[0])) first[r] = e;
+    }
+  for (std::size_t e = 0; e < parent.size(); ++e) {
+    const std::size_t from = first[root(e)];
+    if (from != kNone && from != e) std::copy_n(point(from), 12, point(e));
+  }
 }
 
 }  // namespace
@@ -220,13 +246,12 @@ void add_refined_cells(const std::vector<RefinementPoint>& rows,
   const std::map<std::int32_t, std::vector<const RefinementPoint*>>* cells[3] = {&quarter, &eighth,
                                                                                  &sixteenth};
   for (int l = 0; l < 3; ++l) {
-    for (const auto& entry : *cells[l]) constrain(grid, c, levels[l], entry.first);
-    // A point on an edge or at a corner is shared by up to 8 cells, each pair through a face:
-    // repeat until no value moves (at most 3 passes carry a value across a corner).
-    for (bool copied = true; copied;) {
-      copied = false;
-      for (const auto& entry : *cells[l]) copied |= share_faces(grid, c, levels[l], entry.first);
+    std::vector<std::int32_t> with_level;
+    for (const auto& entry : *cells[l]) {
+      constrain(grid, c, levels[l], entry.first);
+      with_level.push_back(entry.first);
     }
+    share_points(grid, c, levels[l], with_level);
   }
 }
 

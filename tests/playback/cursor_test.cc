@@ -614,6 +614,30 @@ TEST_F(Cursor, RefinedCellsPassThroughTheirPointsAndStayContinuous) {
   std::printf("[ info ] largest jump across a face, L of refined cells, trilinear: %.3g N\n",
               l_trilinear_jump);
   EXPECT_LT(l_trilinear_jump, 1e-7);
+  // The L again with each cell's solves 1e-6 N apart, as two solves of one point are within the
+  // solver's tolerance: the two arms solved the points of the edge they share with the corner
+  // cell (0, 0, 0), and the cell between the arms is not refined. The index gives each point one
+  // value (the lowest cell's; it once copied the arms' values into the corner cell in turn
+  // without end) and the force stays continuous.
+  playback::Content apart = test_util::synthetic_content(field, h);
+  test_util::add_midpoint_forces(&apart, field, true);
+  test_util::add_refined_cells(&apart, test_util::Perturbed<Field>{field},
+                               {{0, 0, 0}, {-1, 0, 0}, {0, -1, 0}}, {}, {}, {}, 1e-6);
+  const std::int32_t corner_cell = apart.checkpoints[2 * 62];  // the grid point (0, 0, 0)
+  const double* corner_points =
+      &apart.refined_points[12 * playback::kRefinedPoints *
+                            apart.refined_cells[playback::kRefinedCellInts * corner_cell]];
+  for (int l = 1; l < 5; l += 2) {  // the edge x = y = 0: the arm (-1, 0, 0)'s value, 1e-6 up
+    const Eigen::Vector3d p = at(0, 0, 0.25 * l);
+    EXPECT_NEAR(corner_points[12 * l], test_util::Perturbed<Field>{field}.force(p)[0] + 1e-6, 1e-12)
+        << l;
+  }
+  PlaybackFile apart_file(write(std::move(apart), "l_apart.bin"));
+  HapticCursor apart_cursor(apart_file, Scheme::kHermite);
+  const double apart_jump = max_jump(apart_cursor);
+  std::printf("[ info ] largest jump across a face, L of cells whose solves differ: %.3g N\n",
+              apart_jump);
+  EXPECT_LT(apart_jump, 1e-7);
   // The stiffness inside a refined cell: central differences of the force.
   double worst_k = 0, scale = 0;
   for (int n = 0; n < 20; ++n) {

@@ -235,13 +235,16 @@ inline void add_midpoint_displacements(playback::Content* c, const Field& field)
 // and of the eighth-spacing one for those in `deep` (refinement depth 2), and of the sixteenth-
 // spacing one in the eighth cells (64 i + 8 j + k) listed for a base in `sixteenth` (depth 3),
 // through the index stage's add_refined_cells (which sets the constraint bits). `failed`: (base,
-// catalogue point index) pairs whose solve failed. Call after add_midpoint_forces with stiffness.
+// catalogue point index) pairs whose solve failed. `per_cell`: the n-th base's forces are
+// n x per_cell N above the field's in every component (two cells that solved a shared point to
+// values a solver's tolerance apart). Call after add_midpoint_forces with stiffness.
 template <class ForceField>
 void add_refined_cells(
     playback::Content* c, const ForceField& field, const std::vector<std::array<int, 3>>& bases,
     const std::vector<std::pair<std::array<int, 3>, int>>& failed = {},
     const std::vector<std::array<int, 3>>& deep = {},
-    const std::vector<std::pair<std::array<int, 3>, std::vector<int>>>& sixteenth = {}) {
+    const std::vector<std::pair<std::array<int, 3>, std::vector<int>>>& sixteenth = {},
+    double per_cell = 0) {
   const playback::Meta& m = c->meta;
   std::vector<RefinementPoint> rows;
   std::map<std::int64_t, std::int32_t> index_of;
@@ -275,7 +278,8 @@ void add_refined_cells(
       row.point = p;
       row.reached = std::find(failed.begin(), failed.end(), std::make_pair(b, p)) == failed.end();
       if (!row.reached) row.failure_reason = "failed on purpose (a test)";
-      const Eigen::Vector3d f = field.force(x);
+      const Eigen::Vector3d f =
+          field.force(x) + Eigen::Vector3d::Constant(per_cell * double(&b - bases.data()));
       const Eigen::Matrix3d jac = field.jacobian(x);
       for (int r = 0; r < 3; ++r) row.force[r] = f[r];
       for (int r = 0; r < 3; ++r)
