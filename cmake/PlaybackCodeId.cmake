@@ -1,9 +1,11 @@
 # Writes OUT, a C++ source defining hapstate::playback_code_id(): the first 64 bits of the
 # SHA-256 of the playback runtime's sources (FILES, a ;-list, hashed in the order given, each
-# with its path relative to ROOT). A certificate records the id of the code that measured it
-# (docs/certificate.md): another cursor may interpolate differently, so a certificate measured
-# by it is stale. The file is rewritten only when the id changes (no rebuild otherwise).
-set(all "")
+# with its path relative to ROOT) and of the file TOOLCHAIN (the compiler, its version, the
+# build's flags and Eigen's version; libstate/CMakeLists.txt writes it). A certificate records
+# the id of the code that measured it (docs/certificate.md): another cursor, or the same one
+# compiled otherwise, may interpolate differently, so a certificate measured by it is stale.
+# The file is rewritten only when the id changes (no rebuild otherwise).
+file(READ "${TOOLCHAIN}" all)
 foreach(file IN LISTS FILES)
   file(SHA256 "${file}" digest)
   file(RELATIVE_PATH name "${ROOT}" "${file}")
