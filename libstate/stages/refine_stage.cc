@@ -311,7 +311,7 @@ std::string contact_spacing_note(double radius, double spacing) {
       text, sizeof text,
       "note: the grid spacing is %.2g x probe.radius; contact playback was measured "
       "within Hermite 1.5 %% and trilinear 3 %% of the force up to %.1f x (refined to depth "
-      "3; at 1.7 x Hermite reached 5.1 %%): a smaller grid.spacing or a larger "
+      "3; at 1.7 x Hermite reached 4.5 %%): a smaller grid.spacing or a larger "
       "probe.radius is more accurate (docs/scene.md, \"Choosing the spacing for a contact probe\")",
       spacing / radius, kMeasuredSpacingRatio);
   return text;

@@ -40,7 +40,7 @@ int default_refine_depth(double radius, double spacing);
 
 // The largest spacing over the radius at which the default depth's contact playback was measured
 // within Hermite 1.5 % and trilinear 3 % of the force (on liverSemiFine at 1.0, depth 3: Hermite
-// 1.36 %, trilinear 1.61 %; at 1.7, depth 3: Hermite 5.13 %, trilinear 5.07 %: docs/scene.md,
+// 1.36 %, trilinear 1.61 %; at 1.7, depth 3: Hermite 4.47 %, trilinear 5.07 %: docs/scene.md,
 // "Choosing the spacing for a contact probe").
 constexpr double kMeasuredSpacingRatio = 1.0;
 // For a contact sphere of `radius` with the largest grid `spacing` beyond kMeasuredSpacingRatio
