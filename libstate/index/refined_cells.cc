@@ -166,8 +166,9 @@ void share_points(const Cells& grid, playback::Content& c, const LatticeLevel& l
   // The cells in the order whose first value a group takes.
   std::vector<std::size_t> order(cells.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-    return grid.base_of(cells[x]) < grid.base_of(cells[y]);
+  std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    const auto bx = grid.base_of(cells[x]), by = grid.base_of(cells[y]);
+    return bx != by ? bx < by : cells[x] < cells[y];
   });
   auto point = [&](std::size_t e) {
     const std::size_t q = e % per_cell;
