@@ -82,15 +82,6 @@ bool has_level(const playback::Content& c, const LatticeLevel& level, std::int32
   return k >= 0 && c.refined_cells[playback::kRefinedCellInts * k + level.slot] >= 0;
 }
 
-// Point (i, j, l) of cell k's lattice of `level` (which the cell has).
-double* level_point(playback::Content& c, const LatticeLevel& level, std::int32_t k, int i, int j,
-                    int l) {
-  const std::size_t n = std::size_t(level.n);
-  const std::size_t slot =
-      std::size_t(c.refined_cells[playback::kRefinedCellInts * k + level.slot]);
-  return level.points + 12 * (n * n * n * slot + n * n * i + n * j + l);
-}
-
 // Sets the constraint bits of `level` for cell k.
 void constrain(const Cells& grid, playback::Content& c, const LatticeLevel& level, std::int32_t k) {
   constexpr int ints = playback::kRefinedCellInts;
@@ -124,67 +115,64 @@ void constrain(const Cells& grid, playback::Content& c, const LatticeLevel& leve
 }
 
 // One value for each point that several cells' lattices of `level` hold (`cells`, the cells that
-// have it, by file index ascending): points joined through shared faces form a group, and every
-// member takes the value of the first member that has one, the cells taken by their lowest
+// have it, in the order of their slots): points joined through shared faces form a group, and
+// every member takes the value of the first member that has one, the cells taken by their lowest
 // corner's grid position (i, then j, then k; then by file index). So the force stays continuous
 // where one of two cells' solves failed, or (a sixteenth-spacing lattice) where only one of them
 // flagged the eighth cell beside the face; a point on an edge or at a corner holds one value in
 // all of its up to 8 cells, even where two of them solved it to values that differ within the
 // solver's tolerance and the cell between them has no such lattice (an L of refined cells).
+// A point is numbered as it lies in level.points: slot x n^3 + (i n + j) n + l.
 void share_points(const Cells& grid, playback::Content& c, const LatticeLevel& level,
                   const std::vector<std::int32_t>& cells) {
   const int n = level.n, last = n - 1;
   const std::size_t per_cell = std::size_t(n) * n * n;
-  std::map<std::int32_t, std::size_t> position;  // file index -> its place in `cells`
-  for (std::size_t i = 0; i < cells.size(); ++i) position[cells[i]] = i;
+  auto slot = [&](std::int32_t k) {
+    return std::size_t(c.refined_cells[playback::kRefinedCellInts * k + level.slot]);
+  };
   std::vector<std::size_t> parent(per_cell * cells.size());
   for (std::size_t e = 0; e < parent.size(); ++e) parent[e] = e;
   auto root = [&](std::size_t e) {
     while (parent[e] != e) e = parent[e] = parent[parent[e]];
     return e;
   };
-  auto entry = [&](std::size_t place, const int(&q)[3]) {
-    return per_cell * place + std::size_t(n) * (std::size_t(n) * q[0] + q[1]) + q[2];
+  auto point = [&](std::size_t cell_slot, const int(&q)[3]) {
+    return per_cell * cell_slot + std::size_t(n) * (std::size_t(n) * q[0] + q[1]) + q[2];
   };
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const std::array<std::int32_t, 8> own = grid.corners(cells[i]);
+  for (const std::int32_t k : cells) {
+    const std::array<std::int32_t, 8> own = grid.corners(k);
     for (int a = 0; a < 3; ++a) {
       Offset d{};
       d[a] = 1;
-      const auto other = position.find(grid.neighbour(own, d));
-      if (other == position.end()) continue;
+      const std::int32_t other = grid.neighbour(own, d);
+      if (!has_level(c, level, other)) continue;
       for (int u = 0; u < n; ++u)
         for (int v = 0; v < n; ++v) {
           int mine[3], theirs[3];
           mine[a] = last, theirs[a] = 0;
           mine[(a + 1) % 3] = theirs[(a + 1) % 3] = u;
           mine[(a + 2) % 3] = theirs[(a + 2) % 3] = v;
-          parent[root(entry(i, mine))] = root(entry(other->second, theirs));
+          parent[root(point(slot(k), mine))] = root(point(slot(other), theirs));
         }
     }
   }
   // The cells in the order whose first value a group takes.
-  std::vector<std::size_t> order(cells.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-    const auto bx = grid.base_of(cells[x]), by = grid.base_of(cells[y]);
-    return bx != by ? bx < by : cells[x] < cells[y];
+  std::vector<std::int32_t> order = cells;
+  std::sort(order.begin(), order.end(), [&](std::int32_t x, std::int32_t y) {
+    const auto bx = grid.base_of(x), by = grid.base_of(y);
+    return bx != by ? bx < by : x < y;
   });
-  auto point = [&](std::size_t e) {
-    const std::size_t q = e % per_cell;
-    return level_point(c, level, cells[e / per_cell], int(q / (std::size_t(n) * n)),
-                       int(q / std::size_t(n) % std::size_t(n)), int(q % std::size_t(n)));
-  };
+  double* values = level.points;  // 12 per point
   constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
-  std::vector<std::size_t> first(parent.size(), kNone);  // a group's root -> its value's entry
-  for (const std::size_t i : order)
-    for (std::size_t e = per_cell * i; e < per_cell * (i + 1); ++e) {
+  std::vector<std::size_t> first(parent.size(), kNone);  // a group's root -> its value's point
+  for (const std::int32_t k : order)
+    for (std::size_t e = per_cell * slot(k); e < per_cell * (slot(k) + 1); ++e) {
       const std::size_t r = root(e);
-      if (first[r] == kNone && std::isfinite(point(e)[0])) first[r] = e;
+      if (first[r] == kNone && std::isfinite(values[12 * e])) first[r] = e;
     }
   for (std::size_t e = 0; e < parent.size(); ++e) {
     const std::size_t from = first[root(e)];
-    if (from != kNone && from != e) std::copy_n(point(from), 12, point(e));
+    if (from != kNone && from != e) std::copy_n(values + 12 * from, 12, values + 12 * e);
   }
 }
 
