@@ -20,7 +20,7 @@ ALONG = [0.002, 0.0, 0.0]
 
 def test_sharp_vertex_has_two_equilibria():
     r = eq.from_both_sides(APEX, WORST, ALONG, steps=4)
-    assert r["converged"]
+    assert r["converged_minus"] and r["converged_plus"]
     # The two branches (docs/contact.md): x -2.0 and +7.3 mN, |f| about 23 mN. Tolerances: the
     # solver's (1e-8 relative) is far below; 0.3 mN allows another descent's round-off.
     assert abs(1e3 * r["force_minus"][0] - (-2.00)) < 0.3
@@ -41,27 +41,45 @@ def test_larger_sphere_has_one(tmp_path):
     scene = tmp_path / "apex-r006.toml"
     scene.write_text(text)
     r = eq.from_both_sides(scene, [-0.046030, 0.487550, 1.223728], ALONG, steps=4)
-    assert r["converged"]
+    assert r["converged_minus"] and r["converged_plus"]
     assert r["largest"] > 0.015  # pressed: about 23 mN
     assert r["difference"] < 1e-3 * r["largest"]
 
 
 def test_command_line_and_bad_input(tmp_path):
     env = {"PYTHONPATH": str(BUILD / "python")}
+    # Without --along: half the grid spacing (0.005) along x, y and z in turn.
     run = subprocess.run([sys.executable, "-m", "hapstate.equilibria", str(APEX), *map(str, WORST),
-                          "--along", "0.002", "0", "0", "--steps", "4"],
-                         capture_output=True, text=True, env=env)
+                          "--steps", "4"], capture_output=True, text=True, env=env)
     assert run.returncode == 0, run.stderr
-    assert "two equilibria" in run.stdout
+    assert "along (0.005, 0, 0):" in run.stdout and "along (0, 0, 0.005):" in run.stdout
+    assert "two equilibria" in run.stdout and "the force jumps near here" in run.stdout
     bad = tmp_path / "no-probe.toml"
     bad.write_text('[mesh]\nfile = "x.msh"\n')
     run = subprocess.run([sys.executable, "-m", "hapstate.equilibria", str(bad), "0", "0", "0",
                           "--along", "1", "0", "0"], capture_output=True, text=True, env=env)
     assert run.returncode == 2
     assert "no-probe.toml" in run.stderr and "[probe] point" in run.stderr
+    run = subprocess.run([sys.executable, "-m", "hapstate.equilibria", str(bad), "0", "0", "0"],
+                         capture_output=True, text=True, env=env)
+    assert run.returncode == 2 and "[grid]" in run.stderr
     try:
         eq.from_both_sides(APEX, WORST, [0.0, 0.0, 0.0])
     except hapstate.InputError as e:
         assert "along" in str(e)
     else:
         raise AssertionError("a zero approach was accepted")
+
+
+def test_verdicts():
+    f = [0.0, 0.0, 0.01]
+    base = {"started_minus": True, "started_plus": True, "converged_minus": True,
+            "converged_plus": True, "difference": 0.0, "largest": 0.01,
+            "force_minus": f, "force_plus": f}
+    assert eq._verdict(base, 0.01) == (0, "one equilibrium here (from these two sides)")
+    assert eq._verdict({**base, "difference": 2e-4}, 0.01)[1].startswith("two equilibria")
+    assert eq._verdict({**base, "difference": 5e-5}, 0.01)[1].startswith("one")
+    code, text = eq._verdict({**base, "converged_minus": False}, 0.01)
+    assert code == 0 and "from -along only" in text
+    assert eq._verdict({**base, "converged_minus": False, "converged_plus": False}, 0.01)[0] == 3
+    assert eq._verdict({**base, "started_plus": False}, 0.01)[0] == 3
