@@ -5,6 +5,7 @@ component is -2.0 mN reached from -x and +7.3 mN from +x (docs/contact.md, "Meas
 sphere of twice the radius pressed as deep the same line has one equilibrium (the two agree to
 0.0005 mN)."""
 
+import os
 import re
 import subprocess
 import sys
@@ -32,12 +33,14 @@ def test_larger_sphere_has_one(tmp_path):
     # The same vertex under r = 0.06, the rest point and the position moved out along the
     # vertex's normal so that the sphere is pressed as deep (0.0163 unit past the apex).
     text = APEX.read_text()
-    text = text.replace('"../../data/meshes/bunny.msh"', f'"{SOURCE / "data/meshes/bunny.msh"}"')
-    text = re.sub(r"^radius = 0\.03$", "radius = 0.06", text, flags=re.M)
-    text = re.sub(r"^point = .*$", "point = [-0.045349, 0.483142, 1.243642]", text, flags=re.M)
-    text = re.sub(r"^box = \[\[-0\.057856.*$",
-                  "box = [[-0.055349, 0.473142, 1.223642], [-0.035349, 0.493142, 1.243642]]",
-                  text, flags=re.M)
+    for pattern, replacement in (
+            (r'"\.\./\.\./data/meshes/bunny\.msh"', f'"{SOURCE / "data/meshes/bunny.msh"}"'),
+            (r"^radius = 0\.03$", "radius = 0.06"),
+            (r"^point = .*$", "point = [-0.045349, 0.483142, 1.243642]"),
+            (r"^box = \[\[-0\.057856.*$",
+             "box = [[-0.055349, 0.473142, 1.223642], [-0.035349, 0.493142, 1.243642]]")):
+        text, n = re.subn(pattern, replacement, text, flags=re.M)
+        assert n == 1, pattern  # the scene file changed: this test must follow it
     scene = tmp_path / "apex-r006.toml"
     scene.write_text(text)
     r = eq.from_both_sides(scene, [-0.046030, 0.487550, 1.223728], ALONG, steps=4)
@@ -47,7 +50,7 @@ def test_larger_sphere_has_one(tmp_path):
 
 
 def test_command_line_and_bad_input(tmp_path):
-    env = {"PYTHONPATH": str(BUILD / "python")}
+    env = {**os.environ, "PYTHONPATH": str(BUILD / "python")}
     # Without --along: half the grid spacing (0.005) along x, y and z in turn.
     run = subprocess.run([sys.executable, "-m", "hapstate.equilibria", str(APEX), *map(str, WORST),
                           "--steps", "4"], capture_output=True, text=True, env=env)
@@ -55,14 +58,19 @@ def test_command_line_and_bad_input(tmp_path):
     assert "along (0.005, 0, 0):" in run.stdout and "along (0, 0, 0.005):" in run.stdout
     assert "two equilibria" in run.stdout and "the force jumps near here" in run.stdout
     bad = tmp_path / "no-probe.toml"
-    bad.write_text('[mesh]\nfile = "x.msh"\n')
+    bad.write_text('[mesh]\nfile = "x.msh"\n[probe]\nmode = "contact"\n')
     run = subprocess.run([sys.executable, "-m", "hapstate.equilibria", str(bad), "0", "0", "0",
                           "--along", "1", "0", "0"], capture_output=True, text=True, env=env)
     assert run.returncode == 2
     assert "no-probe.toml" in run.stderr and "[probe] point" in run.stderr
+    bad.write_text('[probe]\nmode = "contact"\npoint = [0, 0, 0]\n')
     run = subprocess.run([sys.executable, "-m", "hapstate.equilibria", str(bad), "0", "0", "0"],
                          capture_output=True, text=True, env=env)
     assert run.returncode == 2 and "[grid]" in run.stderr
+    bad.write_text('[probe]\nmode = "grab"\npoint = [0, 0, 0]\n')
+    run = subprocess.run([sys.executable, "-m", "hapstate.equilibria", str(bad), "0", "0", "0",
+                          "--along", "1", "0", "0"], capture_output=True, text=True, env=env)
+    assert run.returncode == 2 and "[probe] mode" in run.stderr
     try:
         eq.from_both_sides(APEX, WORST, [0.0, 0.0, 0.0])
     except hapstate.InputError as e:
@@ -71,15 +79,39 @@ def test_command_line_and_bad_input(tmp_path):
         raise AssertionError("a zero approach was accepted")
 
 
+def test_half_spacing(tmp_path):
+    scene = tmp_path / "grid.toml"
+    scene.write_text("[grid]\nspacing = [0.2, 0.4, 0.6]\n")
+    assert list(eq._half_spacing(scene)) == [0.1, 0.2, 0.3]
+    scene.write_text("[grid]\nbox = [[0, 0, 0], [1, 2, 3]]\ndims = 5\n")
+    assert list(eq._half_spacing(scene)) == [0.125, 0.25, 0.375]
+    for bad in ("spacing = [0.2, 0.4]", "spacing = 0", 'spacing = "x"',
+                "box = [[0, 0, 0], [1, 2, 3]]\ndims = 1", "box = [1, 2]\ndims = 5"):
+        scene.write_text("[grid]\n" + bad + "\n")
+        try:
+            eq._half_spacing(scene)
+        except hapstate.InputError as e:
+            assert "grid.toml" in str(e) and "[grid]" in str(e), (bad, str(e))
+        else:
+            raise AssertionError(f"accepted {bad!r}")
+
+
 def test_verdicts():
     f = [0.0, 0.0, 0.01]
     base = {"started_minus": True, "started_plus": True, "converged_minus": True,
             "converged_plus": True, "difference": 0.0, "largest": 0.01,
             "force_minus": f, "force_plus": f}
-    assert eq._verdict(base, 0.01) == (0, "one equilibrium here (from these two sides)")
-    assert eq._verdict({**base, "difference": 2e-4}, 0.01)[1].startswith("two equilibria")
-    assert eq._verdict({**base, "difference": 5e-5}, 0.01)[1].startswith("one")
-    code, text = eq._verdict({**base, "converged_minus": False}, 0.01)
-    assert code == 0 and "from -along only" in text
-    assert eq._verdict({**base, "converged_minus": False, "converged_plus": False}, 0.01)[0] == 3
-    assert eq._verdict({**base, "started_plus": False}, 0.01)[0] == 3
+    assert eq._verdict(base, 0.01)[0] == eq.ONE
+    assert eq._verdict({**base, "difference": 2e-4}, 0.01)[0] == eq.TWO
+    assert eq._verdict({**base, "difference": 5e-5}, 0.01)[0] == eq.ONE
+    # A grazing contact: 1 % of 1 uN is below the absolute floor.
+    assert eq._verdict({**base, "difference": 5e-8, "largest": 1e-6}, 0.01)[0] == eq.ONE
+    kind, text = eq._verdict({**base, "converged_minus": False}, 0.01)
+    assert kind == eq.ENDS and "from -along only" in text
+    kind, text = eq._verdict({**base, "converged_plus": False}, 0.01)
+    assert kind == eq.ENDS and "from +along only" in text
+    assert eq._verdict({**base, "converged_minus": False, "converged_plus": False},
+                       0.01)[0] == eq.UNDECIDED
+    # A start not reached comes first: not taken for an equilibrium that ends.
+    assert eq._verdict({**base, "started_plus": False, "converged_plus": False},
+                       0.01)[0] == eq.UNDECIDED
