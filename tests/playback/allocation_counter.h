@@ -16,8 +16,9 @@ void* operator new(std::size_t n) {
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
-// The nothrow form too (std::stable_sort's temporary buffer uses it, and frees it with the
-// delete above: the sanitizers report a mismatch unless both come from malloc).
+// The nothrow form too: the standard library's temporary buffers (std::stable_sort's, for one)
+// come from it and go back through the delete above, so both must use malloc (the sanitizers
+// report the mismatch otherwise).
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
   if (g_counting.load(std::memory_order_relaxed)) ++g_allocations;
   return std::malloc(n ? n : 1);
