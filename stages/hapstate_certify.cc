@@ -40,6 +40,13 @@ int main(int argc, char** argv) {
                  "worker threads (default: the cores this process may use, here " +
                      std::to_string(options.threads) + ")")
       ->check(CLI::Range(1, 1024));
+  app.add_option("--check-above", options.check_above,
+                 "two-sided solves at each cursor's worst step whose force error is above this "
+                 "fraction of its path's largest force: the precise solver reaches it from half a "
+                 "spacing before and after on each axis, telling a jump of the force (two "
+                 "equilibria, which no spacing removes) from a steep ramp (default 0.01; inf: "
+                 "never)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("-q,--quiet", quiet, "no progress line and no report, only the one-line result");
   try {
     app.parse(argc, argv);

@@ -139,6 +139,11 @@ class Catalogue {
   // number of steps, or with a seed above `paths`, and the certificate row unless it is of the
   // same file, step count and number of paths. Returns the paths deleted.
   std::int64_t delete_stale_certificate(const ContentHash& playback_hash, int steps, int paths);
+  // The two-sided solves at worst steps: inserted a step at a time (its axes in one savepoint;
+  // throws if a (seed, step, axis) exists), read by (seed, step, axis). delete_stale_certificate
+  // deletes those of another playback file or of a path it deletes.
+  void insert_certificate_equilibria(const std::vector<CertificateEquilibria>& rows);
+  std::vector<CertificateEquilibria> read_all_certificate_equilibria();
   void write_certificate(const CertificateRun& run);  // inserts or replaces the one row
   void delete_certificate();                          // the one row, if any (not the paths)
   std::optional<CertificateRun> read_certificate();

@@ -1,5 +1,5 @@
-// Tables certificate_path, certificate_step and certificate: what hapstate-certify measured
-// (schema 7).
+// Tables certificate_path, certificate_step, certificate (schema 7) and certificate_equilibria
+// (schema 10): what hapstate-certify measured.
 #include "catalogue/catalogue_impl.hpp"
 #include "util/error.h"
 
@@ -30,6 +30,18 @@ constexpr const char* kDeleteStaleSteps =
     ")";
 constexpr const char* kDeleteStalePaths = "DELETE FROM certificate_path " HAPSTATE_STALE;
 #undef HAPSTATE_STALE
+constexpr const char* kDeleteStaleEquilibria =
+    "DELETE FROM certificate_equilibria WHERE playback_hash <> ?1 OR seed NOT IN (SELECT seed "
+    "FROM certificate_path WHERE steps = ?2 AND seed <= ?3)";
+#define HAPSTATE_EQUILIBRIA_COLUMNS                                                          \
+  "seed, step, axis, playback_hash, along, verdict, minus_fx, minus_fy, minus_fz, plus_fx, " \
+  "plus_fy, plus_fz, wall_ms"
+constexpr const char* kInsertEquilibria =
+    "INSERT INTO certificate_equilibria (" HAPSTATE_EQUILIBRIA_COLUMNS
+    ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
+constexpr const char* kReadEquilibria =
+    "SELECT " HAPSTATE_EQUILIBRIA_COLUMNS " FROM certificate_equilibria ORDER BY seed, step, axis";
+#undef HAPSTATE_EQUILIBRIA_COLUMNS
 constexpr const char* kDeleteStaleRun =
     "DELETE FROM certificate WHERE playback_hash <> ?1 OR steps <> ?2 OR paths <> ?3";
 constexpr const char* kWriteRun =
@@ -121,7 +133,8 @@ std::int64_t Catalogue::delete_stale_certificate(const ContentHash& playback_has
     s->step();
     stale = s->column_int(0);
   }
-  for (const char* sql : {kDeleteStaleSteps, kDeleteStalePaths, kDeleteStaleRun}) {
+  for (const char* sql :
+       {kDeleteStaleSteps, kDeleteStalePaths, kDeleteStaleEquilibria, kDeleteStaleRun}) {
     catalogue_detail::StatementUse s(impl_->statement(sql));
     s->bind(1, playback_hash.hex());
     s->bind(2, steps);
@@ -130,6 +143,53 @@ std::int64_t Catalogue::delete_stale_certificate(const ContentHash& playback_has
   }
   savepoint.release();
   return stale;
+}
+
+void Catalogue::insert_certificate_equilibria(const std::vector<CertificateEquilibria>& rows) {
+  catalogue_detail::Savepoint savepoint(*impl_->db);
+  for (const CertificateEquilibria& r : rows) {
+    catalogue_detail::StatementUse s(impl_->statement(kInsertEquilibria));
+    s->bind(1, r.seed);
+    s->bind(2, r.step);
+    s->bind(3, r.axis);
+    s->bind(4, r.playback_hash.hex());
+    s->bind(5, r.along);
+    s->bind(6, r.verdict);
+    for (int side = 0; side < 2; ++side) {
+      const auto& f = side == 0 ? r.force_minus : r.force_plus;
+      for (int a = 0; a < 3; ++a)
+        if (f)
+          s->bind(7 + 3 * side + a, (*f)[a]);
+        else
+          s->bind_null(7 + 3 * side + a);
+    }
+    s->bind(13, r.wall_ms);
+    s->run();
+  }
+  savepoint.release();
+}
+
+std::vector<CertificateEquilibria> Catalogue::read_all_certificate_equilibria() {
+  std::vector<CertificateEquilibria> out;
+  catalogue_detail::StatementUse s(impl_->statement(kReadEquilibria));
+  while (s->step()) {
+    CertificateEquilibria r;
+    r.seed = static_cast<int>(s->column_int(0));
+    r.step = static_cast<int>(s->column_int(1));
+    r.axis = static_cast<int>(s->column_int(2));
+    r.playback_hash = ContentHash::from_hex(s->column_text(3));
+    r.along = s->column_double(4);
+    r.verdict = s->column_text(5);
+    for (int side = 0; side < 2; ++side) {
+      if (s->is_null(6 + 3 * side)) continue;
+      std::array<double, 3> f{};
+      for (int a = 0; a < 3; ++a) f[a] = s->column_double(6 + 3 * side + a);
+      (side == 0 ? r.force_minus : r.force_plus) = f;
+    }
+    r.wall_ms = s->column_double(12);
+    out.push_back(std::move(r));
+  }
+  return out;
 }
 
 void Catalogue::write_certificate(const CertificateRun& run) {

@@ -212,6 +212,20 @@ struct CertificatePath {
   bool operator==(const CertificatePath&) const = default;
 };
 
+// Table certificate_equilibria: the two-sided solve at one of the certificate's worst steps
+// along one axis (eval/equilibria.h; docs/certificate.md, "When it is not good enough").
+struct CertificateEquilibria {
+  int seed = 0, step = 0;
+  int axis = 0;         // 0, 1, 2: the approach is along x, y, z
+  double along = 0;     // mesh units: from the position - along and + along on that axis
+  std::string verdict;  // "one", "two", "ends", "undecided"
+  std::optional<std::array<double, 3>> force_minus, force_plus;  // N; none: Newton failed
+  ContentHash playback_hash;
+  double wall_ms = 0.0;
+
+  bool operator==(const CertificateEquilibria&) const = default;
+};
+
 // Table certificate (one row): what a complete certify run measured besides the paths.
 struct CertificateRun {
   ContentHash playback_hash;

@@ -8,7 +8,9 @@
 #include "util/text.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 namespace hapstate {
@@ -31,6 +33,62 @@ constexpr const char* kSchemeTitles[2] = {"trilinear", "Hermite"};
 std::pair<double, double> worst_p99(std::vector<double> v) {
   const Distribution d = summarize(v);
   return {d.max, d.p99};
+}
+
+// |f- - f+| of a two-sided solve, N; NaN unless both approaches converged.
+double difference(const CertificateEquilibria& e) {
+  if (!e.force_minus || !e.force_plus) return std::numeric_limits<double>::quiet_NaN();
+  double s = 0;
+  for (int a = 0; a < 3; ++a) s += std::pow((*e.force_minus)[a] - (*e.force_plus)[a], 2);
+  return std::sqrt(s);
+}
+
+double magnitude(const std::optional<std::array<double, 3>>& f) {
+  return f ? std::sqrt((*f)[0] * (*f)[0] + (*f)[1] * (*f)[1] + (*f)[2] * (*f)[2]) : 0.0;
+}
+
+// The two-sided solves of one step, a line per axis and what they mean together; `whose`: the
+// cursors it is the worst step of ("" when not among c.worst).
+void equilibria_lines(std::ostringstream& t, const std::vector<CertificateEquilibria>& rows,
+                      const std::string& whose) {
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "  two-sided solves at seed %d step %d%s (the precise solver reaching it from half "
+                "a spacing before and after, on each axis):\n",
+                rows.front().seed, rows.front().step, whose.c_str());
+  t << line;
+  bool two = false, ends = false, undecided = false;
+  for (const CertificateEquilibria& e : rows) {
+    const char axis = "xyz"[e.axis];
+    if (e.verdict == "two") {
+      two = true;
+      const double d = difference(e);
+      const double larger = std::max(magnitude(e.force_minus), magnitude(e.force_plus));
+      std::snprintf(line, sizeof line,
+                    "    %c: two equilibria, the forces %s N apart (%s of the larger)\n", axis,
+                    sci(d).c_str(), percent(larger > 0 ? d / larger : 0.0).c_str());
+    } else if (e.verdict == "ends") {
+      ends = true;
+      std::snprintf(line, sizeof line,
+                    "    %c: Newton failed from %s only: likely an equilibrium ending here\n", axis,
+                    e.force_minus ? "+along" : "-along");
+    } else if (e.verdict == "one") {
+      std::snprintf(line, sizeof line, "    %c: one equilibrium\n", axis);
+    } else {
+      undecided = true;
+      std::snprintf(line, sizeof line, "    %c: not decided (an approach failed)\n", axis);
+    }
+    t << line;
+  }
+  if (two || ends)
+    t << "    => the force jumps here (the surface slides off the probe to one side or the "
+         "other): no grid spacing or refinement depth removes this error; a larger instrument "
+         "or a surface smooth at the instrument's scale may (docs/certificate.md, \"When it is "
+         "not good enough\")\n";
+  else if (!undecided)
+    t << "    => no jump here: the error is the interpolation's (a steep ramp or a kink of the "
+         "force), which a smaller grid spacing or a deeper refinement brings down "
+         "(docs/certificate.md, \"When it is not good enough\")\n";
 }
 
 // The certificate as hapstate-inspect summary --json's "certificate" (docs/inspect.md).
@@ -80,6 +138,20 @@ Json certificate_json(const Certificate& c) {
                      {"force_error", l.error},
                      {"force_error_newtons", l.error_n}});
   j["worst"] = worst;
+  Json sided = Json::array();
+  for (const CertificateEquilibria& e : c.equilibria) {
+    Json row = {{"seed", e.seed},
+                {"step", e.step},
+                {"axis", std::string(1, "xyz"[e.axis])},
+                {"along", e.along},
+                {"verdict", e.verdict}};
+    row["force_minus"] = e.force_minus ? Json(*e.force_minus) : Json(nullptr);
+    row["force_plus"] = e.force_plus ? Json(*e.force_plus) : Json(nullptr);
+    const double d = difference(e);
+    row["difference_newtons"] = std::isnan(d) ? Json(nullptr) : Json(d);
+    sided.push_back(row);
+  }
+  j["equilibria"] = sided;
   return j;
 }
 
@@ -93,6 +165,7 @@ ContentHash certified_hash(std::uint64_t playback_source_hash) {
 }
 
 Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
+                                  const std::vector<CertificateEquilibria>& equilibria,
                                   const std::optional<CertificateRun>& run,
                                   const std::optional<ContentHash>& current, bool contact,
                                   int worst_per_scheme) {
@@ -141,6 +214,8 @@ Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
   std::array<int, 2> taken{};
   for (const CertificateLocation& l : all)
     if (taken[l.scheme]++ < worst_per_scheme) c.worst.push_back(l);
+  for (const CertificateEquilibria& e : equilibria)
+    if (e.playback_hash == c.playback_hash) c.equilibria.push_back(e);
   if (run && run->playback_hash == c.playback_hash) {
     c.complete = true;
     c.stiffness_n_per_mm = run->stiffness / 1000.0;
@@ -225,12 +300,35 @@ CertificateText certificate_text(const Certificate& c) {
                   l.checkpoint[1], l.checkpoint[2]);
     t << line;
   }
+  for (std::size_t i = 0; i < c.equilibria.size();) {
+    std::size_t end = i;
+    while (end < c.equilibria.size() && c.equilibria[end].seed == c.equilibria[i].seed &&
+           c.equilibria[end].step == c.equilibria[i].step)
+      ++end;
+    std::string whose;
+    for (int s = 1; s >= 0; --s)
+      for (const CertificateLocation& l : c.worst)
+        if (l.scheme == s && l.error == c.schemes[s].worst && l.seed == c.equilibria[i].seed &&
+            l.step == c.equilibria[i].step) {
+          whose += std::string(whose.empty() ? ", the worst of " : " and ") + kSchemeTitles[s];
+          break;
+        }
+    equilibria_lines(t,
+                     {c.equilibria.begin() + static_cast<std::ptrdiff_t>(i),
+                      c.equilibria.begin() + static_cast<std::ptrdiff_t>(end)},
+                     whose);
+    i = end;
+  }
+  bool jumps = false;
+  for (const CertificateEquilibria& e : c.equilibria)
+    jumps = jumps || e.verdict == "two" || e.verdict == "ends";
   std::snprintf(line, sizeof line,
                 "certificate%s: worst force error Hermite %s, trilinear %s of the path's largest "
-                "force over %s (hapstate-inspect summary has the rest)\n",
+                "force over %s%s (hapstate-inspect summary has the rest)\n",
                 c.stale ? " (STALE)" : "", percent(c.schemes[1].worst).c_str(),
                 percent(c.schemes[0].worst).c_str(),
-                plural(c.paths, "random path", "random paths").c_str());
+                plural(c.paths, "random path", "random paths").c_str(),
+                jumps ? "; the force jumps at a worst step (two equilibria)" : "");
   return {j.dump(), t.str(), line};
 }
 

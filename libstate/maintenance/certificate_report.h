@@ -54,6 +54,9 @@ struct Certificate {
   std::int64_t queries = 0;
   double query_median_ns = 0, query_p999_ns = 0;
   std::vector<CertificateLocation> worst;  // the largest force errors, per scheme, largest first
+  // The two-sided solves hapstate-certify made at its worst steps (of this playback file), by
+  // seed, step, axis: whether the force jumps there (docs/certificate.md).
+  std::vector<CertificateEquilibria> equilibria;
 };
 
 // What a certificate is measured on: the playback file (its source hash) played back by this
@@ -63,6 +66,7 @@ ContentHash certified_hash(std::uint64_t playback_source_hash);
 // `current`: certified_hash() of the playback file the state has now (nullopt: none); `contact`:
 // its probe is a contact sphere (a step touches where its precise force is not zero).
 Certificate summarise_certificate(const std::vector<CertificatePath>& paths,
+                                  const std::vector<CertificateEquilibria>& equilibria,
                                   const std::optional<CertificateRun>& run,
                                   const std::optional<ContentHash>& current, bool contact,
                                   int worst_per_scheme = 5);

@@ -271,8 +271,9 @@ InspectOutput inspect_summary(const StateDir& dir) {
     }
   } catch (const std::exception&) {  // unreadable or older: no current file to match
   }
-  const CertificateText certificate = certificate_text(summarise_certificate(
-      cat.read_all_certificate_paths(), cat.read_certificate(), current, contact));
+  const CertificateText certificate = certificate_text(
+      summarise_certificate(cat.read_all_certificate_paths(), cat.read_all_certificate_equilibria(),
+                            cat.read_certificate(), current, contact));
   j["certificate"] = Json::parse(certificate.json);
   return {dump(j), summary_text(j) + certificate.text};
 }

@@ -1,5 +1,6 @@
 #include "stages/certify_stage.h"
 
+#include "eval/equilibria.h"
 #include "eval/evaluation.h"
 #include "eval/region_path.h"
 #include "playback/code_id.h"
@@ -205,6 +206,91 @@ void measure_paths(const PlaybackFile& file, const ContentHash& hash, StageConte
   progress.finish();
 }
 
+// The worst steps to give two-sided solves: each scheme's worst step (the Hermite cursor's
+// first) where its error is above options.check_above of its path's force, and not solved
+// already.
+std::vector<CertificateLocation> steps_to_check(StageContext& ctx, const ContentHash& hash,
+                                                const CertifyOptions& options) {
+  const Certificate c = summarise_certificate(ctx.catalogue.read_all_certificate_paths(),
+                                              ctx.catalogue.read_all_certificate_equilibria(),
+                                              std::nullopt, hash, false, 1);
+  std::vector<CertificateLocation> out;
+  for (const CertificateLocation& l : c.worst) {  // Hermite's first
+    if (!(l.error > options.check_above)) continue;
+    bool done = false;
+    for (const CertificateLocation& o : out) done = done || (o.seed == l.seed && o.step == l.step);
+    for (const CertificateEquilibria& e : c.equilibria)
+      done = done || (e.seed == l.seed && e.step == l.step);
+    if (!done) out.push_back(l);
+  }
+  return out;
+}
+
+// Two-sided solves at the worst steps (steps_to_check), the six approaches of a step on
+// options.threads threads, each step's three rows stored once solved (a stopped run resumes at
+// the steps not stored).
+void check_worst_steps(const PlaybackFile& file, const ContentHash& hash, StageContext& ctx,
+                       const CertifyOptions& options, CertifyReport& report) {
+  const std::vector<CertificateLocation> todo = steps_to_check(ctx, hash, options);
+  if (todo.empty()) return;
+  const auto h = file.grid_spacing();
+  const auto along = half_spacing_approaches(Eigen::Vector3d(h[0], h[1], h[2]));
+  Progress progress("hapstate-certify: two-sided solves at the worst steps",
+                    static_cast<long long>(6 * todo.size()), options.progress);
+  long long done = 0;
+  for (const CertificateLocation& l : todo) {
+    if (stop_requested()) return;
+    const auto t0 = SteadyClock::now();
+    const Eigen::Vector3d point(l.probe[0], l.probe[1], l.probe[2]);
+    std::array<Approach, 6> approaches;  // axis x -, x +, y -, ...
+    std::atomic<int> next{0};
+    std::mutex mutex;
+    std::exception_ptr error;
+    auto work = [&] {
+      try {
+        for (int i = next++; i < 6; i = next++) {
+          const Eigen::Vector3d start = point + (i % 2 == 0 ? -1.0 : 1.0) * along[i / 2];
+          approaches[i] = approach(ctx.problem, point, start, 10);
+          std::lock_guard<std::mutex> lock(mutex);
+          progress.update(++done, 0);
+        }
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+      }
+    };
+    std::vector<std::thread> pool;
+    try {
+      for (int w = 1; w < std::min(options.threads, 6); ++w) pool.emplace_back(work);
+    } catch (...) {  // a thread could not start: the others finish, then the error goes on
+      for (std::thread& t : pool) t.join();
+      throw;
+    }
+    work();
+    for (std::thread& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+    const double ms = std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
+    std::vector<CertificateEquilibria> rows;
+    for (int a = 0; a < 3; ++a) {
+      const TwoSided r = compare(point, along[a], approaches[2 * a], approaches[2 * a + 1]);
+      CertificateEquilibria e;
+      e.seed = l.seed;
+      e.step = l.step;
+      e.axis = a;
+      e.along = along[a][a];
+      e.verdict = equilibria_name(judge(r));
+      if (r.minus.converged) e.force_minus = {r.minus.force[0], r.minus.force[1], r.minus.force[2]};
+      if (r.plus.converged) e.force_plus = {r.plus.force[0], r.plus.force[1], r.plus.force[2]};
+      e.playback_hash = hash;
+      e.wall_ms = ms / 3;
+      rows.push_back(e);
+    }
+    ctx.catalogue.insert_certificate_equilibria(rows);
+    ++report.checked_now;
+  }
+  progress.finish();
+}
+
 // Once every path is stored: the certificate's run-wide numbers (the query's timing, the largest
 // stiffness) stored with it.
 void store_certificate_run(const PlaybackFile& file, StageContext& ctx, const ContentHash& hash,
@@ -230,6 +316,9 @@ void CertifyOptions::check() const {
   if (steps < 0 || steps == 1)
     throw InputError("--steps must be >= 2 (got " + std::to_string(steps) + ")");
   if (threads < 1) throw InputError("--threads must be >= 1 (got " + std::to_string(threads) + ")");
+  if (!(check_above >= 0))
+    throw InputError("--check-above must be a fraction >= 0 (got " + std::to_string(check_above) +
+                     ")");
 }
 
 CertifyReport run_certify(const CertifyOptions& options) {
@@ -271,8 +360,9 @@ CertifyReport run_certify(const CertifyOptions& options) {
   if (missing.empty() && previous && previous->playback_hash == hash &&
       previous->paths == report.paths && previous->steps == report.steps &&
       PlaybackFile(playback).certificate()) {
-    report.certificate =
-        summarise_certificate(ctx.catalogue.read_all_certificate_paths(), previous, hash, contact);
+    report.certificate = summarise_certificate(ctx.catalogue.read_all_certificate_paths(),
+                                               ctx.catalogue.read_all_certificate_equilibria(),
+                                               previous, hash, contact);
     return frame.unchanged(report, "unchanged: the certificate of " + playback.string() +
                                        " is up to date (" + plural(report.paths, "path", "paths") +
                                        ")");
@@ -286,17 +376,22 @@ CertifyReport run_certify(const CertifyOptions& options) {
       const PlaybackFile file(playback);
       measure_paths(file, hash, ctx, missing, options, report);
       const bool complete = report.solved_now == static_cast<int>(missing.size());
-      if (!complete) StageRunFrame::stop(report);  // only a stop request ends it early
+      if (complete) check_worst_steps(file, hash, ctx, options, report);
+      StageRunFrame::stop(report);  // only a stop request ends it early
       if (!report.stopped_by_signal) store_certificate_run(file, ctx, hash, report);
     }  // the file unmapped before it is rewritten
     report.certificate = summarise_certificate(ctx.catalogue.read_all_certificate_paths(),
+                                               ctx.catalogue.read_all_certificate_equilibria(),
                                                ctx.catalogue.read_certificate(), hash, contact);
     if (!report.stopped_by_signal)
       write_playback_certificate(playback, source_hash, report.certificate);
     char line[256];
-    std::snprintf(line, sizeof line, "%s: %d of %d paths measured now (%lld stale deleted)",
+    std::snprintf(line, sizeof line,
+                  "%s: %d of %d paths measured now (%lld stale deleted), %s given two-sided "
+                  "solves",
                   report.stopped_by_signal ? "interrupted" : "certified", report.solved_now,
-                  static_cast<int>(missing.size()), static_cast<long long>(report.stale_deleted));
+                  static_cast<int>(missing.size()), static_cast<long long>(report.stale_deleted),
+                  plural(report.checked_now, "worst step", "worst steps").c_str());
     report.message = line;
   });
   return report;

@@ -21,6 +21,11 @@ struct CertifyOptions {
   int paths = 0;    // 0: the scene's certify.paths (default 20)
   int steps = 0;    // 0: the scene's certify.steps (default 30)
   int threads = 1;  // worker threads, each with its own precise solver
+  // The two-sided solves (eval/equilibria.h): at the Hermite and the trilinear cursor's worst
+  // step, where its force error is above this fraction of its path's largest force, the precise
+  // solver reaches the position from half a spacing before and after on each axis, telling a
+  // jump of the force (two equilibria) from a steep ramp.
+  double check_above = 0.01;
   std::FILE* progress = stderr;
 
   // Throws InputError naming the first bad option (run_certify calls it first).
@@ -32,6 +37,7 @@ struct CertifyOptions {
 struct CertifyReport : StageReport {
   int paths = 0, steps = 0;  // asked for
   int solved_now = 0;        // paths measured by this run
+  int checked_now = 0;       // worst steps given two-sided solves by this run
   std::int64_t stale_deleted = 0;
   Certificate certificate;
 };

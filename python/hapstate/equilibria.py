@@ -11,149 +11,74 @@ two sides (where it ends, Newton has no nearby state to converge to).
 
     import hapstate.equilibria as eq
     r = eq.from_both_sides("scene.toml", [x, y, z], along=[0.002, 0, 0])
-    r["difference"]   # |f(-) - f(+)| in N
+    r["difference"], r["verdict"]   # |f(-) - f(+)| in N; "one", "two", "ends" or "undecided"
 
 From the shell (positions in mesh units, as `hapstate-inspect summary` prints them):
 
     PYTHONPATH=build/python /usr/bin/python3 -m hapstate.equilibria SCENE X Y Z [--along DX DY DZ]
 
 (without --along: half the grid spacing along x, then y, then z). A short approach can miss a
-range where both equilibria exist: both approaches then start on the same side of it.
+range where both equilibria exist: both approaches then start on the same side of it. The solves
+and the verdict are the C++ ones (hapstate._core.from_both_sides, eval/equilibria.h) that
+hapstate-certify runs at its worst steps.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
-import tomllib
 from typing import Any
 
 import numpy as np
 
-from ._core import InputError, solve
+from ._core import InputError
+from ._core import from_both_sides as _from_both_sides
+
+# The verdicts (hapstate._core.from_both_sides' "verdict").
+ONE, TWO, ENDS, UNDECIDED = "one", "two", "ends", "undecided"
 
 
-# Below this difference (N) two forces are the same whatever --tolerance says: the solver's
-# residual tolerance (1e-8 relative) leaves far less, and a grazing contact's forces are
-# round-off apart.
-_ABSOLUTE_FLOOR = 1e-7
-
-
-def _read_scene(scene: Any) -> dict[str, Any]:
-    try:
-        with open(scene, "rb") as f:
-            return tomllib.load(f)
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
-        raise InputError(f"{scene}: {e}") from None
-
-
-def _vector(scene: Any, where: str, value: Any) -> np.ndarray:
-    """`value` as 3 finite numbers (a number is taken for all three), else InputError."""
-    try:
-        v = np.broadcast_to(np.asarray(value, dtype=float), (3,)).copy()
-    except (ValueError, TypeError):
-        v = np.full(3, np.nan)
-    if not np.all(np.isfinite(v)):
-        raise InputError(f"{scene}: {where}: expected 3 finite numbers (got {value!r})")
-    return v
-
-
-def _rest_point(scene: Any) -> np.ndarray:
-    doc = _read_scene(scene)
-    probe = doc.get("probe", {})
-    if probe.get("mode") != "contact":
-        raise InputError(f"{scene}: [probe] mode: this check is for a contact probe (got "
-                         f"{probe.get('mode')!r})")
-    if "point" not in probe:
-        raise InputError(f"{scene}: [probe] point: expected 3 numbers (the probe's rest position)")
-    return _vector(scene, "[probe] point", probe["point"])
-
-
-def from_both_sides(scene: Any, point: Any, along: Any, steps: int = 10) -> dict[str, Any]:
+def from_both_sides(scene: Any, point: Any, along: Any, steps: int = 10,
+                    tolerance: float = 0.01) -> dict[str, Any]:
     """The precise force at `point` reached by way of `point - along` and of `point + along`.
 
-    For a contact probe. Each approach starts at rest, moves the probe to its start in `steps`
-    equal moves and slides it to `point` in `steps` more. Returns a dict: force_minus and
-    force_plus (N, the force felt at `point` by each; NaN where that approach's last solve failed,
-    which leaves the body where it was), started_minus and started_plus (whether that approach's
-    start was reached: every solve from rest converged), converged_minus and converged_plus
-    (whether every solve of that approach converged, at `point` too), difference
-    (|force_minus - force_plus|, N; NaN unless both converged) and largest (the larger |force|
-    of those that converged, N).
+    Each approach starts at rest, moves the probe to its start in `steps` equal moves and slides
+    it to `point` in `steps` more. Returns a dict: force_minus and force_plus (N, the force felt
+    at `point` by each; NaN where that approach's last solve failed, which leaves the body where
+    it was), started_minus and started_plus (whether that approach's start was reached: every
+    solve from rest converged), converged_minus and converged_plus (whether every solve of that
+    approach converged, at `point` too), difference (|force_minus - force_plus|, N; NaN unless
+    both converged), largest (the larger |force| of those that converged, N) and verdict (ONE,
+    TWO: the forces differ by more than tolerance x largest and 1e-7 N, ENDS: Newton failed on
+    one side only, UNDECIDED).
     """
-    p = np.asarray(point, dtype=float).reshape(3)
-    d = np.asarray(along, dtype=float).reshape(3)
-    if not np.all(np.isfinite(p)) or not np.all(np.isfinite(d)) or not np.any(d):
-        raise InputError("from_both_sides: point and along must be finite, along not zero")
-    if steps < 1:
-        raise InputError(f"from_both_sides: steps must be >= 1 (got {steps})")
-    rest = _rest_point(scene)
-    result: dict[str, Any] = {}
-    for side, start in (("minus", p - d), ("plus", p + d)):
-        path = [rest + (start - rest) * (k / steps) for k in range(1, steps + 1)]
-        path += [start + (p - start) * (k / steps) for k in range(1, steps + 1)]
-        r = solve(scene, np.array(path))
-        last_ok = bool(r["converged"][-1])
-        force = np.asarray(r["force"][-1], dtype=float)
-        result["force_" + side] = force if last_ok else np.full(3, np.nan)
-        result["started_" + side] = bool(np.all(r["converged"][:steps]))
-        result["converged_" + side] = bool(np.all(r["converged"]))
-    fm, fp = result["force_minus"], result["force_plus"]
-    result["difference"] = float(np.linalg.norm(fm - fp))
-    norms = [float(np.linalg.norm(f)) for f in (fm, fp) if np.all(np.isfinite(f))]
-    result["largest"] = max(norms) if norms else float("nan")
-    return result
+    return _from_both_sides(scene, point, along, steps, tolerance)[0]
 
 
-def _half_spacing(scene: Any) -> np.ndarray:
-    """Half the scene's grid spacing per axis: [grid] spacing, or box and dims."""
-    grid = _read_scene(scene).get("grid", {})
-    if "spacing" in grid:
-        h = _vector(scene, "[grid] spacing", grid["spacing"])
-    elif "dims" in grid and "box" in grid:
-        try:
-            box = np.asarray(grid["box"], dtype=float).reshape(2, 3)
-        except (ValueError, TypeError):
-            raise InputError(f"{scene}: [grid] box: expected [[x, y, z], [x, y, z]]") from None
-        dims = _vector(scene, "[grid] dims", grid["dims"])
-        if not np.all(dims >= 2):
-            raise InputError(f"{scene}: [grid] dims: expected at least 2 per axis (got {dims})")
-        h = (box[1] - box[0]) / (dims - 1)
-    else:
-        raise InputError(f"{scene}: [grid]: no spacing (nor box and dims): give --along")
-    if not np.all(np.isfinite(h)) or not np.all(h > 0):
-        raise InputError(f"{scene}: [grid]: the spacing is not positive on every axis: give --along")
-    return 0.5 * h
-
-
-# What _verdict found at one position from one pair of approaches.
-ONE, TWO, ENDS, UNDECIDED = "one equilibrium", "two equilibria", "an equilibrium ends", "undecided"
-
-
-def _verdict(r: dict[str, Any], tolerance: float) -> tuple[str, str]:
-    """What was found (ONE, TWO, ENDS or UNDECIDED) and the sentence that says it."""
-    if not (r["started_minus"] and r["started_plus"]):
-        return UNDECIDED, ("not decided: an approach did not reach its start from rest (try a "
-                           "shorter --along or more --steps)")
-    if r["converged_minus"] != r["converged_plus"]:
+def _sentence(r: dict[str, Any]) -> str:
+    """What a verdict says, in words."""
+    v = r["verdict"]
+    if v == TWO:
+        return "two equilibria: the force jumps near here"
+    if v == ENDS:
         failed = "-along" if not r["converged_minus"] else "+along"
-        return ENDS, (f"likely an equilibrium ending near here: Newton failed on the approach "
-                      f"from {failed} only, as it does where the state it follows ends (or a "
-                      "solve that needs more --steps)")
-    if not r["converged_minus"]:
-        return UNDECIDED, "not decided: neither approach converged"
-    if r["difference"] > max(tolerance * r["largest"], _ABSOLUTE_FLOOR):
-        return TWO, "two equilibria: the force jumps near here"
-    return ONE, "one equilibrium here (from these two sides)"
+        return (f"likely an equilibrium ending near here: Newton failed on the approach from "
+                f"{failed} only, as it does where the state it follows ends (or a solve that "
+                "needs more --steps)")
+    if v == ONE:
+        return "one equilibrium here (from these two sides)"
+    if not (r["started_minus"] and r["started_plus"]):
+        return ("not decided: an approach did not reach its start from rest (try a shorter "
+                "--along or more --steps)")
+    return "not decided: neither approach converged"
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
         prog="python3 -m hapstate.equilibria",
-        description="Solve a contact probe's position reached from either side "
-        "(docs/certificate.md, \"When it is not good enough\"): two different forces are two "
-        "equilibria, a jump no grid spacing or refinement depth removes. Exit 0: decided, 2: bad "
-        "input, 3: not decided.")
+        description="Solve a probe's position reached from either side (docs/certificate.md, "
+        "\"When it is not good enough\"): two different forces are two equilibria, a jump no "
+        "grid spacing or refinement depth removes. Exit 0: decided, 2: bad input, 3: not decided.")
     ap.add_argument("scene", help="scene file (TOML)")
     ap.add_argument("point", type=float, nargs=3, metavar=("X", "Y", "Z"),
                     help="probe position, mesh units")
@@ -167,27 +92,19 @@ def main(argv: list[str] | None = None) -> int:
                     help="a difference above this fraction of the larger force counts as two "
                     "equilibria (default 0.01)")
     args = ap.parse_args(argv)
-    if not (args.tolerance > 0 and np.isfinite(args.tolerance)):
-        print(f"error: --tolerance must be a number > 0 (got {args.tolerance})", file=sys.stderr)
-        return 2
     try:
-        if args.along is not None:
-            approaches = [np.asarray(args.along, dtype=float)]
-        else:
-            half = _half_spacing(args.scene)
-            approaches = [half[a] * np.eye(3)[a] for a in range(3)]
-        results = [(d, from_both_sides(args.scene, args.point, d, args.steps))
-                   for d in approaches]
+        results = _from_both_sides(args.scene, args.point, args.along, args.steps,
+                                   args.tolerance)
     except (InputError, OSError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     kinds = []
-    for d, r in results:
-        kind, text = _verdict(r, args.tolerance)
-        kinds.append(kind)
+    for r in results:
+        kinds.append(r["verdict"])
+        d = r["along"]
         print(f"along ({d[0]:g}, {d[1]:g}, {d[2]:g}):")
         for side in ("minus", "plus"):
-            f = 1e3 * r["force_" + side]
+            f = 1e3 * np.asarray(r["force_" + side])
             sign = "-" if side == "minus" else "+"
             if np.all(np.isfinite(f)):
                 print(f"  from {sign}along: ({f[0]:.4f}, {f[1]:.4f}, {f[2]:.4f}) mN")
@@ -196,7 +113,7 @@ def main(argv: list[str] | None = None) -> int:
         if np.isfinite(r["difference"]) and r["largest"] > 0:
             print(f"  difference {1e3 * r['difference']:.4f} mN "
                   f"({100 * r['difference'] / r['largest']:.2f} % of the larger force)")
-        print(f"  {text}")
+        print(f"  {_sentence(r)}")
     if TWO in kinds:
         print("the force jumps near here: no grid spacing or refinement depth removes that error "
               "(docs/certificate.md, \"When it is not good enough\")")

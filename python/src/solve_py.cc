@@ -1,8 +1,13 @@
-// solve(): the precise solver (hapstate/solver.h, SceneSolver) along a probe path, for Python.
+// solve(): the precise solver (hapstate/solver.h, SceneSolver) along a probe path, for Python;
+// from_both_sides(): a position reached from either side (eval/equilibria.h).
 #include "bindings.h"
 
+#include "eval/equilibria.h"
 #include "hapstate/error.h"
 #include "hapstate/solver.h"
+#include "scene/bind.h"
+#include "scene/grid_spec.h"
+#include "scene/scene.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -70,9 +75,74 @@ py::dict solve(const std::filesystem::path& scene, const Positions& path, bool s
   return out;
 }
 
+py::array_t<double> vector3(const Eigen::Vector3d& v) {
+  py::array_t<double> out(3);
+  std::copy_n(v.data(), 3, out.mutable_data());
+  return out;
+}
+
+Eigen::Vector3d position(const std::string& what, const py::object& value) {
+  const Positions a = py::cast<Positions>(value);
+  if (a.size() != 3) throw InputError(what + ": expected 3 numbers");
+  const Eigen::Vector3d v(a.data()[0], a.data()[1], a.data()[2]);
+  if (!v.allFinite()) throw InputError(what + ": expected 3 finite numbers");
+  return v;
+}
+
+py::list from_both_sides(const std::filesystem::path& scene, const py::object& point,
+                         const py::object& along, int steps, double tolerance) {
+  const Eigen::Vector3d p = position("point", point);
+  if (!(tolerance > 0 && std::isfinite(tolerance)))
+    throw InputError("tolerance: expected a number > 0 (got " + std::to_string(tolerance) + ")");
+  const Scene parsed = load_scene(scene);
+  std::vector<Eigen::Vector3d> approaches;
+  if (along.is_none()) {
+    const auto half = half_spacing_approaches(grid_spacing(parsed.grid));
+    approaches.assign(half.begin(), half.end());
+  } else {
+    approaches.push_back(position("along", along));
+  }
+  const Problem problem = build_problem(parsed);
+  std::vector<TwoSided> results;
+  {
+    py::gil_scoped_release release;
+    for (const Eigen::Vector3d& d : approaches)
+      results.push_back(from_both_sides(problem, p, d, steps));
+  }
+  py::list out;
+  for (const TwoSided& r : results) {
+    py::dict d;
+    d["along"] = vector3(r.along);
+    d["force_minus"] = vector3(r.minus.force);
+    d["force_plus"] = vector3(r.plus.force);
+    d["started_minus"] = r.minus.started;
+    d["started_plus"] = r.plus.started;
+    d["converged_minus"] = r.minus.converged;
+    d["converged_plus"] = r.plus.converged;
+    d["difference"] = r.difference;
+    d["largest"] = r.largest;
+    d["verdict"] = equilibria_name(judge(r, tolerance));
+    out.append(d);
+  }
+  return out;
+}
+
 }  // namespace
 
 void bind_solver(py::module_& m) {
+  m.def("from_both_sides", &from_both_sides, py::arg("scene"), py::arg("point"),
+        py::arg("along") = py::none(), py::arg("steps") = 10, py::arg("tolerance") = 0.01,
+        "The precise force at `point` (mesh units) reached from either side, as hapstate-certify "
+        "checks its worst steps: per approach the body starts at rest, the probe moves to point "
+        "- along (and, on a second solver, point + along) in `steps` moves and slides to point in "
+        "`steps` more. along=None: half the scene's grid spacing on x, y and z in turn. Returns a "
+        "list of dicts, one per approach: along, force_minus and force_plus (N; NaN where that "
+        "approach's last solve failed), started_minus/plus (every move to the start converged), "
+        "converged_minus/plus (every move converged), difference (|f- - f+|, N; NaN unless both "
+        "converged), largest (the larger |f| that converged, N) and verdict: 'one', 'two' (the "
+        "forces differ by more than tolerance x largest and 1e-7 N), 'ends' (Newton failed on "
+        "one side only) or 'undecided' (a start not reached, or neither converged). Raises "
+        "InputError naming the file for a bad scene or mesh, or for a bad point or along.");
   m.def("solve", &solve, py::arg("scene"), py::arg("path"), py::arg("stiffness") = false,
         "The precise non-linear solver along `path`: the body starts at rest and the probe moves "
         "through the (n, 3) positions (mesh units) in order. Returns a dict: force (n, 3) in N, "

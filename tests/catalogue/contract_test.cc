@@ -55,7 +55,7 @@ class CatalogueContract : public ::testing::TestWithParam<std::string> {
 
 TEST_P(CatalogueContract, FreshCatalogueIsEmptyAndCurrent) {
   EXPECT_EQ(cat().schema_version(), Catalogue::supported_schema_version());
-  EXPECT_EQ(Catalogue::supported_schema_version(), 9);
+  EXPECT_EQ(Catalogue::supported_schema_version(), 10);
   EXPECT_FALSE(cat().read_scene());
   EXPECT_EQ(cat().num_checkpoints(), 0);
   EXPECT_EQ(cat().num_configurations(), 0);

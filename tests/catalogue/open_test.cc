@@ -99,7 +99,7 @@ TEST(CatalogueOpen, CreateSetsWalApplicationIdAndVersion) {
   }
   EXPECT_EQ(raw_sql(file, "PRAGMA journal_mode"), "wal");
   EXPECT_EQ(raw_sql(file, "PRAGMA application_id"), std::to_string(0x48415053));
-  EXPECT_EQ(raw_sql(file, "PRAGMA user_version"), "9");
+  EXPECT_EQ(raw_sql(file, "PRAGMA user_version"), "10");
   EXPECT_EQ(raw_sql(file, "SELECT count(*) FROM configuration"), "1");
   EXPECT_EQ(raw_sql(file, "SELECT name FROM sqlite_schema WHERE name = 'configuration_frontier'"),
             "configuration_frontier");
@@ -135,7 +135,7 @@ TEST(CatalogueOpen, MissingFileIsNotCreatedUnlessAsked) {
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadOnly); }, "no catalogue here");
   EXPECT_FALSE(std::filesystem::exists(file));
   Catalogue cat(file, OpenMode::kMigrate);  // migration from nothing
-  EXPECT_EQ(cat.schema_version(), 9);
+  EXPECT_EQ(cat.schema_version(), 10);
 }
 
 TEST(CatalogueOpen, EmptyFileIsMigratedFromScratch) {
@@ -144,7 +144,7 @@ TEST(CatalogueOpen, EmptyFileIsMigratedFromScratch) {
   std::ofstream(file).close();
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); }, "empty catalogue");
   Catalogue cat(file, OpenMode::kCreate);
-  EXPECT_EQ(cat.schema_version(), 9);
+  EXPECT_EQ(cat.schema_version(), 10);
   EXPECT_EQ(cat.integrity_check(), "ok");
 }
 
@@ -155,11 +155,11 @@ TEST(CatalogueOpen, FutureSchemaVersionIsRefusedAndFileUnchanged) {
     Catalogue cat(file, OpenMode::kCreate);
     fill(cat);
   }
-  raw_sql(file, "PRAGMA user_version = 10");
+  raw_sql(file, "PRAGMA user_version = 11");
   ASSERT_FALSE(std::filesystem::exists(file.string() + "-wal"));  // checkpointed on close
   expect_refused_untouched(
       file,
-      file.string() + " has schema version 10, this hapstate supports up to 9: upgrade hapstate");
+      file.string() + " has schema version 11, this hapstate supports up to 10: upgrade hapstate");
 }
 
 TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {
@@ -169,7 +169,7 @@ TEST(CatalogueOpen, OlderSchemaVersionNeedsExplicitMigration) {
                     std::to_string(Catalogue::kApplicationId));
   const std::string before = file_bytes(file);
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
-                     "has schema version 0, this hapstate needs 9: run any writing stage on it");
+                     "has schema version 0, this hapstate needs 10: run any writing stage on it");
   expect_input_error([&] { Catalogue cat(file, OpenMode::kCreate); },
                      "run any writing stage on it");
   EXPECT_EQ(file_bytes(file), before);
@@ -289,9 +289,9 @@ TEST(CatalogueOpen, SchemaOneIsMigratedAndOldTransitionsCountNoFactorisations) {
       "INSERT INTO transition (source, direction, outcome, target, substeps, "
       "newton_iterations, final_residual, wall_ms) VALUES (1, 3, 1, NULL, 0, 0, 0, 0)");
   expect_input_error([&] { Catalogue cat(file, OpenMode::kReadWrite); },
-                     "has schema version 1, this hapstate needs 9");
+                     "has schema version 1, this hapstate needs 10");
   Catalogue cat(file, OpenMode::kMigrate);
-  EXPECT_EQ(cat.schema_version(), 9);
+  EXPECT_EQ(cat.schema_version(), 10);
   const auto t = cat.read_transition(ConfigId(1), Direction(3));
   ASSERT_TRUE(t.has_value());
   EXPECT_EQ(t->factorisations, 0);

@@ -68,7 +68,7 @@ class Inspect : public ::testing::Test {
 
 TEST_F(Inspect, SummaryJson) {
   const json j = inspect_json("summary");
-  EXPECT_EQ(j["schema_version"], 9);
+  EXPECT_EQ(j["schema_version"], 10);
   EXPECT_EQ(j["scene"]["mesh_nodes"], 181);
   ASSERT_EQ(j["stages"].size(), 3u);
   EXPECT_EQ(j["stages"][2]["stage"], "expand");
@@ -191,7 +191,7 @@ TEST_F(Inspect, SqlReads) {
   EXPECT_EQ(s["rows"], json::parse(R"([[{"blob":"0102ff"},null,2.5,"text"]])"));
   EXPECT_EQ(inspect("sql " + quote("SELECT x'0102ff' AS b, NULL AS n")).out,
             "b\tn\nx'0102ff'\tNULL\n");
-  EXPECT_EQ(inspect_json("sql " + quote("PRAGMA user_version"))["rows"], json::parse("[[9]]"));
+  EXPECT_EQ(inspect_json("sql " + quote("PRAGMA user_version"))["rows"], json::parse("[[10]]"));
   // Pragmas that only read, with an argument naming a table or index.
   const json columns = inspect_json("sql " + quote("PRAGMA table_info(configuration)"));
   EXPECT_EQ(columns["columns"][1], "name");
@@ -219,7 +219,7 @@ TEST_F(Inspect, SqlRefusesWrites) {
   Catalogue cat(catalogue, OpenMode::kReadOnly);
   EXPECT_EQ(cat.num_transitions(), 10);
   EXPECT_EQ(cat.num_checkpoints(), 4);
-  EXPECT_EQ(cat.schema_version(), 9);
+  EXPECT_EQ(cat.schema_version(), 10);
   EXPECT_EQ(cat.integrity_check(), "ok");
 }
 

@@ -48,6 +48,55 @@ TEST(CertificateReport, StaleNamesFileAndCode) {
             std::string::npos);
 }
 
+CertificateEquilibria sided(int axis, const char* verdict, double fx_plus) {
+  CertificateEquilibria e;
+  e.seed = 16;
+  e.step = 11;
+  e.axis = axis;
+  e.along = 0.005;
+  e.verdict = verdict;
+  e.force_minus = std::array<double, 3>{-2.0e-3, 0.0, 0.0234};
+  e.force_plus = std::array<double, 3>{fx_plus, 0.0, 0.0234};
+  return e;
+}
+
+// The two-sided solves at a worst step: a jump is named (in the report, its headline and the
+// JSON), a ramp is told apart from it.
+TEST(CertificateReport, TellsAJumpFromARamp) {
+  Certificate c = certificate(0.25, 0.23, 0.05);
+  c.equilibria = {sided(0, "two", 7.33e-3), sided(1, "one", -2.0e-3), sided(2, "one", -2.0e-3)};
+  CertificateLocation worst;
+  worst.scheme = 1;
+  worst.seed = 16;
+  worst.step = 11;
+  worst.error = 0.25;
+  c.worst = {worst};
+  CertificateText t = certificate_text(c);
+  EXPECT_NE(t.text.find("two-sided solves at seed 16 step 11, the worst of Hermite ("),
+            std::string::npos)
+      << t.text;
+  EXPECT_NE(t.text.find("x: two equilibria, the forces 9.330e-03 N apart"), std::string::npos)
+      << t.text;
+  EXPECT_NE(t.text.find("y: one equilibrium"), std::string::npos);
+  EXPECT_NE(t.text.find("the force jumps here"), std::string::npos);
+  EXPECT_NE(t.headline.find("the force jumps at a worst step"), std::string::npos);
+  EXPECT_NE(t.json.find("\"verdict\":\"two\""), std::string::npos) << t.json;
+  EXPECT_NE(t.json.find("\"difference_newtons\":0.00933"), std::string::npos) << t.json;
+
+  c.equilibria[0] = sided(0, "one", -2.0e-3);
+  t = certificate_text(c);
+  EXPECT_EQ(t.text.find("the force jumps"), std::string::npos);
+  EXPECT_NE(t.text.find("no jump here"), std::string::npos) << t.text;
+  EXPECT_EQ(t.headline.find("jumps"), std::string::npos);
+
+  c.equilibria[1].force_plus.reset();  // Newton failed from +along
+  c.equilibria[1].verdict = "ends";
+  t = certificate_text(c);
+  EXPECT_NE(t.text.find("y: Newton failed from +along only"), std::string::npos) << t.text;
+  EXPECT_NE(t.text.find("the force jumps here"), std::string::npos);
+  EXPECT_NE(t.json.find("\"force_plus\":null"), std::string::npos);
+}
+
 // What a certificate is measured on: the file's source hash and this build's playback code.
 TEST(CertificateReport, CertifiedHashDependsOnTheFileAndTheCode) {
   EXPECT_NE(certified_hash(1).value, 1u);

@@ -91,6 +91,44 @@ def test_stale_after_reindex_and_resumable(state, tmp_path):
     assert summary(work)["paths"] == 3 and hapstate.Playback(work).certificate["paths"] == 3
 
 
+def test_two_sided_solves_at_the_worst_steps(state, tmp_path):
+    """--check-above 0: the worst step of each cursor gets the two-sided solves (three axes, half
+    a spacing each way), stored with the certificate and shown by summary. The beam has one
+    equilibrium there: both approaches' forces equal the path's precise force at that step (the
+    same solver, another route: 1e-5 of the force covers the residual tolerance and the contact's
+    gap tolerance, 1e-6 of the radius, which left 2.4e-6 of the force). Resumable: a
+    second run finds them stored."""
+    work = tmp_path / "state"
+    shutil.copytree(state.dir, work)
+    subprocess.run([STAGES / "hapstate-index", "--state", work, "--nodes", "surface"],
+                   check=True, capture_output=True)
+    run = subprocess.run([STAGES / "hapstate-certify", "--state", work, "--paths", "3",
+                          "--check-above", "0"], check=True, capture_output=True, text=True)
+    assert "given two-sided solves" in run.stdout
+    assert "two-sided solves at seed" in run.stdout, run.stdout
+    c = summary(work)
+    rows = c["equilibria"]
+    worst = {(w["seed"], w["step"]) for w in c["worst"]
+             if w["force_error"] == c["force_error"][w["scheme"]]["worst"]}
+    assert {(r["seed"], r["step"]) for r in rows} == worst
+    assert len(rows) == 3 * len(worst)
+    cat = hapstate.Catalogue(work)
+    spacing = np.asarray(hapstate.Playback(work).grid_spacing)
+    for r in rows:
+        assert r["verdict"] == "one", r
+        assert r["along"] == 0.5 * spacing["xyz".index(r["axis"])]
+        exact = cat.query(f"SELECT force FROM certificate_step WHERE seed = {r['seed']} "
+                          f"AND step = {r['step']}")["force"][0]
+        for side in ("force_minus", "force_plus"):
+            assert abs(np.linalg.norm(r[side]) - exact) <= 1e-5 * exact + 1e-12, (r, exact)
+    run = subprocess.run([STAGES / "hapstate-certify", "--state", work, "--paths", "3",
+                          "--check-above", "0", "-q"], check=True, capture_output=True, text=True)
+    assert "unchanged" in run.stdout
+    r = subprocess.run([STAGES / "hapstate-certify", "--state", work, "--check-above", "-1"],
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and "--check-above" in r.stderr
+
+
 def test_bad_options_and_state(tmp_path):
     r = subprocess.run([STAGES / "hapstate-certify", "--state", tmp_path / "nowhere"],
                        capture_output=True, text=True)

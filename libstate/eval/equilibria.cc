@@ -1,0 +1,79 @@
+#include "eval/equilibria.h"
+
+#include "solver/path_solver.h"
+#include "util/error.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hapstate {
+
+Approach approach(const Problem& problem, const Eigen::Vector3d& point,
+                  const Eigen::Vector3d& start, int steps) {
+  if (!point.allFinite() || !start.allFinite())
+    throw InputError("two-sided solve: the position and the approach must be finite");
+  if (steps < 1)
+    throw InputError("two-sided solve: steps must be >= 1 (got " + std::to_string(steps) + ")");
+  PathSolver solver(problem);
+  const Eigen::Vector3d rest = problem.probe_rest;
+  Approach a;
+  a.started = true;
+  for (int k = 1; k <= steps && a.started; ++k)
+    a.started = solver.move_to((start - rest) * (k / double(steps))).ok;
+  if (!a.started) return a;
+  a.converged = true;
+  for (int k = 1; k <= steps && a.converged; ++k)
+    a.converged = solver.move_to(start + (point - start) * (k / double(steps)) - rest).ok;
+  if (a.converged) a.force = solver.force_felt();
+  return a;
+}
+
+TwoSided compare(const Eigen::Vector3d& point, const Eigen::Vector3d& along, const Approach& minus,
+                 const Approach& plus) {
+  TwoSided r;
+  r.point = point;
+  r.along = along;
+  r.minus = minus;
+  r.plus = plus;
+  if (r.minus.converged && r.plus.converged) r.difference = (r.minus.force - r.plus.force).norm();
+  for (const Approach* a : {&r.minus, &r.plus})
+    if (a->converged)
+      r.largest = std::isnan(r.largest) ? a->force.norm() : std::max(r.largest, a->force.norm());
+  return r;
+}
+
+TwoSided from_both_sides(const Problem& problem, const Eigen::Vector3d& point,
+                         const Eigen::Vector3d& along, int steps) {
+  if (!along.allFinite() || along.isZero(0.0))
+    throw InputError("two-sided solve: along (the approach) must be finite and not zero");
+  return compare(point, along, approach(problem, point, point - along, steps),
+                 approach(problem, point, point + along, steps));
+}
+
+Equilibria judge(const TwoSided& r, double tolerance) {
+  if (!(r.minus.started && r.plus.started)) return Equilibria::kUndecided;
+  if (r.minus.converged != r.plus.converged) return Equilibria::kEnds;
+  if (!r.minus.converged) return Equilibria::kUndecided;
+  return r.difference > std::max(tolerance * r.largest, kEquilibriaFloorN) ? Equilibria::kTwo
+                                                                           : Equilibria::kOne;
+}
+
+namespace {
+constexpr std::array<const char*, 4> kNames = {"one", "two", "ends", "undecided"};
+}
+
+const char* equilibria_name(Equilibria e) { return kNames[static_cast<int>(e)]; }
+
+Equilibria equilibria_from_name(const std::string& name) {
+  for (std::size_t i = 0; i < kNames.size(); ++i)
+    if (name == kNames[i]) return static_cast<Equilibria>(i);
+  throw InputError("unknown two-sided verdict '" + name + "' (one, two, ends, undecided)");
+}
+
+std::array<Eigen::Vector3d, 3> half_spacing_approaches(const Eigen::Vector3d& spacing) {
+  std::array<Eigen::Vector3d, 3> out;
+  for (int a = 0; a < 3; ++a) out[a] = 0.5 * spacing[a] * Eigen::Vector3d::Unit(a);
+  return out;
+}
+
+}  // namespace hapstate
