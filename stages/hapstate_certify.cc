@@ -56,7 +56,8 @@ int main(int argc, char** argv) {
   options.state = state;
   options.progress = quiet ? nullptr : stderr;
   install_stop_request_handler(
-      "\nhapstate-certify: stopping after the paths being solved (Ctrl-C again stops at once; "
+      "\nhapstate-certify: stopping after the paths (or the worst step's two-sided solves) being "
+      "solved (Ctrl-C again stops at once; "
       "either way, run the same command again to resume)\n");
   return guarded_main("hapstate-certify", [&] {
     const CertifyReport r = run_certify(options);

@@ -1,6 +1,7 @@
 #include "eval/equilibria.h"
 
 #include "solver/path_solver.h"
+#include "statespace/probe_model.h"
 #include "util/error.h"
 
 #include <algorithm>
@@ -18,8 +19,12 @@ Approach approach(const Problem& problem, const Eigen::Vector3d& point,
   const Eigen::Vector3d rest = problem.probe_rest;
   Approach a;
   a.started = true;
-  for (int k = 1; k <= steps && a.started; ++k)
-    a.started = solver.move_to((start - rest) * (k / double(steps))).ok;
+  // A contact sphere whose start is clear of the body is placed there with the body at rest (as
+  // eval starts a path): a straight move from rest could pass through a thin part and reach the
+  // position from its other side. Otherwise it moves there from rest.
+  if (!make_probe_model(problem)->start_path_at(solver, start))
+    for (int k = 1; k <= steps && a.started; ++k)
+      a.started = solver.move_to((start - rest) * (k / double(steps))).ok;
   if (!a.started) return a;
   a.converged = true;
   for (int k = 1; k <= steps && a.converged; ++k)
@@ -51,6 +56,9 @@ TwoSided from_both_sides(const Problem& problem, const Eigen::Vector3d& point,
 }
 
 Equilibria judge(const TwoSided& r, double tolerance) {
+  if (!(tolerance > 0 && std::isfinite(tolerance)))
+    throw InputError("two-sided solve: the tolerance must be a number > 0 (got " +
+                     std::to_string(tolerance) + ")");
   if (!(r.minus.started && r.plus.started)) return Equilibria::kUndecided;
   if (r.minus.converged != r.plus.converged) return Equilibria::kEnds;
   if (!r.minus.converged) return Equilibria::kUndecided;

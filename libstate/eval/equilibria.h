@@ -16,8 +16,8 @@
 
 namespace hapstate {
 
-// One approach: from rest to its start in `steps` equal moves, then sliding to the position in
-// `steps` more.
+// One approach: from rest to its start in `steps` equal moves (a contact sphere whose start is
+// clear of the body is placed there instead), then sliding to the position in `steps` more.
 struct Approach {
   bool started = false;    // every move from rest to the start converged
   bool converged = false;  // every move converged, the last (to the position) too
@@ -55,7 +55,7 @@ TwoSided compare(const Eigen::Vector3d& point, const Eigen::Vector3d& along, con
 TwoSided from_both_sides(const Problem& problem, const Eigen::Vector3d& point,
                          const Eigen::Vector3d& along, int steps = 10);
 // Two forces differ when their difference exceeds tolerance x the larger force (and
-// kEquilibriaFloorN).
+// kEquilibriaFloorN). Throws InputError unless tolerance is a finite number > 0.
 Equilibria judge(const TwoSided& r, double tolerance = 0.01);
 const char* equilibria_name(Equilibria e);  // "one", "two", "ends", "undecided"
 // Parses equilibria_name's words; throws InputError for another.

@@ -328,7 +328,7 @@ CertificateText certificate_text(const Certificate& c) {
                 c.stale ? " (STALE)" : "", percent(c.schemes[1].worst).c_str(),
                 percent(c.schemes[0].worst).c_str(),
                 plural(c.paths, "random path", "random paths").c_str(),
-                jumps ? "; the force jumps at a worst step (two equilibria)" : "");
+                jumps ? "; the force jumps at a worst step" : "");
   return {j.dump(), t.str(), line};
 }
 

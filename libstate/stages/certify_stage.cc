@@ -345,7 +345,8 @@ CertifyReport run_certify(const CertifyOptions& options) {
   }
   const std::string params = "paths=" + std::to_string(report.paths) +
                              " steps=" + std::to_string(report.steps) +
-                             " threads=" + std::to_string(options.threads);
+                             " threads=" + std::to_string(options.threads) +
+                             " check_above=" + std::to_string(options.check_above);
   StageRunFrame frame(ctx.catalogue, "certify",
                       {{"playback", hash}, {"scene", ctx.scene_record.hash}}, params, start);
   const bool contact = ctx.scene.probe.mode == ProbeMode::kContact;
@@ -359,7 +360,7 @@ CertifyReport run_certify(const CertifyOptions& options) {
   const auto previous = ctx.catalogue.read_certificate();
   if (missing.empty() && previous && previous->playback_hash == hash &&
       previous->paths == report.paths && previous->steps == report.steps &&
-      PlaybackFile(playback).certificate()) {
+      PlaybackFile(playback).certificate() && steps_to_check(ctx, hash, options).empty()) {
     report.certificate = summarise_certificate(ctx.catalogue.read_all_certificate_paths(),
                                                ctx.catalogue.read_all_certificate_equilibria(),
                                                previous, hash, contact);

@@ -52,6 +52,9 @@ def from_both_sides(scene: Any, point: Any, along: Any, steps: int = 10,
     TWO: the forces differ by more than tolerance x largest and 1e-7 N, ENDS: Newton failed on
     one side only, UNDECIDED).
     """
+    if along is None:
+        raise InputError("from_both_sides: along: expected 3 numbers (hapstate._core."
+                         "from_both_sides takes None for the three default approaches)")
     return _from_both_sides(scene, point, along, steps, tolerance)[0]
 
 

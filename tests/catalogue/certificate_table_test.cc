@@ -59,6 +59,11 @@ TEST(CertificateTable, EquilibriaReadBackAndGoWithAStaleCertificate) {
   EXPECT_FALSE(cat.read_all_certificate_equilibria()[1].force_plus.has_value());
   EXPECT_ANY_THROW(cat.insert_certificate_equilibria({rows[0]}));  // (seed, step, axis) exists
 
+  // Solves measured on another playback file than their path's: stale alone, the path stays.
+  cat.insert_certificate_equilibria(three_axes(1, 2, other));
+  EXPECT_EQ(cat.delete_stale_certificate(hash, 2, 2), 0);
+  EXPECT_EQ(cat.read_all_certificate_equilibria(), rows);
+  EXPECT_EQ(cat.read_all_certificate_paths().size(), 2u);
   // Fewer paths: seed 2 and its solves are stale.
   EXPECT_EQ(cat.delete_stale_certificate(hash, 2, 1), 1);
   EXPECT_TRUE(cat.read_all_certificate_equilibria().empty());

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hapstate {
 namespace {
@@ -51,6 +52,12 @@ TEST(Equilibria, VerdictOrderToleranceAndFloor) {
   Approach not_started;  // a start not reached comes first
   EXPECT_EQ(judge(sides(a, not_started)), Equilibria::kUndecided);
   EXPECT_EQ(judge(sides(not_started, failed)), Equilibria::kUndecided);
+}
+
+TEST(Equilibria, RefusesABadTolerance) {
+  const Approach a = converged(0.0, 0.01);
+  for (double bad : {0.0, -0.01, std::nan(""), std::numeric_limits<double>::infinity()})
+    test_util::expect_input_error([&] { judge(sides(a, a), bad); }, {"tolerance"});
 }
 
 TEST(Equilibria, NamesAndApproaches) {

@@ -93,7 +93,9 @@ def test_stale_after_reindex_and_resumable(state, tmp_path):
 
 def test_two_sided_solves_at_the_worst_steps(state, tmp_path):
     """--check-above 0: the worst step of each cursor gets the two-sided solves (three axes, half
-    a spacing each way), stored with the certificate and shown by summary. The beam has one
+    a spacing each way), stored with the certificate and shown by summary; a certificate without
+    them (measured with the default threshold, or before they existed) is measured again only for
+    them. The beam has one
     equilibrium there: both approaches' forces equal the path's precise force at that step (the
     same solver, another route: 1e-5 of the force covers the residual tolerance and the contact's
     gap tolerance, 1e-6 of the radius, which left 2.4e-6 of the force). Resumable: a
@@ -103,8 +105,14 @@ def test_two_sided_solves_at_the_worst_steps(state, tmp_path):
     subprocess.run([STAGES / "hapstate-index", "--state", work, "--nodes", "surface"],
                    check=True, capture_output=True)
     run = subprocess.run([STAGES / "hapstate-certify", "--state", work, "--paths", "3",
+                          "--check-above", "inf", "-q"], check=True, capture_output=True,
+                         text=True)
+    assert "3 of 3 paths measured now (20 stale deleted), 0 worst steps" in run.stdout
+    assert summary(work)["equilibria"] == []
+    run = subprocess.run([STAGES / "hapstate-certify", "--state", work, "--paths", "3",
                           "--check-above", "0"], check=True, capture_output=True, text=True)
-    assert "given two-sided solves" in run.stdout
+    assert "0 of 0 paths measured now (0 stale deleted)" in run.stdout
+    assert "given two-sided solves" in run.stdout and "0 worst steps" not in run.stdout
     assert "two-sided solves at seed" in run.stdout, run.stdout
     c = summary(work)
     rows = c["equilibria"]
