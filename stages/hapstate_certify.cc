@@ -45,8 +45,7 @@ int main(int argc, char** argv) {
                  "fraction of its path's largest force: the precise solver reaches it from half a "
                  "spacing before and after on each axis, telling a jump of the force (two "
                  "equilibria, which no spacing removes) from a steep ramp (default 0.01; inf: "
-                 "never)")
-      ->check(CLI::NonNegativeNumber);
+                 "never)");
   app.add_flag("-q,--quiet", quiet, "no progress line and no report, only the one-line result");
   try {
     app.parse(argc, argv);
