@@ -8,6 +8,16 @@
 namespace hapstate {
 namespace {
 
+constexpr Equilibria kAllEquilibria[] = {Equilibria::kOne, Equilibria::kTwo, Equilibria::kEnds,
+                                         Equilibria::kUndecided};
+
+Equilibria parse_equilibria(const std::string& text, const std::string& label) {
+  for (Equilibria e : kAllEquilibria)
+    if (text == equilibria_name(e)) return e;
+  throw InputError(label + ": damaged catalogue: certificate_equilibria.verdict = '" + text +
+                   "', not one of one, two, ends, undecided");
+}
+
 constexpr const char* kInsertPath =
     "INSERT INTO certificate_path (seed, playback_hash, steps, max_force, failures, wall_ms) "
     "VALUES (?, ?, ?, ?, ?, ?)";
@@ -145,6 +155,20 @@ std::int64_t Catalogue::delete_stale_certificate(const ContentHash& playback_has
   return stale;
 }
 
+const char* equilibria_name(Equilibria e) {
+  switch (e) {
+    case Equilibria::kOne:
+      return "one";
+    case Equilibria::kTwo:
+      return "two";
+    case Equilibria::kEnds:
+      return "ends";
+    case Equilibria::kUndecided:
+      break;
+  }
+  return "undecided";
+}
+
 void Catalogue::insert_certificate_equilibria(const std::vector<CertificateEquilibria>& rows) {
   catalogue_detail::Savepoint savepoint(*impl_->db);
   for (const CertificateEquilibria& r : rows) {
@@ -154,7 +178,7 @@ void Catalogue::insert_certificate_equilibria(const std::vector<CertificateEquil
     s->bind(3, r.axis);
     s->bind(4, r.playback_hash.hex());
     s->bind(5, r.along);
-    s->bind(6, r.verdict);
+    s->bind(6, std::string_view(equilibria_name(r.verdict)));
     for (int side = 0; side < 2; ++side) {
       const auto& f = side == 0 ? r.force_minus : r.force_plus;
       for (int a = 0; a < 3; ++a)
@@ -179,7 +203,7 @@ std::vector<CertificateEquilibria> Catalogue::read_all_certificate_equilibria() 
     r.axis = static_cast<int>(s->column_int(2));
     r.playback_hash = ContentHash::from_hex(s->column_text(3));
     r.along = s->column_double(4);
-    r.verdict = s->column_text(5);
+    r.verdict = parse_equilibria(s->column_text(5), impl_->label());
     for (int side = 0; side < 2; ++side) {
       if (s->is_null(6 + 3 * side)) continue;
       std::array<double, 3> f{};

@@ -212,13 +212,24 @@ struct CertificatePath {
   bool operator==(const CertificatePath&) const = default;
 };
 
+// What one two-sided solve found (eval/equilibria.h).
+enum class Equilibria {
+  kOne,        // both approaches agree
+  kTwo,        // they disagree: the force jumps near here
+  kEnds,       // Newton failed on one approach only: likely an equilibrium ending near here
+  kUndecided,  // an approach did not reach its start, or neither converged
+};
+// Its name: the certificate_equilibria table's verdict column, inspect's "verdict" key and
+// Python's: "one", "two", "ends", "undecided".
+const char* equilibria_name(Equilibria e);
+
 // Table certificate_equilibria: the two-sided solve at one of the certificate's worst steps
 // along one axis (eval/equilibria.h; docs/certificate.md, "When it is not good enough").
 struct CertificateEquilibria {
   int seed = 0, step = 0;
-  int axis = 0;         // 0, 1, 2: the approach is along x, y, z
-  double along = 0;     // mesh units: from the position - along and + along on that axis
-  std::string verdict;  // "one", "two", "ends", "undecided"
+  int axis = 0;      // 0, 1, 2: the approach is along x, y, z
+  double along = 0;  // mesh units: from the position - along and + along on that axis
+  Equilibria verdict = Equilibria::kUndecided;
   std::optional<std::array<double, 3>> force_minus, force_plus;  // N; none: Newton failed
   ContentHash playback_hash;
   double wall_ms = 0.0;

@@ -66,18 +66,6 @@ Equilibria judge(const TwoSided& r, double tolerance) {
                                                                            : Equilibria::kOne;
 }
 
-namespace {
-constexpr std::array<const char*, 4> kNames = {"one", "two", "ends", "undecided"};
-}
-
-const char* equilibria_name(Equilibria e) { return kNames[static_cast<int>(e)]; }
-
-Equilibria equilibria_from_name(const std::string& name) {
-  for (std::size_t i = 0; i < kNames.size(); ++i)
-    if (name == kNames[i]) return static_cast<Equilibria>(i);
-  throw InputError("unknown two-sided verdict '" + name + "' (one, two, ends, undecided)");
-}
-
 std::array<Eigen::Vector3d, 3> half_spacing_approaches(const Eigen::Vector3d& spacing) {
   std::array<Eigen::Vector3d, 3> out;
   for (int a = 0; a < 3; ++a) out[a] = 0.5 * spacing[a] * Eigen::Vector3d::Unit(a);

@@ -6,13 +6,13 @@
 // this on its worst steps; Python's hapstate.equilibria on any position.
 #pragma once
 
+#include "catalogue/records.h"  // Equilibria, equilibria_name
 #include "problem/problem.h"
 
 #include <Eigen/Core>
 
 #include <array>
 #include <limits>
-#include <string>
 
 namespace hapstate {
 
@@ -32,14 +32,6 @@ struct TwoSided {
   double largest = std::numeric_limits<double>::quiet_NaN();     // the larger |f| that converged, N
 };
 
-// What one two-sided solve found.
-enum class Equilibria {
-  kOne,        // both approaches agree
-  kTwo,        // they disagree: the force jumps near here
-  kEnds,       // Newton failed on one approach only: likely an equilibrium ending near here
-  kUndecided,  // an approach did not reach its start, or neither converged
-};
-
 // Below this difference (N) two forces are the same whatever the tolerance: the solver's residual
 // tolerance leaves far less, and a grazing contact's forces are round-off apart.
 inline constexpr double kEquilibriaFloorN = 1e-7;
@@ -57,9 +49,6 @@ TwoSided from_both_sides(const Problem& problem, const Eigen::Vector3d& point,
 // Two forces differ when their difference exceeds tolerance x the larger force (and
 // kEquilibriaFloorN). Throws InputError unless tolerance is a finite number > 0.
 Equilibria judge(const TwoSided& r, double tolerance = 0.01);
-const char* equilibria_name(Equilibria e);  // "one", "two", "ends", "undecided"
-// Parses equilibria_name's words; throws InputError for another.
-Equilibria equilibria_from_name(const std::string& name);
 
 // The default approaches: half the grid spacing along x, y and z.
 std::array<Eigen::Vector3d, 3> half_spacing_approaches(const Eigen::Vector3d& spacing);

@@ -60,19 +60,19 @@ void equilibria_lines(std::ostringstream& t, const std::vector<CertificateEquili
   bool two = false, ends = false, undecided = false;
   for (const CertificateEquilibria& e : rows) {
     const char axis = "xyz"[e.axis];
-    if (e.verdict == "two") {
+    if (e.verdict == Equilibria::kTwo) {
       two = true;
       const double d = difference(e);
       const double larger = std::max(magnitude(e.force_minus), magnitude(e.force_plus));
       std::snprintf(line, sizeof line,
                     "    %c: two equilibria, the forces %s N apart (%s of the larger)\n", axis,
                     sci(d).c_str(), percent(larger > 0 ? d / larger : 0.0).c_str());
-    } else if (e.verdict == "ends") {
+    } else if (e.verdict == Equilibria::kEnds) {
       ends = true;
       std::snprintf(line, sizeof line,
                     "    %c: Newton failed from %s only: likely an equilibrium ending here\n", axis,
                     e.force_minus ? "+along" : "-along");
-    } else if (e.verdict == "one") {
+    } else if (e.verdict == Equilibria::kOne) {
       std::snprintf(line, sizeof line, "    %c: one equilibrium\n", axis);
     } else {
       undecided = true;
@@ -144,7 +144,7 @@ Json certificate_json(const Certificate& c) {
                 {"step", e.step},
                 {"axis", std::string(1, "xyz"[e.axis])},
                 {"along", e.along},
-                {"verdict", e.verdict}};
+                {"verdict", equilibria_name(e.verdict)}};
     row["force_minus"] = e.force_minus ? Json(*e.force_minus) : Json(nullptr);
     row["force_plus"] = e.force_plus ? Json(*e.force_plus) : Json(nullptr);
     const double d = difference(e);
@@ -321,7 +321,7 @@ CertificateText certificate_text(const Certificate& c) {
   }
   bool jumps = false;
   for (const CertificateEquilibria& e : c.equilibria)
-    jumps = jumps || e.verdict == "two" || e.verdict == "ends";
+    jumps = jumps || e.verdict == Equilibria::kTwo || e.verdict == Equilibria::kEnds;
   std::snprintf(line, sizeof line,
                 "certificate%s: worst force error Hermite %s, trilinear %s of the path's largest "
                 "force over %s%s (hapstate-inspect summary has the rest)\n",

@@ -9,6 +9,7 @@
 #include "statedir/stage_run.h"
 #include "util/distribution.h"
 #include "util/error.h"
+#include "util/parallel_for.h"
 #include "util/progress.h"
 #include "util/stop_request.h"
 #include "util/text.h"
@@ -16,14 +17,11 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <mutex>
 #include <set>
-#include <thread>
 
 namespace hapstate {
 namespace {
@@ -164,45 +162,22 @@ void measure_paths(const PlaybackFile& file, const ContentHash& hash, StageConte
   Progress progress("hapstate-certify: paths", report.paths, options.progress);
   const long long stored_before = report.paths - static_cast<long long>(missing.size());
   progress.set_resumed(stored_before);
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::mutex mutex;  // the catalogue, the progress line and the first error
-  std::exception_ptr error;
+  std::mutex mutex;  // the catalogue and the progress line
   long long failures = 0;
-  auto work = [&] {
-    try {
-      for (std::size_t i = next++; i < missing.size() && !failed; i = next++) {
-        if (stop_requested()) return;
-        const auto t0 = SteadyClock::now();
-        const ProbePath path = precomputed_random_path(file, report.steps, step_length,
-                                                       static_cast<std::uint64_t>(missing[i]));
-        const EvalResult r = evaluate_path(ctx.problem, file, path, nullptr);
-        const double ms =
-            std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
-        const CertificatePath p = certificate_path(file, hash, missing[i], r, ms);
-        std::lock_guard<std::mutex> lock(mutex);
-        ctx.catalogue.insert_certificate_path(p);
-        ++report.solved_now;
-        failures += p.failures;
-        progress.update(stored_before + report.solved_now, failures);
-      }
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!error) error = std::current_exception();
-      failed = true;
-    }
-  };
-  std::vector<std::thread> pool;
-  try {
-    for (int w = 1; w < options.threads; ++w) pool.emplace_back(work);
-  } catch (...) {  // a thread could not start: the others finish, then the error goes on
-    failed = true;
-    for (std::thread& t : pool) t.join();
-    throw;
-  }
-  work();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  parallel_for(missing.size(), options.threads, [&](std::size_t i, int) {
+    if (stop_requested()) return;
+    const auto t0 = SteadyClock::now();
+    const ProbePath path = precomputed_random_path(file, report.steps, step_length,
+                                                   static_cast<std::uint64_t>(missing[i]));
+    const EvalResult r = evaluate_path(ctx.problem, file, path, nullptr);
+    const double ms = std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
+    const CertificatePath p = certificate_path(file, hash, missing[i], r, ms);
+    std::lock_guard<std::mutex> lock(mutex);
+    ctx.catalogue.insert_certificate_path(p);
+    ++report.solved_now;
+    failures += p.failures;
+    progress.update(stored_before + report.solved_now, failures);
+  });
   progress.finish();
 }
 
@@ -243,32 +218,13 @@ void check_worst_steps(const PlaybackFile& file, const ContentHash& hash, StageC
     const auto t0 = SteadyClock::now();
     const Eigen::Vector3d point(l.probe[0], l.probe[1], l.probe[2]);
     std::array<Approach, 6> approaches;  // axis x -, x +, y -, ...
-    std::atomic<int> next{0};
-    std::mutex mutex;
-    std::exception_ptr error;
-    auto work = [&] {
-      try {
-        for (int i = next++; i < 6; i = next++) {
-          const Eigen::Vector3d start = point + (i % 2 == 0 ? -1.0 : 1.0) * along[i / 2];
-          approaches[i] = approach(ctx.problem, point, start, 10);
-          std::lock_guard<std::mutex> lock(mutex);
-          progress.update(++done, 0);
-        }
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!error) error = std::current_exception();
-      }
-    };
-    std::vector<std::thread> pool;
-    try {
-      for (int w = 1; w < std::min(options.threads, 6); ++w) pool.emplace_back(work);
-    } catch (...) {  // a thread could not start: the others finish, then the error goes on
-      for (std::thread& t : pool) t.join();
-      throw;
-    }
-    work();
-    for (std::thread& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
+    std::mutex mutex;                    // the progress line
+    parallel_for(6, options.threads, [&](std::size_t i, int) {
+      const Eigen::Vector3d start = point + (i % 2 == 0 ? -1.0 : 1.0) * along[i / 2];
+      approaches[i] = approach(ctx.problem, point, start, 10);
+      std::lock_guard<std::mutex> lock(mutex);
+      progress.update(++done, 0);
+    });
     const double ms = std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
     std::vector<CertificateEquilibria> rows;
     for (int a = 0; a < 3; ++a) {
@@ -278,7 +234,7 @@ void check_worst_steps(const PlaybackFile& file, const ContentHash& hash, StageC
       e.step = l.step;
       e.axis = a;
       e.along = along[a][a];
-      e.verdict = equilibria_name(judge(r));
+      e.verdict = judge(r);
       if (r.minus.converged) e.force_minus = {r.minus.force[0], r.minus.force[1], r.minus.force[2]};
       if (r.plus.converged) e.force_plus = {r.plus.force[0], r.plus.force[1], r.plus.force[2]};
       e.playback_hash = hash;

@@ -9,19 +9,16 @@
 #include "statespace/probe_model.h"
 #include "statespace/refine_indicator.h"
 #include "util/error.h"
+#include "util/parallel_for.h"
 #include "util/progress.h"
 #include "util/stop_request.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <map>
-#include <mutex>
 #include <set>
-#include <thread>
 #include <unordered_map>
 
 namespace hapstate {
@@ -197,53 +194,37 @@ class Refiner {
   std::vector<RefinementPoint> solve(const Cell& cell, const std::vector<LatticePoint>& points) {
     std::vector<RefinementPoint> out(points.size());
     const Eigen::Vector3d h = ctx_.grid.spacing;
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr error;
-    std::mutex error_mutex;
     if (solvers_.empty()) solvers_.resize(threads_), loaded_.resize(threads_);
-    auto work = [&](int worker) {
-      try {
-        if (!solvers_[worker]) solvers_[worker] = std::make_unique<PathSolver>(ctx_.problem);
-        PathSolver& solver = *solvers_[worker];
-        for (std::size_t n = next++; n < points.size(); n = next++) {
-          const LatticePoint& p = points[n];
-          const int c = nearest_corner(p);
-          const auto o = corner_offset(c);
-          Eigen::Vector3d from = cell.origin, to = cell.origin;
-          for (int a = 0; a < 3; ++a) from[a] += o[a] * h[a], to[a] += p.q[a] * h[a] / p.n;
-          probe_->set_state(solver, vectors(worker, *cell.corner[c]), from);
-          const MoveResult move = probe_->move_to(solver, to);
-          RefinementPoint& r = out[n];
-          r.cell = cell.corner[0]->id;
-          r.point = p.index;
-          r.newton_iterations = move.iterations;
-          r.wall_ms = move.wall_ms;
-          if (!move.ok) {
-            r.failure_reason = move.reason;
-            continue;
-          }
-          const Eigen::Vector3d f = solver.force_felt();
-          const Eigen::Matrix3d k = solver.haptic_stiffness();
-          if (!f.allFinite() || !k.allFinite()) {
-            r.failure_reason = "the force or the stiffness at the point is not finite";
-            continue;
-          }
-          r.reached = true;
-          r.force = {f.x(), f.y(), f.z()};
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) r.stiffness[3 * i + j] = k(i, j);
-        }
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = points.size();
+    parallel_for(points.size(), threads_, [&](std::size_t n, int worker) {
+      if (!solvers_[worker]) solvers_[worker] = std::make_unique<PathSolver>(ctx_.problem);
+      PathSolver& solver = *solvers_[worker];
+      const LatticePoint& p = points[n];
+      const int c = nearest_corner(p);
+      const auto o = corner_offset(c);
+      Eigen::Vector3d from = cell.origin, to = cell.origin;
+      for (int a = 0; a < 3; ++a) from[a] += o[a] * h[a], to[a] += p.q[a] * h[a] / p.n;
+      probe_->set_state(solver, vectors(worker, *cell.corner[c]), from);
+      const MoveResult move = probe_->move_to(solver, to);
+      RefinementPoint& r = out[n];
+      r.cell = cell.corner[0]->id;
+      r.point = p.index;
+      r.newton_iterations = move.iterations;
+      r.wall_ms = move.wall_ms;
+      if (!move.ok) {
+        r.failure_reason = move.reason;
+        return;
       }
-    };
-    std::vector<std::thread> pool;
-    for (int w = 1; w < threads_; ++w) pool.emplace_back(work, w);
-    work(0);
-    for (auto& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
+      const Eigen::Vector3d f = solver.force_felt();
+      const Eigen::Matrix3d k = solver.haptic_stiffness();
+      if (!f.allFinite() || !k.allFinite()) {
+        r.failure_reason = "the force or the stiffness at the point is not finite";
+        return;
+      }
+      r.reached = true;
+      r.force = {f.x(), f.y(), f.z()};
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) r.stiffness[3 * i + j] = k(i, j);
+    });
     return out;
   }
 

@@ -38,7 +38,7 @@ std::vector<CertificateEquilibria> three_axes(int seed, int step, const ContentH
     e.step = step;
     e.axis = a;
     e.along = 0.005;
-    e.verdict = a == 0 ? "two" : (a == 1 ? "ends" : "one");
+    e.verdict = a == 0 ? Equilibria::kTwo : (a == 1 ? Equilibria::kEnds : Equilibria::kOne);
     e.force_minus = std::array<double, 3>{-2.0e-3, -1.2e-3, 23.4e-3};
     if (a != 1) e.force_plus = std::array<double, 3>{7.33e-3, -3.23e-3, 22.17e-3};
     e.playback_hash = hash;

@@ -61,11 +61,10 @@ TEST(Equilibria, RefusesABadTolerance) {
 }
 
 TEST(Equilibria, NamesAndApproaches) {
-  for (Equilibria e :
-       {Equilibria::kOne, Equilibria::kTwo, Equilibria::kEnds, Equilibria::kUndecided})
-    EXPECT_EQ(equilibria_from_name(equilibria_name(e)), e);
+  EXPECT_STREQ(equilibria_name(Equilibria::kOne), "one");
   EXPECT_STREQ(equilibria_name(Equilibria::kTwo), "two");
-  test_util::expect_input_error([] { equilibria_from_name("three"); }, {"three"});
+  EXPECT_STREQ(equilibria_name(Equilibria::kEnds), "ends");
+  EXPECT_STREQ(equilibria_name(Equilibria::kUndecided), "undecided");
   const auto along = half_spacing_approaches({0.2, 0.4, 0.6});
   EXPECT_EQ(along[0], Eigen::Vector3d(0.1, 0, 0));
   EXPECT_EQ(along[1], Eigen::Vector3d(0, 0.2, 0));

@@ -48,7 +48,7 @@ TEST(CertificateReport, StaleNamesFileAndCode) {
             std::string::npos);
 }
 
-CertificateEquilibria sided(int axis, const char* verdict, double fx_plus) {
+CertificateEquilibria sided(int axis, Equilibria verdict, double fx_plus) {
   CertificateEquilibria e;
   e.seed = 16;
   e.step = 11;
@@ -64,7 +64,8 @@ CertificateEquilibria sided(int axis, const char* verdict, double fx_plus) {
 // JSON), a ramp is told apart from it.
 TEST(CertificateReport, TellsAJumpFromARamp) {
   Certificate c = certificate(0.25, 0.23, 0.05);
-  c.equilibria = {sided(0, "two", 7.33e-3), sided(1, "one", -2.0e-3), sided(2, "one", -2.0e-3)};
+  c.equilibria = {sided(0, Equilibria::kTwo, 7.33e-3), sided(1, Equilibria::kOne, -2.0e-3),
+                  sided(2, Equilibria::kOne, -2.0e-3)};
   CertificateLocation worst;
   worst.scheme = 1;
   worst.seed = 16;
@@ -83,14 +84,14 @@ TEST(CertificateReport, TellsAJumpFromARamp) {
   EXPECT_NE(t.json.find("\"verdict\":\"two\""), std::string::npos) << t.json;
   EXPECT_NE(t.json.find("\"difference_newtons\":0.00933"), std::string::npos) << t.json;
 
-  c.equilibria[0] = sided(0, "one", -2.0e-3);
+  c.equilibria[0] = sided(0, Equilibria::kOne, -2.0e-3);
   t = certificate_text(c);
   EXPECT_EQ(t.text.find("the force jumps"), std::string::npos);
   EXPECT_NE(t.text.find("no jump here"), std::string::npos) << t.text;
   EXPECT_EQ(t.headline.find("jumps"), std::string::npos);
 
   c.equilibria[1].force_plus.reset();  // Newton failed from +along
-  c.equilibria[1].verdict = "ends";
+  c.equilibria[1].verdict = Equilibria::kEnds;
   t = certificate_text(c);
   EXPECT_NE(t.text.find("y: Newton failed from +along only"), std::string::npos) << t.text;
   EXPECT_NE(t.text.find("the force jumps here"), std::string::npos);

@@ -17,6 +17,19 @@ namespace {
 
 class Crash : public StageTest {
  protected:
+  static std::size_t expand_runs(const fs::path& state) {
+    Catalogue cat(state / "catalogue.sqlite", OpenMode::kReadOnly);
+    return cat.read_stage_runs("expand").size();
+  }
+
+  // Waits (at most 60 s) until the catalogue of `state` holds more than `before` expand runs:
+  // the process has started and recorded its run, so a kill from now on interrupts a run.
+  static void wait_for_run_row(const fs::path& state, std::size_t before) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (expand_runs(state) <= before && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+
   // Imports and grids the beam into dir_/state, starts hapstate-expand on one thread, sends
   // `signals` 250 ms later (5 ms apart) and waits for it. The result is nullopt if the
   // expansion ended before the first signal (nothing to test).
@@ -48,12 +61,21 @@ TEST_F(Crash, KilledAndResumedRunEqualsAnUninterruptedOne) {
   ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
 
   std::mt19937 rng(20261122);
-  std::uniform_int_distribution<int> delay_ms(10, 150);  // process start-up included (a whole
-                                                         // run of the beam takes well under 0.5 s)
+  // Rounds 0 and 1 kill 10-150 ms after the start (the process's start-up included: a whole
+  // run of the beam takes well under 0.5 s on an idle machine), so also before a run is
+  // recorded; rounds 2-4 0-60 ms after the run has recorded itself, so a loaded machine (a
+  // sanitizer build beside other work) still interrupts recorded runs.
+  std::uniform_int_distribution<int> delay_ms(10, 150), after_row_ms(0, 60);
   int kills = 0, finished_early = 0;
   for (int round = 0; round < 5; ++round) {
+    const std::size_t runs_before = expand_runs(state);
     const pid_t pid = start_stage(HAPSTATE_EXPAND_EXE, expand_args(state, 1), dir_);
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    if (round < 2) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    } else {
+      wait_for_run_row(state, runs_before);
+      std::this_thread::sleep_for(std::chrono::milliseconds(after_row_ms(rng)));
+    }
     if (::kill(pid, SIGKILL) == 0) ++kills;
     const StageResult r = wait_stage(pid, dir_);
     if (r.exit_code == 0) ++finished_early;  // it ended before the signal
@@ -148,8 +170,9 @@ TEST_F(Crash, ChunkedRunsWithLimitsEqualOneRun) {
   build_beam(reference, kBeamScene, 1, dir_);
   ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
   ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
-  // A time limit ends the run cleanly at a batch boundary too.
-  const StageResult timed = expand_stage(state, 2, dir_, {"--max-seconds", "0.2"});
+  // A time limit ends the run cleanly at a batch boundary too: 1 ms, so it ends after its first
+  // batch of 8 however fast the machine (a whole run of the beam can take under 0.2 s).
+  const StageResult timed = expand_stage(state, 2, dir_, {"--max-seconds", "0.001"});
   ASSERT_EQ(timed.exit_code, 0) << timed.err;
   EXPECT_NE(timed.out.find("partial"), std::string::npos) << timed.out;
   int partial = 1;
