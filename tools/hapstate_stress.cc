@@ -5,16 +5,15 @@
 #include "eval/stress_report.h"
 #include "statespace/math_threads.h"
 #include "util/main_guard.h"
+#include "util/parallel_for.h"
 
 #include "help_format.h"
 
 #include <CLI/CLI.hpp>
 
-#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <thread>
 #include <vector>
 
 int main(int argc, char** argv) {
@@ -57,20 +56,13 @@ int main(int argc, char** argv) {
     const std::vector<StressCase> cases = filter_cases(stress_matrix(full), filter);
     if (cases.empty()) throw InputError("--filter '" + filter + "' keeps no case");
     std::vector<StressOutcome> outcomes(cases.size());
-    std::atomic<std::size_t> next{0};
-    auto worker = [&] {
-      for (std::size_t i; (i = next++) < cases.size();) {
-        outcomes[i] = run_stress_case(cases[i], wall_cap, !no_retry);
-        const StressOutcome& o = outcomes[i];
-        std::fprintf(stderr, "%4zu/%zu %-44s %-9s %6.0f ms %s%s\n", i + 1, cases.size(),
-                     o.c.id().c_str(), o.status.c_str(), o.wall_ms, o.failure.c_str(),
-                     o.retry.empty() ? "" : (" retry " + o.retry).c_str());
-      }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
+    parallel_for(cases.size(), threads, [&](std::size_t i, int) {
+      outcomes[i] = run_stress_case(cases[i], wall_cap, !no_retry);
+      const StressOutcome& o = outcomes[i];
+      std::fprintf(stderr, "%4zu/%zu %-44s %-9s %6.0f ms %s%s\n", i + 1, cases.size(),
+                   o.c.id().c_str(), o.status.c_str(), o.wall_ms, o.failure.c_str(),
+                   o.retry.empty() ? "" : (" retry " + o.retry).c_str());
+    });
     std::filesystem::create_directories(out);
     const std::filesystem::path csv = std::filesystem::path(out) / "stress.csv";
     const std::filesystem::path md = std::filesystem::path(out) / "stress.md";
