@@ -241,6 +241,29 @@ TEST(CatalogueOpen, OutOfRangeValuesInADamagedFileAreInputErrors) {
                      "configuration.status = -1, not in 0..2");
 }
 
+TEST(CatalogueOpen, AnUnknownTwoSidedVerdictIsAnInputError) {
+  TempDir dir("open");
+  const auto file = dir.path() / "catalogue.sqlite";
+  {
+    Catalogue cat(file, OpenMode::kCreate);
+    CertificateEquilibria e;
+    e.seed = 1;
+    e.step = 1;
+    e.along = 0.01;
+    e.verdict = Equilibria::kTwo;
+    e.playback_hash = ContentHash{0x1234};
+    e.wall_ms = 1;
+    cat.insert_certificate_equilibria({e});
+    ASSERT_EQ(cat.read_all_certificate_equilibria().front().verdict, Equilibria::kTwo);
+  }
+  raw_sql(file,
+          "PRAGMA ignore_check_constraints = ON; "
+          "UPDATE certificate_equilibria SET verdict = 'three'");
+  Catalogue cat(file, OpenMode::kReadOnly);
+  expect_input_error([&] { cat.read_all_certificate_equilibria(); },
+                     "damaged catalogue: certificate_equilibria.verdict = 'three'");
+}
+
 TEST(CatalogueOpen, SecondConnectionSeesCommittedWrites) {
   TempDir dir("open");
   const auto file = dir.path() / "catalogue.sqlite";

@@ -12,6 +12,8 @@
 #include <random>
 #include <thread>
 
+#include <sys/wait.h>
+
 namespace hapstate::test_util {
 namespace {
 
@@ -22,12 +24,19 @@ class Crash : public StageTest {
     return cat.read_stage_runs("expand").size();
   }
 
-  // Waits (at most 60 s) until the catalogue of `state` holds more than `before` expand runs:
-  // the process has started and recorded its run, so a kill from now on interrupts a run.
-  static void wait_for_run_row(const fs::path& state, std::size_t before) {
+  // Waits (at most 60 s) until the catalogue of `state` holds more than `before` expand runs
+  // (the process has recorded its run, so a kill from now on interrupts a run) or process `pid`
+  // has ended (left unreaped for wait_stage).
+  static void wait_for_run_row(const fs::path& state, std::size_t before, pid_t pid) {
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (expand_runs(state) <= before && std::chrono::steady_clock::now() < until)
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    while (std::chrono::steady_clock::now() < until) {
+      siginfo_t info{};
+      if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+          info.si_pid == pid)
+        return;  // ended
+      if (expand_runs(state) > before) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
   }
 
   // Imports and grids the beam into dir_/state, starts hapstate-expand on one thread, sends
@@ -73,7 +82,7 @@ TEST_F(Crash, KilledAndResumedRunEqualsAnUninterruptedOne) {
     if (round < 2) {
       std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
     } else {
-      wait_for_run_row(state, runs_before);
+      wait_for_run_row(state, runs_before, pid);
       std::this_thread::sleep_for(std::chrono::milliseconds(after_row_ms(rng)));
     }
     if (::kill(pid, SIGKILL) == 0) ++kills;
@@ -170,8 +179,9 @@ TEST_F(Crash, ChunkedRunsWithLimitsEqualOneRun) {
   build_beam(reference, kBeamScene, 1, dir_);
   ASSERT_EQ(import_stage(state, kBeamScene, dir_).exit_code, 0);
   ASSERT_EQ(grid_stage(state, dir_).exit_code, 0);
-  // A time limit ends the run cleanly at a batch boundary too: 1 ms, so it ends after its first
-  // batch of 8 however fast the machine (a whole run of the beam can take under 0.2 s).
+  // A time limit ends the run cleanly at a batch boundary too: 1 ms, so it stops at its first
+  // boundary, before the first batch, however fast the machine (a whole run of the beam can take
+  // under 0.2 s); the --max-transitions runs below stop after committed work.
   const StageResult timed = expand_stage(state, 2, dir_, {"--max-seconds", "0.001"});
   ASSERT_EQ(timed.exit_code, 0) << timed.err;
   EXPECT_NE(timed.out.find("partial"), std::string::npos) << timed.out;
