@@ -8,12 +8,12 @@
 namespace hapstate {
 namespace {
 
-constexpr Equilibria kAllEquilibria[] = {Equilibria::kOne, Equilibria::kTwo, Equilibria::kEnds,
-                                         Equilibria::kUndecided};
+// The verdicts' names, in the enum's order.
+constexpr const char* kEquilibriaNames[] = {"one", "two", "ends", "undecided"};
 
 Equilibria parse_equilibria(const std::string& text, const std::string& label) {
-  for (Equilibria e : kAllEquilibria)
-    if (text == equilibria_name(e)) return e;
+  for (int e = 0; e < 4; ++e)
+    if (text == kEquilibriaNames[e]) return static_cast<Equilibria>(e);
   throw InputError(label + ": damaged catalogue: certificate_equilibria.verdict = '" + text +
                    "', not one of one, two, ends, undecided");
 }
@@ -155,19 +155,7 @@ std::int64_t Catalogue::delete_stale_certificate(const ContentHash& playback_has
   return stale;
 }
 
-const char* equilibria_name(Equilibria e) {
-  switch (e) {
-    case Equilibria::kOne:
-      return "one";
-    case Equilibria::kTwo:
-      return "two";
-    case Equilibria::kEnds:
-      return "ends";
-    case Equilibria::kUndecided:
-      break;
-  }
-  return "undecided";
-}
+const char* equilibria_name(Equilibria e) { return kEquilibriaNames[static_cast<int>(e)]; }
 
 void Catalogue::insert_certificate_equilibria(const std::vector<CertificateEquilibria>& rows) {
   catalogue_detail::Savepoint savepoint(*impl_->db);

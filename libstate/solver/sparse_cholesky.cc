@@ -1,5 +1,7 @@
 #include "solver/sparse_cholesky.h"
 
+#include "solver/serial_openmp.h"
+
 #include <cholmod.h>
 
 #include <Eigen/Dense>
@@ -140,6 +142,7 @@ bool SparseCholesky::factorize(const std::vector<double>& values) {
   Impl& s = *impl_;
   std::copy(values.begin(), values.end(), s.values.begin());
   s.single_current = false;
+  const SerialOpenMP serial;  // the caller's thread is the parallelism (solver/serial_openmp.h)
   const int ok = cholmod_factorize(&s.matrix, s.factor, &s.common);
   return ok && s.common.status == CHOLMOD_OK && s.factor->minor == s.factor->n;
 }

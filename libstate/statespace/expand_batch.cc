@@ -2,7 +2,6 @@
 
 #include "util/error.h"
 #include "util/grid_direction.h"
-#include "util/openmp_levels.h"
 
 #include <algorithm>
 #include <cmath>
@@ -73,12 +72,7 @@ std::size_t TransitionSolver::lookahead(int threads, int num_dofs) {
 void TransitionSolver::start_threads() {
   if (!pool_->threads.empty()) return;
   pool_->threads.reserve(static_cast<std::size_t>(threads_));
-  const int levels = openmp_active_levels();  // the starting thread's (util/openmp_levels.h)
-  for (int w = 0; w < threads_; ++w)
-    pool_->threads.emplace_back([this, w, levels] {
-      set_openmp_active_levels(levels);
-      worker_loop(w);
-    });
+  for (int w = 0; w < threads_; ++w) pool_->threads.emplace_back([this, w] { worker_loop(w); });
 }
 
 void TransitionSolver::finish() {

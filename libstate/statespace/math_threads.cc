@@ -1,7 +1,5 @@
 #include "statespace/math_threads.h"
 
-#include "util/openmp_levels.h"
-
 #include <dlfcn.h>
 
 #include <cstdlib>
@@ -24,9 +22,6 @@ void set_math_threads(int threads) {
     if (void* f = ::dlsym(RTLD_DEFAULT, symbol))
       reinterpret_cast<SetThreads>(f)(threads < 1 ? 1 : threads);
   }
-  // CHOLMOD asks for 4 threads whatever the settings above (util/openmp_levels.h): one thread
-  // means no active OpenMP level in this thread, nor in the workers it starts.
-  if (threads <= 1) set_openmp_active_levels(0);
 }
 
 }  // namespace hapstate

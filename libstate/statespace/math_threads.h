@@ -7,10 +7,8 @@ namespace hapstate {
 // Sets OMP_NUM_THREADS, OPENBLAS_NUM_THREADS, MKL_NUM_THREADS, BLIS_NUM_THREADS and
 // GOTO_NUM_THREADS to `threads` (overriding the environment) and, for libraries already loaded
 // that read the environment only once, calls openblas_set_num_threads / omp_set_num_threads
-// when present in the process; with threads <= 1 also no active OpenMP parallel level in the
-// calling thread (util/openmp_levels.h: CHOLMOD asks for 4 threads whatever the settings above;
-// the stages' worker threads take the limit from the thread that starts them). Call it before
-// any BLAS call and before starting threads (setenv is not thread-safe).
+// when present in the process. Call it before any BLAS call and before starting threads (setenv
+// is not thread-safe).
 void set_math_threads(int threads);
 // set_math_threads(1): first thing in the main() of the stages, whose worker threads each run
 // their own solver.

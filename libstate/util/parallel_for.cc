@@ -1,7 +1,5 @@
 #include "util/parallel_for.h"
 
-#include "util/openmp_levels.h"
-
 #include <algorithm>
 #include <atomic>
 #include <exception>
@@ -16,9 +14,7 @@ void parallel_for(std::size_t n, int threads,
   std::atomic<std::size_t> next{0};
   std::mutex mutex;  // the first error
   std::exception_ptr error;
-  const int levels = openmp_active_levels();  // the caller's, for every worker
   auto work = [&](int worker) {
-    if (worker > 0) set_openmp_active_levels(levels);
     try {
       for (std::size_t i = next++; i < n; i = next++) body(i, worker);
     } catch (...) {

@@ -11,8 +11,7 @@ namespace hapstate {
 // numbered 1, 2, ... (a worker keeps its number, so per-worker state can be indexed by it).
 // The first exception a body throws stops the handing out of indices; it is rethrown once every
 // worker has ended. A thread that cannot start: the started workers finish, then that error is
-// thrown. The workers run with the calling thread's OpenMP limit on active levels
-// (util/openmp_levels.h). A body that wants to stop early (a stop request) returns at once for the
+// thrown. A body that wants to stop early (a stop request) returns at once for the
 // indices left.
 void parallel_for(std::size_t n, int threads,
                   const std::function<void(std::size_t i, int worker)>& body);

@@ -2,14 +2,9 @@
 // carried back and no index handed out after it.
 #include "util/parallel_for.h"
 
-#include "statespace/math_threads.h"
-#include "util/openmp_levels.h"
-
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <atomic>
-#include <chrono>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -75,33 +70,6 @@ TEST(ParallelFor, TheFirstErrorIsRethrownAndStopsTheHandOut) {
                               if (i == 10) throw std::logic_error("ten");
                             }),
                std::logic_error);
-}
-
-// A stage's workers run CHOLMOD's `parallel for num_threads(4)` on their own thread: after
-// set_math_threads(1) in the calling thread, a region asking for 4 threads inside a worker gets
-// one (GCC's libgomp would start each new thread with the process's limit, not the caller's).
-TEST(ParallelFor, WorkersKeepTheCallersOpenMPLimit) {
-  const int before = openmp_active_levels();
-  ASSERT_GE(before, 0) << "no OpenMP runtime in the test";
-  set_math_threads(1);
-  EXPECT_EQ(openmp_active_levels(), 0);
-  std::vector<int> team(8, -1);
-  std::atomic<int> entered{0};
-  parallel_for(team.size(), 4, [&](std::size_t i, int) {
-    // The first four indices wait for each other, so each is on a worker of its own.
-    ++entered;
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-    while (entered < 4 && std::chrono::steady_clock::now() < until) std::this_thread::yield();
-    int n = 0;
-#pragma omp parallel num_threads(4)
-    {
-#pragma omp single
-      n = omp_get_num_threads();
-    }
-    team[i] = n;
-  });
-  set_openmp_active_levels(before);
-  for (int n : team) EXPECT_EQ(n, 1);
 }
 
 }  // namespace
